@@ -1,0 +1,298 @@
+"""Arm models: rigid-body dynamics of the arm with its pusher, through Pinocchio.
+
+``load_arm(ArmConfig(...))`` gives an :class:`ArmModel` holding one Pinocchio ``Model`` and
+one ``Data``. Its hot path, :meth:`ArmModel.compute`, returns in one call what the
+simulator needs every step: the mass matrix M(q) (with joint armature), c(q, v) + g(q) and
+the prong points with their Jacobians. Joint damping is kept out of ``nle``: the simulator
+treats it implicitly (``M + h·diag(damping)``); :meth:`ArmModel.forward_dynamics` applies
+it explicitly.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import NamedTuple
+
+import numpy as np
+import pinocchio as pin
+
+from pushctl.arm.ik import IKResult, IKSettings, solve_frame_ik
+from pushctl.arm.pusher import attach_pusher, placement_ee_to_pusher
+from pushctl.arm.specs import ARM_NAMES, ArmSpec, arm_spec, check_spec_model
+from pushctl.config import GRAVITY, PusherConfig
+from pushctl.errors import ConfigError, StateError
+
+__all__ = ["ARM_NAMES", "ArmConfig", "ArmModel", "ArmTerms", "load_arm"]
+
+
+def _joint_parameter(name: str, values, nv: int, arm: str) -> tuple[float, ...] | None:
+    """Validate an optional per-joint parameter: None, or nv finite numbers >= 0."""
+    if values is None:
+        return None
+    accepted = f"{name} must be {nv} finite numbers >= 0 for arm {arm!r} (or None)"
+    try:
+        array = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise ConfigError(f"{accepted}, got {values!r}") from None
+    if array.shape != (nv,) or not np.all(np.isfinite(array)) or np.any(array < 0.0):
+        raise ConfigError(f"{accepted}, got {values!r}")
+    return tuple(float(x) for x in array)
+
+
+@dataclass(frozen=True)
+class ArmConfig:
+    """Which arm to simulate and its joint and pusher parameters.
+
+    ``name``: one of ``ARM_NAMES``. ``armature`` (nv,) [kg·m²] is the reflected rotor inertia
+    added to the diagonal of M(q); ``damping`` (nv,) [N·m·s/rad] is viscous joint damping.
+    ``None`` selects the arm's documented default (see :mod:`pushctl.arm.specs`: Kinova
+    armature = 160²·J_rotor with estimated rotor inertias, 0.128 kg·m² for joints with the
+    large actuator and 0.0512 kg·m² for the small one, damping 0; Panda armature 0.1 kg·m²,
+    damping 0.003 N·m·s/rad). ``pusher``: the plate fixed to the end effector.
+    """
+
+    name: str = "kinova-gen2-7dof"
+    armature: tuple[float, ...] | None = None
+    damping: tuple[float, ...] | None = None
+    pusher: PusherConfig = field(default_factory=PusherConfig)
+
+    def __post_init__(self) -> None:
+        spec = arm_spec(self.name)
+        for key in ("armature", "damping"):
+            value = _joint_parameter(key, getattr(self, key), spec.nv, self.name)
+            object.__setattr__(self, key, value)
+        if not isinstance(self.pusher, PusherConfig):
+            raise ConfigError(f"pusher must be a PusherConfig, got {type(self.pusher).__name__}")
+
+    def resolved_armature(self) -> np.ndarray:
+        """Armature (nv,) [kg·m²], with the arm's default filled in."""
+        return np.array(self.armature or arm_spec(self.name).armature, dtype=float)
+
+    def resolved_damping(self) -> np.ndarray:
+        """Damping (nv,) [N·m·s/rad], with the arm's default filled in."""
+        return np.array(self.damping or arm_spec(self.name).damping, dtype=float)
+
+
+class ArmTerms(NamedTuple):
+    """Dynamics and prong kinematics at one state (fresh arrays, owned by the caller).
+
+    ``M`` (nv, nv) [kg·m², kg·m, kg] symmetric mass matrix including armature;
+    ``nle`` (nv,) [N·m] c(q, v) + g(q), without joint damping;
+    ``prong_positions`` (k, 3) [m] prong points in the world frame;
+    ``prong_jacobians`` (k, 3, nv) [m/rad] linear-velocity Jacobians of those points,
+    world-aligned axes: ``prong_velocity[i] = prong_jacobians[i] @ v``.
+    """
+
+    M: np.ndarray
+    nle: np.ndarray
+    prong_positions: np.ndarray
+    prong_jacobians: np.ndarray
+
+
+_WORLD_ALIGNED = pin.LOCAL_WORLD_ALIGNED
+
+
+def _fills_lower_triangle(model: pin.Model, data: pin.Data) -> bool:
+    """Whether crba/computeAllTerms fill all of M: Pinocchio 2 filled only the upper
+    triangle (4.1 fills both). Probed once per model at a generic configuration."""
+    q = 0.5 * (model.lowerPositionLimit + model.upperPositionLimit) + 0.1
+    pin.computeAllTerms(model, data, q, np.zeros(model.nv))
+    crba = pin.crba(model, data, q).copy()
+    both = np.allclose(data.M, data.M.T) and np.allclose(crba, crba.T)
+    return bool(both and np.any(np.tril(crba, -1) != 0.0))
+
+
+class ArmModel:
+    """One arm with its pusher: Pinocchio model, one Data, limits and the ready pose.
+
+    Attributes: ``name``; ``model`` (pin.Model); ``nq``, ``nv``; ``armature`` (nv,)
+    [kg·m²]; ``damping`` (nv,) [N·m·s/rad]; ``torque_limit`` (nv,) [N·m];
+    ``velocity_limit`` (nv,) [rad/s]; ``q_lower``, ``q_upper`` (nq,) [rad]; ``q_ready``
+    (nq,) [rad], solved once at load; ``ready_pusher_position`` (3,) [m] where it puts the
+    pusher frame (axes on the world axes); ``ready_ik`` (its IKResult); ``pusher``
+    (PusherConfig); ``pusher_frame_id``; ``prong_frame_ids`` (k,). Not thread-safe: one
+    Data per instance.
+    """
+
+    def __init__(self, config: ArmConfig) -> None:
+        spec = arm_spec(config.name)
+        model = spec.build()
+        check_spec_model(spec, model)
+        model.armature = config.resolved_armature()
+        model.damping = config.resolved_damping()
+        model.gravity = pin.Motion(np.array([0.0, 0.0, -GRAVITY]), np.zeros(3))
+        eeMp = placement_ee_to_pusher(spec.push_axis_ee, spec.tool_axis_ee, config.pusher)
+        self.pusher_frame_id, self.prong_frame_ids = attach_pusher(
+            model, spec.ee_frame, eeMp, config.pusher
+        )
+        self.spec: ArmSpec = spec
+        self.name, self.model, self.data = spec.name, model, model.createData()
+        self.nq, self.nv = model.nq, model.nv
+        self.pusher = config.pusher
+        self.armature = model.armature.copy()
+        self.damping = model.damping.copy()
+        self.torque_limit = model.effortLimit.copy()
+        self.velocity_limit = model.velocityLimit.copy()
+        self.q_lower = model.lowerPositionLimit.copy()
+        self.q_upper = model.upperPositionLimit.copy()
+        self._n_prongs = len(self.prong_frame_ids)
+        self._symmetrise = not _fills_lower_triangle(model, self.data)
+        self.ready_ik = self._solve_ready()
+        self.q_ready = self.ready_ik.q.copy()
+        self.ready_pusher_position = np.array(spec.ready_position)
+
+    def _solve_ready(self) -> IKResult:
+        """Ready pose: pusher frame at the spec's ready position, axes = world axes."""
+        oMdes = pin.SE3(np.eye(3), np.array(self.spec.ready_position))
+        seed = _centre_full_turn_joints(np.array(self.spec.seed_q), self.q_lower, self.q_upper)
+        result = self.inverse_kinematics(oMdes, seed)
+        if not result.converged:
+            raise ConfigError(
+                f"arm {self.name!r} cannot reach its ready pusher pose "
+                f"(error {result.position_error:.2e} m, {result.rotation_error:.2e} rad)"
+            )
+        return result
+
+    # ----------------------------------------------------------------- validation
+    def check_q(self, q) -> np.ndarray:
+        """``q`` as a float array (nq,) [rad]; StateError if it is not nq finite numbers."""
+        return _finite_vector("q", q, self.nq)
+
+    def check_v(self, v) -> np.ndarray:
+        """``v`` as a float array (nv,) [rad/s]; StateError if it is not nv finite numbers."""
+        return _finite_vector("v", v, self.nv)
+
+    def check_tau(self, tau) -> np.ndarray:
+        """``tau`` as a float array (nv,) [N·m]; StateError if it is not nv finite numbers."""
+        return _finite_vector("tau", tau, self.nv)
+
+    # ----------------------------------------------------------------- dynamics
+    def compute(self, q: np.ndarray, v: np.ndarray) -> ArmTerms:
+        """M(q), c(q, v) + g(q) and the prong points with their Jacobians, in one pass.
+
+        ``q`` (nq,) [rad], ``v`` (nv,) [rad/s], float64, not validated here (hot path: use
+        ``check_q``/``check_v`` at the boundary). About 11 µs for the 7-DOF arm, 2 prongs.
+        """
+        model, data = self.model, self.data
+        pin.computeAllTerms(model, data, q, v)  # M, nle, joint placements and Jacobians
+        positions = np.empty((self._n_prongs, 3))
+        jacobians = np.empty((self._n_prongs, 3, self.nv))
+        for i, frame_id in enumerate(self.prong_frame_ids):
+            positions[i] = pin.updateFramePlacement(model, data, frame_id).translation
+            jacobians[i] = pin.getFrameJacobian(model, data, frame_id, _WORLD_ALIGNED)[:3]
+        mass = data.M.copy()
+        if self._symmetrise:
+            mass = np.triu(mass) + np.triu(mass, 1).T
+        return ArmTerms(mass, data.nle.copy(), positions, jacobians)
+
+    def mass_matrix(self, q: np.ndarray) -> np.ndarray:
+        """M(q) (nv, nv) including armature."""
+        mass = pin.crba(self.model, self.data, q).copy()
+        return np.triu(mass) + np.triu(mass, 1).T if self._symmetrise else mass
+
+    def nonlinear_effects(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """c(q, v) + g(q) (nv,) [N·m]."""
+        return pin.nonLinearEffects(self.model, self.data, q, v).copy()
+
+    def set_gravity(self, magnitude: float) -> None:
+        """Set the magnitude [m/s²] of gravity, along world −z (default 9.81; 0 turns it off)."""
+        if not np.isfinite(magnitude) or magnitude < 0.0:
+            raise ConfigError(f"gravity must be a finite magnitude >= 0 m/s², got {magnitude!r}")
+        self.model.gravity = pin.Motion(np.array([0.0, 0.0, -float(magnitude)]), np.zeros(3))
+
+    def gravity(self, q: np.ndarray) -> np.ndarray:
+        """g(q) (nv,) [N·m]: joint torques that hold the arm and pusher still."""
+        return pin.computeGeneralizedGravity(self.model, self.data, q).copy()
+
+    def forward_dynamics(self, q: np.ndarray, v: np.ndarray, tau: np.ndarray) -> np.ndarray:
+        """Joint accelerations (nv,) [rad/s²] under torques ``tau`` (nv,) [N·m]:
+        M⁻¹(tau − damping·v − c − g), armature included (ABA), damping explicit."""
+        return pin.aba(self.model, self.data, q, v, tau - self.damping * v).copy()
+
+    def kinetic_energy(self, q: np.ndarray, v: np.ndarray) -> float:
+        """½ vᵀ M(q) v [J], armature (rotor kinetic energy) included."""
+        return 0.5 * float(v @ self.mass_matrix(q) @ v)
+
+    def integrate(self, q: np.ndarray, v: np.ndarray, dt: float) -> np.ndarray:
+        """Configuration (nq,) reached from ``q`` moving at ``v`` (nv,) [rad/s] for ``dt`` [s]."""
+        return pin.integrate(self.model, q, v * dt)
+
+    # ----------------------------------------------------------------- kinematics
+    def frame_placement(self, q: np.ndarray, frame_id: int) -> pin.SE3:
+        """World placement ``oMf`` of frame ``frame_id`` at ``q`` (a copy)."""
+        pin.forwardKinematics(self.model, self.data, q)
+        return pin.updateFramePlacement(self.model, self.data, frame_id).copy()
+
+    def pusher_placement(self, q: np.ndarray) -> pin.SE3:
+        """World placement of the pusher frame (origin at the prongs' midpoint)."""
+        return self.frame_placement(q, self.pusher_frame_id)
+
+    def frame_jacobian(
+        self, q: np.ndarray, frame_id: int, reference: pin.ReferenceFrame | None = None
+    ) -> np.ndarray:
+        """Frame Jacobian (6, nv), rows [linear; angular]; default axes LOCAL_WORLD_ALIGNED."""
+        reference = pin.LOCAL_WORLD_ALIGNED if reference is None else reference
+        return pin.computeFrameJacobian(self.model, self.data, q, frame_id, reference).copy()
+
+    def pusher_jacobian(self, q: np.ndarray) -> np.ndarray:
+        """Pusher-frame Jacobian (6, nv) at its origin, world-aligned axes."""
+        return self.frame_jacobian(q, self.pusher_frame_id)
+
+    def frame_id(self, name: str) -> int:
+        """Index of a named frame; ConfigError if the model has none of that name."""
+        if not self.model.existFrame(name):
+            raise ConfigError(f"arm {self.name!r} has no frame {name!r}")
+        return self.model.getFrameId(name)
+
+    def inverse_kinematics(
+        self,
+        target: pin.SE3,
+        q_seed: np.ndarray,
+        frame_id: int | None = None,
+        q_posture: np.ndarray | None = None,
+        settings: IKSettings | None = None,
+    ) -> IKResult:
+        """Joint angles putting ``frame_id`` (default: the pusher frame) at world pose
+        ``target``; damped least squares from ``q_seed`` within the joint limits."""
+        frame_id = self.pusher_frame_id if frame_id is None else frame_id
+        return solve_frame_ik(self.model, self.data, frame_id, target, q_seed, q_posture, settings)
+
+    def pusher_condition_number(self, q: np.ndarray) -> float:
+        """cond of the pusher Jacobian (6, nv) (world-aligned, m and rad mixed) [-]."""
+        return float(np.linalg.cond(self.pusher_jacobian(q)))
+
+    def total_mass(self) -> float:
+        """Mass of every body including the fixed base and the pusher [kg]."""
+        return math.fsum(inertia.mass for inertia in self.model.inertias)
+
+
+def _centre_full_turn_joints(q: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
+    """Wrap the angles beyond ±π of joints that may turn ±2π into (−π, π], mid-range.
+
+    FACTS §7 pose A has q7 = 6.2757 rad, 8 mrad from the +2π limit; the same posture with
+    q7 − 2π leaves the joint a full turn of travel either way.
+    """
+    wrapped = np.mod(q + math.pi, 2.0 * math.pi) - math.pi
+    full_turn = (upper - lower) >= 4.0 * math.pi - 1e-6
+    return np.where(full_turn & (np.abs(q) > math.pi), wrapped, q)
+
+
+def _finite_vector(label: str, x, n: int) -> np.ndarray:
+    """``x`` as a float64 array (n,) (no copy if it already is one), else StateError."""
+    accepted = f"{label} must be a finite vector of length {n}"
+    try:
+        array = np.asarray(x, dtype=float)
+    except (TypeError, ValueError):
+        raise StateError(f"{accepted}, got {type(x).__name__} {x!r:.40}") from None
+    if array.shape != (n,):
+        raise StateError(f"{accepted}, got shape {array.shape}")
+    if not np.all(np.isfinite(array)):
+        bad = int(np.flatnonzero(~np.isfinite(array))[0])
+        raise StateError(f"{accepted}, got {array[bad]} at index {bad}")
+    return array
+
+
+def load_arm(config: ArmConfig | None = None) -> ArmModel:
+    """Build the arm of ``config`` (default: the Kinova Gen2 7-DOF with the default pusher)."""
+    return ArmModel(config or ArmConfig())
