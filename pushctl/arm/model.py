@@ -79,6 +79,7 @@ class ArmTerms(NamedTuple):
 
     ``M`` (nv, nv) [kg·m², kg·m, kg] symmetric mass matrix including armature;
     ``nle`` (nv,) [N·m] c(q, v) + g(q), without joint damping;
+    ``g`` (nv,) [N·m] g(q) alone;
     ``prong_positions`` (k, 3) [m] prong points in the world frame;
     ``prong_jacobians`` (k, 3, nv) [m/rad] linear-velocity Jacobians of those points,
     world-aligned axes: ``prong_velocity[i] = prong_jacobians[i] @ v``.
@@ -86,6 +87,7 @@ class ArmTerms(NamedTuple):
 
     M: np.ndarray
     nle: np.ndarray
+    g: np.ndarray
     prong_positions: np.ndarray
     prong_jacobians: np.ndarray
 
@@ -169,7 +171,7 @@ class ArmModel:
 
     # ----------------------------------------------------------------- dynamics
     def compute(self, q: np.ndarray, v: np.ndarray) -> ArmTerms:
-        """M(q), c(q, v) + g(q) and the prong points with their Jacobians, in one pass.
+        """M(q), c(q, v) + g(q), g(q) and the prong points with their Jacobians, in one pass.
 
         ``q`` (nq,) [rad], ``v`` (nv,) [rad/s], float64, not validated here (hot path: use
         ``check_q``/``check_v`` at the boundary). About 11 µs for the 7-DOF arm, 2 prongs.
@@ -184,7 +186,7 @@ class ArmModel:
         mass = data.M.copy()
         if self._symmetrise:
             mass = np.triu(mass) + np.triu(mass, 1).T
-        return ArmTerms(mass, data.nle.copy(), positions, jacobians)
+        return ArmTerms(mass, data.nle.copy(), data.g.copy(), positions, jacobians)
 
     def mass_matrix(self, q: np.ndarray) -> np.ndarray:
         """M(q) (nv, nv) including armature."""

@@ -29,7 +29,7 @@ import numpy as np
 from pushctl.config import GRAVITY
 from pushctl.contact.mlcp import MLCPResult, solve_box_mlcp
 from pushctl.errors import ConfigError, StateError
-from pushctl.objects import ObjectSpec, signed_distance
+from pushctl.objects import ObjectSpec
 
 # A support point moving slower than this [m/s] counts as sticking: both friction rows get
 # their full bound. Faster, friction acts only against the slip (the cross row is dropped),
@@ -101,7 +101,32 @@ class WorldStats:
     solves: int = 0
     fallbacks: int = 0
     warm_starts: int = 0
+    energy_corrections: int = 0
     max_residual: float = 0.0
+
+
+@dataclass(frozen=True)
+class ContactProblem:
+    """One step's box-friction MLCP in impulses p = h λ, and what is needed to apply it.
+
+    ``D (m, m) = A M̃⁻¹ Aᵀ``, ``b (m,)``, bounds and friction indices as in
+    :func:`solve_box_mlcp`. Rows: per prong in contact (normal, tangential), then the
+    ground-friction rows of each support point.
+    """
+
+    h: float
+    D: np.ndarray
+    b: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+    findex: np.ndarray
+    mu: np.ndarray
+    A_arm: np.ndarray  # (m, nv)
+    v_arm_free: np.ndarray  # (nv,) [rad/s]
+    Minv_At_arm: np.ndarray  # (nv, m)
+    Minv_At_obj: np.ndarray  # (3, m)
+    prong_rows: list[int]
+    key: tuple
 
 
 @dataclass
@@ -156,13 +181,24 @@ class World:
         else:
             q = self.arm.q_ready if arm_q is None else arm_q
             self.q = _finite_vector(q, self.arm.nq, "arm_q")
-            self.v = np.zeros(self._nv) if arm_v is None else _finite_vector(arm_v, self._nv, "arm_v")
+            self.v = (
+                np.zeros(self._nv) if arm_v is None else _finite_vector(arm_v, self._nv, "arm_v")
+            )
         # At rest the ground boxes align with the object's e_n until a slip direction is seen.
         theta = self.object_pose[2]
-        self._slip_dirs = np.tile([math.cos(theta), math.sin(theta)], (len(self.object.support_points), 1))
+        self._slip_dirs = np.tile(
+            [math.cos(theta), math.sin(theta)], (len(self.object.support_points), 1)
+        )
         self._last_key, self._last_p = (), None
+        self._energy_ledger = 0.0  # spurious arm kinetic energy not yet removed [J]
         self._refresh_arm_terms()
         return self._result(np.zeros((self._n_prongs, 2)), self._prong_gaps(), None)
+
+    def prong_positions(self) -> np.ndarray:
+        """World positions [m] of the prongs at the current arm state, (k, 3)."""
+        if self.arm is None:
+            return np.zeros((0, 3))
+        return self._terms.prong_positions.copy()
 
     def gravity_torque(self) -> np.ndarray:
         """g(q) [N·m] at the current arm state, (nv,); empty for an object-only world."""
@@ -197,57 +233,108 @@ class World:
         gaps = self._prong_gaps()
         return self._result(force_sum / n_sub, gaps, worst, iterations)
 
+    def contact_problem(self, tau=None, implicit_kv=None) -> ContactProblem:
+        """The MLCP the next (sub)step would solve, without stepping: for inspection and
+        benchmarks. Arguments as in :meth:`step`."""
+        tau_arm, kv = self._check_command(tau, implicit_kv)
+        return self._build_problem(self.config.dt / self.config.substeps, tau_arm, kv)
+
+    def _build_problem(self, h: float, tau: np.ndarray, kv: np.ndarray) -> ContactProblem:
+        """Free velocities and the contact MLCP of one time step of length h."""
+        rows = self._assemble_rows(self._terms, h)
+        m = len(rows.lo)
+        if self.arm is None:
+            v_arm_free, Minv_At_arm = np.zeros(0), np.zeros((0, m))
+        else:
+            terms = self._terms
+            M_tilde = terms.M + np.diag(h * (self._damping + kv))
+            rhs = terms.M @ self.v + h * (tau - terms.nle)
+            # One solve gives the free velocity and M̃⁻¹ A_armᵀ together.
+            sol = np.linalg.solve(M_tilde, np.column_stack((rhs, rows.A_arm.T)))
+            v_arm_free, Minv_At_arm = sol[:, 0], sol[:, 1:]
+        Minv_At_obj = self._M_obj_inv[:, None] * rows.A_obj.T
+        D = rows.A_obj @ Minv_At_obj + rows.A_arm @ Minv_At_arm
+        b = rows.A_obj @ self.object_velocity + rows.A_arm @ v_arm_free + rows.bias
+        return ContactProblem(
+            h=h,
+            D=D,
+            b=b,
+            lo=rows.lo,
+            hi=rows.hi,
+            findex=rows.findex,
+            mu=rows.mu,
+            A_arm=rows.A_arm,
+            v_arm_free=v_arm_free,
+            Minv_At_arm=Minv_At_arm,
+            Minv_At_obj=Minv_At_obj,
+            prong_rows=rows.prong_rows,
+            key=rows.key,
+        )
+
     def _substep(self, h: float, tau: np.ndarray, kv: np.ndarray):
         """One MLCP time step of length h. Returns (prong forces (k, 2) [N], MLCP result)."""
-        nv = self._nv
-        terms = self._terms
-        if self.arm is not None:
-            M_tilde = terms.M + np.diag(h * (self._damping + kv))
-            # One factorisation for the free velocity and M̃⁻¹ A_armᵀ below.
-            rhs = terms.M @ self.v + h * (tau - terms.nle)
-        rows = self._assemble_rows(terms, h)
-        m = len(rows.lo)
-        if self.arm is not None:
-            if m:
-                sol = np.linalg.solve(M_tilde, np.column_stack((rhs, rows.A_arm.T)))
-                v_arm_free, Minv_At = sol[:, 0], sol[:, 1:]
-            else:
-                v_arm_free, Minv_At = np.linalg.solve(M_tilde, rhs), np.zeros((nv, 0))
-        else:
-            v_arm_free, Minv_At = np.zeros(0), np.zeros((0, m))
-        v_obj_free = self.object_velocity
-        if m == 0:
-            self._advance(v_arm_free, v_obj_free, h)
-            return np.zeros((self._n_prongs, 2)), None
-        Minv_At_obj = self._M_obj_inv[:, None] * rows.A_obj.T
-        D = rows.A_obj @ Minv_At_obj
-        if nv:
-            D += rows.A_arm @ Minv_At
-        b = rows.A_obj @ v_obj_free + rows.bias
-        if nv:
-            b += rows.A_arm @ v_arm_free
-        warm = self._last_p if rows.key == self._last_key else None
-        result = solve_box_mlcp(D, b, rows.lo, rows.hi, rows.findex, rows.mu, warm_start=warm)
-        self._record(result, rows.key)
-        p = result.p
-        v_arm = v_arm_free + Minv_At @ p if nv else v_arm_free
-        v_obj = v_obj_free + Minv_At_obj @ p
-        self._advance(v_arm, v_obj, h)
+        problem = self._build_problem(h, tau, kv)
         forces = np.zeros((self._n_prongs, 2))
-        for i, row in enumerate(rows.prong_rows):
-            if row >= 0:
-                forces[i] = p[row : row + 2] / h
+        result = None
+        v_arm, v_obj = problem.v_arm_free, self.object_velocity
+        arm_impulse = np.zeros(self._nv)  # generalised contact impulse on the arm [N·m·s]
+        if len(problem.b):
+            warm = self._last_p if problem.key == self._last_key else None
+            result = solve_box_mlcp(
+                problem.D,
+                problem.b,
+                problem.lo,
+                problem.hi,
+                problem.findex,
+                problem.mu,
+                warm_start=warm,
+            )
+            self._record(result, problem.key)
+            p = result.p
+            v_arm = v_arm + problem.Minv_At_arm @ p
+            v_obj = v_obj + problem.Minv_At_obj @ p
+            arm_impulse = problem.A_arm.T @ p
+            for i, row in enumerate(problem.prong_rows):
+                if row >= 0:
+                    forces[i] = p[row : row + 2] / h
+        self._advance_object(v_obj, h)
+        if self.arm is not None:
+            self._advance_arm(v_arm, h)
         return forces, result
 
-    def _advance(self, v_arm: np.ndarray, v_obj: np.ndarray, h: float) -> None:
-        """Semi-implicit Euler: positions move with the new velocities."""
-        if self.arm is not None:
-            self.q = self.arm.integrate(self.q, v_arm, h)
-            self.v = v_arm
-            self._refresh_arm_terms()
+    def _advance_object(self, v_obj: np.ndarray, h: float) -> None:
+        """Semi-implicit Euler: the pose moves with the new velocity. θ is not wrapped: the
+        plan and the metrics compare continuous angles."""
         self.object_velocity = v_obj
-        # θ is not wrapped: the plan and the metrics compare continuous angles.
         self.object_pose = self.object_pose + h * v_obj
+
+    def _advance_arm(self, v_arm: np.ndarray, h: float) -> None:
+        """Move the arm with its new velocity, then remove spurious energy it has gained.
+
+        In continuous time the Coriolis forces do no work: ½ q̇ᵀ Ṁ q̇ − q̇ᵀ C q̇ = 0. Semi-implicit
+        Euler evaluates the two halves at different instants, and on a configuration-dependent
+        M(q) their sum ``½ v⁺ᵀ (M(q⁺) − M(q)) v⁺ − h v⁺ᵀ C(q, v) v`` is an O(h²) energy per
+        step of either sign (measured on the Kinova arm without gravity, before this
+        correction: +1.5 % in 20 s at 0.3 rad/s, +19–30 % at 1 rad/s). The steps' errors are
+        summed in a ledger; whenever the sum is positive it is removed by scaling the new
+        joint velocity and the ledger is cleared (an inequality form of the energy projection
+        of geometric integration). Torque, gravity, damping and contact work are untouched.
+        """
+        old = self._terms
+        coriolis_power = v_arm @ (old.nle - old.g)  # v⁺ᵀ C(q, v) v [W]
+        self.q = self.arm.integrate(self.q, v_arm, h)
+        self.v = v_arm
+        self._refresh_arm_terms()
+        new = self._terms
+        energy = 0.5 * v_arm @ new.M @ v_arm
+        self._energy_ledger += energy - 0.5 * v_arm @ old.M @ v_arm - h * coriolis_power
+        if self._energy_ledger > 0.0 and energy > 0.0:
+            scale = math.sqrt(max(energy - self._energy_ledger, 0.0) / energy)
+            self._energy_ledger = 0.0
+            self.v = scale * v_arm
+            # c(q, v) is quadratic in v: rescale it instead of recomputing the terms.
+            self._terms = new._replace(nle=new.g + scale**2 * (new.nle - new.g))
+            self.stats.energy_corrections += 1
 
     def _record(self, result: MLCPResult, key: tuple) -> None:
         self.stats.solves += 1
@@ -265,18 +352,17 @@ class World:
         arm_rows, obj_rows, bias, lo, hi, findex, mu = [], [], [], [], [], [], []
         prong_rows, key = [], []
         stab = self.config.stabilisation
+        query = self.object.polygon.query
         for i in range(self._n_prongs):
             px, py = terms.prong_positions[i, 0] - x0, terms.prong_positions[i, 1] - y0
-            local = (c * px + s * py, -s * px + c * py)
-            gap, normal_local, closest = signed_distance(self.object.footprint, local)
+            gap, n_lx, n_ly, cl_x, cl_y = query(c * px + s * py, -s * px + c * py)
             if gap >= self.config.contact_margin:
                 prong_rows.append(-1)
                 continue
             # e_n: into the object (minus the outward normal); e_t = e_z × e_n.
-            nx = -(c * normal_local[0] - s * normal_local[1])
-            ny = -(s * normal_local[0] + c * normal_local[1])
-            rx = c * closest[0] - s * closest[1]
-            ry = s * closest[0] + c * closest[1]
+            nx, ny = -(c * n_lx - s * n_ly), -(s * n_lx + c * n_ly)
+            # r: from the centre of mass to the contact point on the surface, world axes.
+            rx, ry = c * cl_x - s * cl_y, s * cl_x + c * cl_y
             J = terms.prong_jacobians[i]
             for ex, ey in ((nx, ny), (-ny, nx)):
                 # Relative velocity of the object's contact point w.r.t. the prong along e.
@@ -346,7 +432,7 @@ class World:
         gaps = np.empty(self._n_prongs)
         for i in range(self._n_prongs):
             px, py = positions[i, 0] - self.object_pose[0], positions[i, 1] - self.object_pose[1]
-            gaps[i] = signed_distance(self.object.footprint, (c * px + s * py, -s * px + c * py))[0]
+            gaps[i] = self.object.polygon.query(c * px + s * py, -s * px + c * py)[0]
         return gaps
 
     def _check_command(self, tau, implicit_kv):
@@ -355,9 +441,11 @@ class World:
         tau = _finite_vector(tau, self._nv, "tau", StateError)
         if implicit_kv is None:
             return tau, np.zeros(self._nv)
-        kv = np.broadcast_to(np.asarray(implicit_kv, dtype=float), (self._nv,)) if np.ndim(
-            implicit_kv
-        ) == 0 else _finite_vector(implicit_kv, self._nv, "implicit_kv", StateError)
+        kv = (
+            np.broadcast_to(np.asarray(implicit_kv, dtype=float), (self._nv,))
+            if np.ndim(implicit_kv) == 0
+            else _finite_vector(implicit_kv, self._nv, "implicit_kv", StateError)
+        )
         if not np.all(np.isfinite(kv)) or np.any(kv < 0.0):
             raise StateError(f"implicit_kv must be finite and >= 0 N·m·s/rad, got {implicit_kv!r}")
         return tau, kv

@@ -1,0 +1,181 @@
+"""``make bench``: timings of the simulator core, printed as a table and written as CSV.
+
+Run as ``python -m pushctl.bench [--out results/bench.csv]``. Each figure is the median over
+many calls of one operation on one core (this is a single-threaded process), in µs; the CSV
+records how it was made (command, version, git commit, date, machine).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import time
+from datetime import datetime, timezone
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from rich.console import Console
+from rich.table import Table
+
+import pushctl
+from pushctl.contact.world import World
+
+
+def _median_us(func, repeats: int) -> float:
+    """Median wall time of ``func()`` over ``repeats`` calls [µs], after a short warm-up."""
+    for _ in range(min(50, repeats)):
+        func()
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        func()
+        times.append(time.perf_counter() - start)
+    return 1e6 * statistics.median(times)
+
+
+def _pushing_world(object_name: str = "cube") -> tuple[World, callable]:
+    """A world whose prongs press on the object, and a torque law that keeps them pressing.
+
+    The torque law (gravity compensation, a posture spring and a 2 N push through the prong
+    Jacobians) is not timed; only ``World.step`` is.
+    """
+    world = pushctl.make_world(object=object_name)
+    arm = world.arm
+    prongs = world.prong_positions()
+    middle = prongs[:, :2].mean(axis=0)
+    world.reset(object_pose=(middle[0] + world.object.face_offset, middle[1], 0.0))
+    push = np.array([2.0, 0.0, 0.0])
+
+    def torque() -> np.ndarray:
+        terms = arm.compute(world.q, world.v)
+        tau = world.gravity_torque() + 30.0 * (arm.q_ready - world.q)
+        return tau + sum(J.T @ push for J in terms.prong_jacobians) / arm.pusher.n_prongs
+
+    for _ in range(20):  # settle into sliding contact
+        world.step(torque(), implicit_kv=5.0)
+    return world, torque
+
+
+def _time_world_step(world: World, torque, steps: int) -> tuple[float, int]:
+    """Median µs of ``world.step`` alone, and how many steps had both prongs in contact."""
+    times, in_contact = [], 0
+    for _ in range(steps):
+        tau = torque()
+        start = time.perf_counter()
+        result = world.step(tau, implicit_kv=5.0)
+        times.append(time.perf_counter() - start)
+        in_contact += int(np.all(result.contact_forces[:, 0] > 0))
+    return 1e6 * statistics.median(times), in_contact
+
+
+def run_benchmarks(repeats: int = 2000) -> list[dict]:
+    """All benchmark rows: name, value, unit, note."""
+    rows = []
+    world, torque = _pushing_world("cube")
+    problem = world.contact_problem(torque(), implicit_kv=5.0)
+    args = (problem.D, problem.b, problem.lo, problem.hi, problem.findex, problem.mu)
+    solution = pushctl.solve_box_mlcp(*args)
+    n = len(problem.b)
+    note = f"cube contact set, 2 prongs + 4 supports, n = {n} rows"
+    rows.append(
+        {
+            "name": "solve_box_mlcp cold",
+            "value": _median_us(lambda: pushctl.solve_box_mlcp(*args), repeats),
+            "unit": "us",
+            "note": note + " (ProxQP fixed point + exact active-set finish)",
+        }
+    )
+    rows.append(
+        {
+            "name": "solve_box_mlcp warm",
+            "value": _median_us(
+                lambda: pushctl.solve_box_mlcp(*args, warm_start=solution.p), repeats
+            ),
+            "unit": "us",
+            "note": note + " (warm start from the previous solution, as in the world step)",
+        }
+    )
+    step_us, in_contact = _time_world_step(world, torque, repeats)
+    rows.append(
+        {
+            "name": "world step arm+cube",
+            "value": step_us,
+            "unit": "us",
+            "note": f"kinova-gen2-7dof, h = 0.01 s, both prongs pressing in {in_contact}/{repeats} steps",
+        }
+    )
+    rows.append(
+        {"name": "steps per second arm+cube", "value": 1e6 / step_us, "unit": "1/s", "note": ""}
+    )
+    free = pushctl.make_world(object="cube", arm=None)
+    free.reset(object_pose=(0.0, 0.0, 0.0), object_velocity=(1e3, 0.0, 0.1))  # slides throughout
+    rows.append(
+        {
+            "name": "world step object only",
+            "value": _median_us(free.step, repeats),
+            "unit": "us",
+            "note": "cube sliding on the table, 4 support points",
+        }
+    )
+    rows.append(
+        {
+            "name": "steps per second object only",
+            "value": 1e6 / rows[-1]["value"],
+            "unit": "1/s",
+            "note": "",
+        }
+    )
+    rows.append(
+        {
+            "name": "mlcp fallbacks in timed steps",
+            "value": world.stats.fallbacks,
+            "unit": "count",
+            "note": f"of {world.stats.solves} solves; warm-start hits {world.stats.warm_starts}",
+        }
+    )
+    return rows
+
+
+def _provenance() -> str:
+    try:
+        commit = subprocess.run(
+            ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, check=True
+        ).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        commit = "unknown"
+    now = datetime.now(timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+    command = " ".join(["python -m pushctl.bench", *sys.argv[1:]])
+    return (
+        f"# made by: {command}; pushctl {pushctl.__version__}; commit {commit}; {now}; "
+        f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, one used"
+    )
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=Path("results/bench.csv"))
+    parser.add_argument("--repeats", type=int, default=2000)
+    args = parser.parse_args(argv)
+    rows = run_benchmarks(args.repeats)
+    table = Table(title="pushctl core benchmarks (median, one core)")
+    for column in ("name", "value", "unit", "note"):
+        table.add_column(column)
+    for row in rows:
+        table.add_row(row["name"], f"{row['value']:.1f}", row["unit"], row["note"])
+    Console().print(table)
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = args.out.with_suffix(".csv.tmp")
+    with tmp.open("w") as handle:
+        handle.write(_provenance() + "\n")
+        pd.DataFrame(rows).to_csv(handle, index=False, float_format="%.3f")
+    tmp.replace(args.out)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

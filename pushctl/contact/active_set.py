@@ -1,0 +1,227 @@
+"""Exact active-set finish for the box-friction MLCP (helper of :mod:`pushctl.contact.mlcp`).
+
+An *active set* labels every row ``-1`` (at its lower bound), ``0`` (free) or ``+1`` (at its
+upper bound). For a friction row the bound is ``∓mu_i·p_n`` with ``n = findex[i]``, so a
+friction row at a bound is tied linearly to its normal row. Given the labels, the MLCP is a
+square linear system in all ``n`` impulses:
+
+- free row ``i``:               ``(D p + b)_i = 0``                 (``w_i = 0``)
+- fixed-bound row at a bound:   ``p_i = lo_i`` or ``p_i = hi_i``
+- friction row at a bound:      ``p_i − s_i·mu_i·p_n = 0``          (``s_i = ±1``)
+
+It is non-symmetric once friction rows are tied, and singular whenever the free rows of ``D``
+are (identical tangential rows of two prongs, 8 ground rows on 3 object DOF). A non-singular
+system is solved by LU; a singular one by the minimum-norm least-squares solution (complete
+orthogonal factorisation), which breaks the tie reproducibly — the same labels always give
+the same p, and identical rows get equal shares. (A diagonal regulariser with iterative
+refinement was tried first: refinement amplifies the rounding error along the null space, and
+identical rows came out unequal by up to 1e-3 relative.)
+
+:func:`finish` solves the system, verifies complementarity through the natural-map residual,
+and pivots when the verification fails: block principal pivoting (Júdice & Pires, 1994) —
+flip every infeasible row at once — falling back to a single least-index pivot (Murty) when
+the number of infeasible rows stops decreasing or a label pattern repeats.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.linalg.lapack import dgelsy, dgelsy_lwork, dgetrf, dgetrs
+
+SINGULAR_PIVOT = 1e-11
+"""An LU pivot below this fraction of the largest one marks the active-set system singular."""
+
+RANK_RCOND = 1e-11
+"""Relative threshold of the rank decision in the minimum-norm solve of a singular system."""
+
+BLOCK_PATIENCE = 3
+"""Block pivots tolerated without fewer infeasible rows before switching to single pivots."""
+
+
+@dataclass(slots=True)
+class BoxProblem:
+    """A validated MLCP in the form the solvers use. All vectors are ``(n,)``.
+
+    ``lo``/``hi`` hold the fixed bounds, with 0 on friction rows, and ``mu`` holds the
+    friction coefficient on friction rows and 0 elsewhere, so that the bounds at ``p`` are
+    ``lo − mu·|p[fi]|`` and ``hi + mu·|p[fi]|``. ``fi[i]`` is the normal row of friction row
+    ``i`` and ``i`` itself otherwise. ``threshold`` is the accepted natural-map residual
+    (``tol · scale``).
+
+    Precomputed indices for :func:`solve_labels`: ``diag_flat`` and ``coupling_flat`` (n,)
+    address ``(i, i)`` and ``(i, fi[i])`` in a flattened (n, n) matrix; ``rhs_flat`` (3n,)
+    is ``[lo, −b, hi]`` and ``rhs_base + n·label`` picks each row's right-hand side.
+    """
+
+    D: np.ndarray
+    b: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+    mu: np.ndarray
+    fi: np.ndarray
+    diag_flat: np.ndarray
+    coupling_flat: np.ndarray
+    rhs_flat: np.ndarray
+    rhs_base: np.ndarray
+    threshold: float
+
+
+@dataclass(slots=True)
+class Candidate:
+    """A point p (n,), its w = D p + b (n,), the natural map r (n,) and ``residual = ‖r‖∞``."""
+
+    p: np.ndarray
+    w: np.ndarray
+    r: np.ndarray
+    residual: float
+
+
+@dataclass(slots=True)
+class FinishOutcome:
+    """Best candidate of a finish, whether it verified, and how many pivots it took."""
+
+    best: Candidate
+    converged: bool
+    pivots: int
+
+
+def bounds_at(prob: BoxProblem, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Lower and upper bounds (n,), (n,) with the friction bounds ±mu·|p_n| evaluated at p."""
+    c = prob.mu * np.abs(p[prob.fi])
+    return prob.lo - c, prob.hi + c
+
+
+def evaluate(prob: BoxProblem, p: np.ndarray) -> Candidate:
+    """w, the natural map ``p − Π_[lo(p), hi(p)](p − w)`` and its ∞-norm at p (n,).
+
+    A non-finite p gets an infinite residual, so it never wins a comparison.
+    """
+    w = prob.D @ p
+    w += prob.b
+    lo, hi = bounds_at(prob, p)
+    r = p - w
+    np.maximum(r, lo, out=r)
+    np.minimum(r, hi, out=r)
+    np.subtract(p, r, out=r)
+    # Python's max over a short list is cheaper than a numpy reduction at these sizes.
+    residual = max(map(abs, r.tolist()))
+    if not residual <= np.inf:  # NaN
+        residual = np.inf
+    return Candidate(p=p, w=w, r=r, residual=residual)
+
+
+def labels_at(prob: BoxProblem, p: np.ndarray) -> np.ndarray:
+    """Active set (n,) of ints that the point p implies: rows within ``atol`` of a bound are at it.
+
+    The tolerance is relative to ‖p‖∞ because the point usually comes from an iterative
+    solver (ProxQP) or from the previous time step; a row labelled at a bound by mistake is
+    corrected by the pivoting in :func:`finish`. Lower wins when both hold (a friction row
+    whose normal impulse is 0 has lo = hi = 0).
+    """
+    atol = 1e-9 * max(1.0, max(map(abs, p.tolist())))
+    lo, hi = bounds_at(prob, p)
+    labels = (p >= hi - atol).astype(np.intp)
+    labels[p <= lo + atol] = -1
+    return labels
+
+
+def solve_labels(prob: BoxProblem, labels: np.ndarray) -> np.ndarray:
+    """The impulses p (n,) that the active set ``labels`` (n,) implies, see the module doc.
+
+    Runs on every simulation step: flat indices and LAPACK's getrf/getrs/gelsy are called
+    directly because numpy's 2-D fancy indexing and ``linalg`` wrappers cost more than the
+    solve itself at n ≈ 12.
+    """
+    free = labels == 0
+    A = prob.D * free[:, None]
+    flat = A.ravel()
+    flat[prob.diag_flat] += ~free
+    # Friction rows at a bound: p_t − s·mu·p_n = 0 (mu is 0 on other rows).
+    flat[prob.coupling_flat] -= labels * prob.mu
+    rhs = prob.rhs_flat[prob.rhs_base + labels * labels.shape[0]]
+    lu, piv, info = dgetrf(A)
+    pivots = np.abs(lu.diagonal()).tolist()
+    if info == 0 and min(pivots) > SINGULAR_PIVOT * max(pivots):
+        return dgetrs(lu, piv, rhs)[0]
+    return _min_norm_solve(A, rhs)
+
+
+def _min_norm_solve(A: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """Minimum-norm least-squares solution x (n,) of A x = rhs for a singular A (n, n).
+
+    LAPACK gelsy: QR with column pivoting, then a complete orthogonal factorisation of the
+    numerically full-rank part (rank decided with ``RANK_RCOND``); the null-space component of
+    the solution is exactly zero, so identical rows get equal shares to rounding.
+    """
+    n = A.shape[0]
+    lwork = int(dgelsy_lwork(n, n, 1, RANK_RCOND)[0])
+    x = dgelsy(A, rhs, np.zeros(n, dtype=np.int32), RANK_RCOND, lwork)[1]
+    return x[:n]
+
+
+def _targets(prob: BoxProblem, labels: np.ndarray, cand: Candidate) -> np.ndarray:
+    """The label (n,) each row would move to if it is infeasible.
+
+    Bound rows go free (w has the wrong sign). Free rows go to the bound they cross, or, when
+    w_i ≠ 0 is left over from an inconsistent system, to the bound that w pushes them to.
+    """
+    lo, hi = bounds_at(prob, cand.p)
+    p, w = cand.p, cand.w
+    below = (p < lo) | ((p <= hi) & (w > 0.0))
+    target = np.where(below, -1, 1)
+    # No row can sit at an infinite bound: take the other one, or stay free.
+    target[(target < 0) & np.isneginf(lo)] = 1
+    target[(target > 0) & np.isposinf(hi)] = 0
+    target[labels != 0] = 0
+    return target
+
+
+def finish(prob: BoxProblem, labels: np.ndarray, max_pivots: int) -> FinishOutcome:
+    """Solve the active set ``labels`` (n,) exactly and pivot until it verifies.
+
+    Verified means natural-map residual ≤ ``prob.threshold``. At most ``max_pivots`` label
+    changes are made; the candidate with the lowest residual is returned either way.
+    """
+    labels = labels.copy()
+    best: Candidate | None = None
+    seen = {labels.tobytes()}
+    fewest_bad, stalls, pivots = labels.shape[0] + 1, 0, 0
+    while True:
+        cand = evaluate(prob, solve_labels(prob, labels))
+        if best is None or cand.residual < best.residual:
+            best = cand
+        if cand.residual <= prob.threshold:
+            return FinishOutcome(best=best, converged=True, pivots=pivots)
+        if pivots >= max_pivots or not np.isfinite(cand.residual):
+            return FinishOutcome(best=best, converged=False, pivots=pivots)
+        bad = np.flatnonzero(np.abs(cand.r) > prob.threshold)
+        target = _targets(prob, labels, cand)
+        if bad.size < fewest_bad:
+            fewest_bad, stalls = bad.size, 0
+        else:
+            stalls += 1
+        trial = labels.copy()
+        trial[bad] = target[bad]
+        if stalls >= BLOCK_PATIENCE or trial.tobytes() in seen:
+            # No progress, or the block pivot cycles: one least-index pivot instead.
+            stalls = BLOCK_PATIENCE
+            trial = _single_pivot(labels, bad, target, seen)
+            if trial is None:
+                return FinishOutcome(best=best, converged=False, pivots=pivots)
+        labels = trial
+        seen.add(labels.tobytes())
+        pivots += 1
+
+
+def _single_pivot(
+    labels: np.ndarray, bad: np.ndarray, target: np.ndarray, seen: set[bytes]
+) -> np.ndarray | None:
+    """Flip the least-index infeasible row whose flip gives an unseen pattern (None if none)."""
+    for i in bad:
+        trial = labels.copy()
+        trial[i] = target[i]
+        if trial.tobytes() not in seen:
+            return trial
+    return None

@@ -1,0 +1,328 @@
+"""Box-friction MLCP solver: ProxSuite's dense ProxQP, a fixed point on the friction bounds,
+and an exact active-set finish (DESIGN.md §3 "MLCP solver").
+
+The problem, in impulses p [N·s] and velocities w [m/s or rad/s] (one entry per constraint
+row): find p (n,) with ``w = D p + b``, ``lo ≤ p ≤ hi`` and w complementary to the bounds —
+``w_i ≥ 0`` where ``p_i`` is at its lower bound, ``w_i ≤ 0`` at its upper bound, ``w_i = 0``
+strictly between. A row with ``findex[i] ≥ 0`` is a friction row (ODE/Bullet box-friction
+convention): its bounds are ``±mu_i·|p[findex[i]]|`` and its own lo/hi are ignored.
+
+Method:
+
+1. ``warm_start`` given (e.g. the last time step's p): solve the active set it implies
+   exactly (:mod:`pushctl.contact.active_set`), pivoting a few times; return at once if
+   that verifies (``method="warm-start"``).
+2. Otherwise, with the friction bounds frozen, the MLCP is the KKT system of the box QP
+   ``min ½ pᵀDp + bᵀp s.t. lo ≤ p ≤ hi``, solved by ProxQP; an outer fixed point re-solves it
+   (warm-started) with the bounds of the last solution until they stop moving. The plain
+   fixed point cycles on a few percent of instances, so the active set it settles on (or
+   cycles through) is finished exactly and pivoted (``method="proxqp+active-set"``).
+3. If nothing verifies, the iterate with the lowest residual is returned with
+   ``converged=False`` (``method="fallback"``). If no finite iterate exists at all, p is 0
+   clipped to the fixed bounds (friction rows 0): the result is never NaN.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from proxsuite import proxqp
+
+from pushctl.contact.active_set import (
+    BoxProblem,
+    Candidate,
+    evaluate,
+    finish,
+    labels_at,
+)
+from pushctl.errors import MLCPInputError
+
+_QP_EPS_ABS = 1e-11
+"""ProxQP's absolute accuracy; the exact finish does the rest."""
+
+_WARM_PIVOTS = 4
+"""Pivots allowed from a warm start's active set before the cold path takes over."""
+
+
+@dataclass(frozen=True, slots=True)
+class MLCPResult:
+    """Solution of one box-friction MLCP.
+
+    - ``p``: (n,) impulses [N·s] (or whatever unit the rows have).
+    - ``w``: (n,) ``D p + b`` at the returned p.
+    - ``residual``: ∞-norm of the natural map ``p − Π_[lo(p), hi(p)](p − w)``, with the
+      friction bounds ``±mu·|p_n|`` evaluated at the returned p.
+    - ``iterations``: fixed-point iterations (ProxQP solves) + active-set pivots.
+    - ``converged``: ``residual ≤ tol · max(1, ‖b‖∞)``.
+    - ``method``: ``"warm-start"``, ``"proxqp+active-set"`` or ``"fallback"``.
+    """
+
+    p: np.ndarray
+    w: np.ndarray
+    residual: float
+    iterations: int
+    converged: bool
+    method: str
+
+
+def solve_box_mlcp(
+    D: np.ndarray,
+    b: np.ndarray,
+    lo: np.ndarray,
+    hi: np.ndarray,
+    findex: np.ndarray,
+    mu: np.ndarray,
+    *,
+    warm_start: np.ndarray | None = None,
+    tol: float = 1e-9,
+    max_iterations: int = 50,
+) -> MLCPResult:
+    """Solve the box-friction MLCP ``w = D p + b`` with p in ``[lo(p), hi(p)]`` ⊥ w.
+
+    Args:
+        D: (n, n) symmetric positive semi-definite matrix (e.g. ``A M⁻¹ Aᵀ`` [1/kg]); may be
+            singular. Symmetry is assumed, not checked.
+        b: (n,) free velocity of the rows (plus stabilisation) [m/s].
+        lo, hi: (n,) fixed bounds of non-friction rows [N·s]; ±inf allowed, ``lo ≤ hi``.
+            Ignored on friction rows.
+        findex: (n,) int: −1 for a non-friction row, else the index of the normal row whose
+            impulse scales this friction row's bounds. A normal row is not a friction row
+            itself and needs ``lo ≥ 0`` (so that ``mu·p_n`` is a bound, not its negative).
+        mu: (n,) friction coefficients [-], ``≥ 0`` and finite on friction rows; ignored
+            elsewhere.
+        warm_start: (n,) optional previous p, e.g. the last time step's.
+        tol: accepted natural-map residual relative to ``scale = max(1, ‖b‖∞)``.
+        max_iterations: bound on the fixed-point iterations and, separately, on the pivots.
+
+    Returns:
+        An :class:`MLCPResult`; never NaN. Unique-solution ties (singular D) are broken by
+        the minimum (diag-D-weighted) norm solution of the final active set: identical rows
+        get equal shares.
+
+    Raises:
+        MLCPInputError: arrays of mismatched sizes, non-finite D or b, NaN bounds, lo > hi,
+            bad findex, negative or non-finite friction coefficients, bad warm_start, tol or
+            max_iterations.
+    """
+    prob = _problem(D, b, lo, hi, findex, mu, tol)
+    n = prob.b.shape[0]
+    if not (isinstance(max_iterations, int | np.integer) and max_iterations >= 1):
+        raise MLCPInputError(f"max_iterations must be an integer >= 1, got {max_iterations!r}")
+    start = None if warm_start is None else _warm_vector(warm_start, n)
+    if n == 0:
+        return MLCPResult(np.zeros(0), np.zeros(0), 0.0, 0, True, "warm-start")
+    iterations, best = 0, None
+    if start is not None:
+        out = finish(prob, labels_at(prob, start), min(_WARM_PIVOTS, max_iterations))
+        if out.converged:
+            return _result(out.best, out.pivots, True, "warm-start")
+        iterations, best = out.pivots, out.best
+    cold = _cold_solve(prob, np.zeros(n) if start is None else start, max_iterations)
+    iterations += cold.iterations
+    if cold.converged:
+        return _result(cold.best, iterations, True, "proxqp+active-set")
+    best = _better(best, cold.best)
+    if best is None:
+        best = evaluate(prob, _safe_point(prob))
+    return _result(best, iterations, best.residual <= prob.threshold, "fallback")
+
+
+@dataclass(slots=True)
+class _ColdOutcome:
+    best: Candidate | None
+    converged: bool
+    iterations: int
+
+
+def _cold_solve(prob: BoxProblem, start: np.ndarray, max_iterations: int) -> _ColdOutcome:
+    """ProxQP fixed point on the friction bounds from ``start`` (n,), then the exact finish.
+
+    The fixed point hands over as soon as its iterate's active set repeats one seen before
+    (settled, or cycling): the finish is tried on it and, if it verifies, returned. Otherwise
+    iteration continues until the bounds stop moving or ``max_iterations``; then the last
+    active set is finished with up to ``max_iterations`` pivots.
+    """
+    best: Candidate | None = None
+    seen: set[bytes] = set()
+    iterations, labels = 0, None
+    for cand in _fixed_point(prob, start, max_iterations):
+        iterations += 1
+        best = _better(best, cand)
+        labels = labels_at(prob, cand.p)
+        key = labels.tobytes()
+        if key in seen or cand.residual <= prob.threshold:
+            out = finish(prob, labels, 0)
+            if out.converged:
+                return _ColdOutcome(out.best, True, iterations)
+        seen.add(key)
+    if labels is None:
+        return _ColdOutcome(best, False, iterations)
+    out = finish(prob, labels, max_iterations)
+    iterations += out.pivots
+    best = _better(best, out.best)
+    return _ColdOutcome(best, out.converged or best.residual <= prob.threshold, iterations)
+
+
+def _fixed_point(prob: BoxProblem, start: np.ndarray, max_iterations: int):
+    """Yield the ProxQP solution (as a Candidate) of each fixed-point iteration.
+
+    Iteration k solves the box QP with the friction bounds of iterate k − 1 (of ``start`` for
+    the first), warm-started from iterate k − 1. Stops when the bounds move by at most the
+    residual threshold, on a non-finite iterate, or after ``max_iterations`` solves.
+    """
+    n = prob.b.shape[0]
+    qp = proxqp.dense.QP(n, 0, 0, True)
+    qp.settings.eps_abs = _QP_EPS_ABS
+    qp.settings.eps_rel = 0.0
+    qp.settings.verbose = False
+    # Friction half-widths mu·|p_n| (0 on other rows): the part of the bounds that moves.
+    width = prob.mu * np.abs(start[prob.fi])
+    qp.init(prob.D, prob.b, None, None, None, None, None, prob.lo - width, prob.hi + width)
+    qp.solve()
+    # Warm start from the previous x passed explicitly: with WARM_START_WITH_PREVIOUS_RESULT,
+    # proxsuite 0.8.0 returns the previous solution unchanged after a box-only update.
+    qp.settings.initial_guess = proxqp.InitialGuess.WARM_START
+    for _ in range(max_iterations):
+        p = np.array(qp.results.x, dtype=float)
+        if not np.all(np.isfinite(p)):
+            return
+        yield evaluate(prob, p)
+        new_width = prob.mu * np.abs(p[prob.fi])
+        if np.max(np.abs(new_width - width)) <= prob.threshold:
+            return
+        width = new_width
+        qp.update(l_box=prob.lo - width, u_box=prob.hi + width)
+        qp.solve(p, None, None)
+
+
+def _better(a: Candidate | None, b: Candidate | None) -> Candidate | None:
+    """The candidate with the lower residual (the first on a tie; None only if both are)."""
+    if a is None or (b is not None and b.residual < a.residual):
+        return b
+    return a
+
+
+def _safe_point(prob: BoxProblem) -> np.ndarray:
+    """Last resort when every iterate was non-finite: 0 clipped to the fixed bounds (n,)."""
+    return np.clip(np.zeros_like(prob.b), prob.lo, prob.hi)
+
+
+def _result(cand: Candidate, iterations: int, converged: bool, method: str) -> MLCPResult:
+    return MLCPResult(cand.p, cand.w, cand.residual, iterations, converged, method)
+
+
+# ------------------------------------------------------------------------------ validation
+
+
+def _problem(D, b, lo, hi, findex, mu, tol) -> BoxProblem:
+    """Check the inputs and precompute the :class:`BoxProblem` the solvers share.
+
+    The checks run on every simulation step, so the passing path uses few numpy calls; the
+    detailed messages are built only once something is wrong.
+    """
+    D = np.asarray(D, dtype=float)
+    if D.ndim != 2 or D.shape[0] != D.shape[1]:
+        raise MLCPInputError(f"D must be a square (n, n) array, got shape {D.shape}")
+    n = D.shape[0]
+    b, lo, hi, mu = (_vector(v, k, n) for v, k in ((b, "b"), (lo, "lo"), (hi, "hi"), (mu, "mu")))
+    fidx = _findex(findex, n)
+    # A sum is finite iff every entry is (barring overflow, which the exact check settles).
+    if not math.isfinite(D.sum() + b.sum()) and not (np.isfinite(D).all() and np.isfinite(b).all()):
+        name = "D" if not np.isfinite(D).all() else "b"
+        raise MLCPInputError(f"{name} must hold finite numbers only, got NaN or inf")
+    if not (isinstance(tol, float | int) and 0.0 < tol < math.inf):
+        raise MLCPInputError(f"tol must be a positive finite number, got {tol!r}")
+    _check_rows(fidx.tolist(), lo.tolist(), hi.tolist(), mu.tolist())
+    fric = fidx >= 0
+    rows = np.arange(n)
+    lo_f = np.where(fric, 0.0, lo)
+    hi_f = np.where(fric, 0.0, hi)
+    fi = np.where(fric, fidx, rows)
+    return BoxProblem(
+        D=D,
+        b=b,
+        lo=lo_f,
+        hi=hi_f,
+        mu=np.where(fric, mu, 0.0),
+        fi=fi,
+        diag_flat=np.arange(0, n * n, n + 1),
+        coupling_flat=fi + rows * n,
+        rhs_flat=np.concatenate((lo_f, -b, hi_f)),
+        rhs_base=np.arange(n, 2 * n),
+        threshold=float(tol) * max(1.0, max(map(abs, b.tolist()), default=0.0)),
+    )
+
+
+def _vector(v, name: str, n: int) -> np.ndarray:
+    try:
+        arr = np.asarray(v, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise MLCPInputError(f"{name} must be a numeric (n,) array with n = {n}: {exc}") from None
+    if arr.shape != (n,):
+        raise MLCPInputError(f"{name} must have shape ({n},) to match D, got {arr.shape}")
+    return arr
+
+
+def _findex(findex, n: int) -> np.ndarray:
+    arr = np.asarray(findex)
+    if arr.shape != (n,):
+        raise MLCPInputError(f"findex must have shape ({n},) to match D, got {arr.shape}")
+    if arr.dtype.kind not in "iu":
+        integral = arr.dtype.kind == "f" and bool(np.all(np.isfinite(arr) & (arr == np.round(arr))))
+        if not integral:
+            raise MLCPInputError(f"findex must hold integers (-1 or a row index), got {arr!r}")
+    arr = arr.astype(np.intp)
+    for i, j in enumerate(arr.tolist()):
+        if not -1 <= j < n:
+            raise MLCPInputError(
+                f"findex[{i}] = {j} is out of range: use -1 (no friction) or 0..{n - 1}"
+            )
+    return arr
+
+
+def _check_rows(fidx: list[int], lo: list[float], hi: list[float], mu: list[float]) -> None:
+    """Per-row checks, in plain Python (cheaper than numpy at these sizes).
+
+    Non-friction rows: no NaN, ``lo < +inf``, ``hi > -inf``, ``lo ≤ hi``. Friction rows: point
+    at a distinct non-friction row with ``lo ≥ 0``, and have a finite ``mu ≥ 0``.
+    """
+    for i, j in enumerate(fidx):
+        if j < 0:
+            if not lo[i] < math.inf:
+                raise MLCPInputError(
+                    f"lo[{i}] = {lo[i]} is not a lower bound: use a number or -inf"
+                )
+            if not hi[i] > -math.inf:
+                raise MLCPInputError(
+                    f"hi[{i}] = {hi[i]} is not an upper bound: use a number or +inf"
+                )
+            if lo[i] > hi[i]:
+                raise MLCPInputError(f"lo[{i}] = {lo[i]} > hi[{i}] = {hi[i]}: bounds need lo <= hi")
+        elif i == j:
+            raise MLCPInputError(
+                f"findex[{i}] = {j} points at its own row: a friction row needs its normal row"
+            )
+        elif fidx[j] >= 0:
+            raise MLCPInputError(
+                f"findex[{i}] = {j} points at friction row {j}: it must point at a normal "
+                "row (one with findex -1)"
+            )
+        elif not lo[j] >= 0.0:
+            raise MLCPInputError(
+                f"findex[{i}] = {j} points at row {j} with lo = {lo[j]}: a normal row needs "
+                "lo >= 0 so that mu*p_n is a bound"
+            )
+        elif not 0.0 <= mu[i] < math.inf:
+            raise MLCPInputError(
+                f"mu[{i}] = {mu[i]} on friction row {i}: friction coefficients must be "
+                "finite and >= 0"
+            )
+
+
+def _warm_vector(warm_start, n: int) -> np.ndarray:
+    arr = _vector(warm_start, "warm_start", n)
+    if not np.isfinite(arr).all():
+        raise MLCPInputError("warm_start must hold finite numbers only, got NaN or inf")
+    return arr
