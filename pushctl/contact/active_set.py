@@ -25,6 +25,7 @@ the number of infeasible rows stops decreasing or a label pattern repeats.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -70,7 +71,8 @@ class BoxProblem:
 
 @dataclass(slots=True)
 class Candidate:
-    """A point p (n,), its w = D p + b (n,), the natural map r (n,) and ``residual = ‖r‖∞``."""
+    """A point p (n,), its w = D p + b (n,), the natural map's magnitude r (n,), ≥ 0, per row,
+    and ``residual = max r``."""
 
     p: np.ndarray
     w: np.ndarray
@@ -94,26 +96,29 @@ def bounds_at(prob: BoxProblem, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def evaluate(prob: BoxProblem, p: np.ndarray) -> Candidate:
-    """w, the natural map ``p − Π_[lo(p), hi(p)](p − w)`` and its ∞-norm at p (n,).
+    """w, the natural map ``p − Π_[lo(p), hi(p)](p − w)`` (as |r|) and its ∞-norm at p (n,).
 
     A non-finite p gets an infinite residual, so it never wins a comparison.
     """
-    w = prob.D @ p
+    w = prob.D.dot(p)
     w += prob.b
-    lo, hi = bounds_at(prob, p)
+    c = prob.mu * np.abs(p[prob.fi])
     r = p - w
-    np.maximum(r, lo, out=r)
-    np.minimum(r, hi, out=r)
+    np.maximum(r, prob.lo - c, out=r)
+    np.minimum(r, prob.hi + c, out=r)
     np.subtract(p, r, out=r)
-    # Python's max over a short list is cheaper than a numpy reduction at these sizes.
-    residual = max(map(abs, r.tolist()))
-    if not residual <= np.inf:  # NaN
-        residual = np.inf
+    np.abs(r, out=r)
+    # Plain Python on a short list beats numpy reductions at these sizes; the sum catches
+    # NaN, which max() over a list would skip.
+    values = r.tolist()
+    residual = max(values)
+    if not math.isfinite(sum(values)):
+        residual = math.inf
     return Candidate(p=p, w=w, r=r, residual=residual)
 
 
 def labels_at(prob: BoxProblem, p: np.ndarray) -> np.ndarray:
-    """Active set (n,) of ints that the point p implies: rows within ``atol`` of a bound are at it.
+    """Active set (n,) of ints that the finite point p implies: rows within ``atol`` of a bound.
 
     The tolerance is relative to ‖p‖∞ because the point usually comes from an iterative
     solver (ProxQP) or from the previous time step; a row labelled at a bound by mistake is
@@ -121,9 +126,10 @@ def labels_at(prob: BoxProblem, p: np.ndarray) -> np.ndarray:
     whose normal impulse is 0 has lo = hi = 0).
     """
     atol = 1e-9 * max(1.0, max(map(abs, p.tolist())))
-    lo, hi = bounds_at(prob, p)
-    labels = (p >= hi - atol).astype(np.intp)
-    labels[p <= lo + atol] = -1
+    c = prob.mu * np.abs(p[prob.fi])
+    c -= atol
+    labels = (p >= prob.hi + c).astype(np.intp)
+    labels[p <= prob.lo - c] = -1
     return labels
 
 
@@ -137,7 +143,7 @@ def solve_labels(prob: BoxProblem, labels: np.ndarray) -> np.ndarray:
     free = labels == 0
     A = prob.D * free[:, None]
     flat = A.ravel()
-    flat[prob.diag_flat] += ~free
+    flat[prob.diag_flat[~free]] = 1.0
     # Friction rows at a bound: p_t − s·mu·p_n = 0 (mu is 0 on other rows).
     flat[prob.coupling_flat] -= labels * prob.mu
     rhs = prob.rhs_flat[prob.rhs_base + labels * labels.shape[0]]
@@ -194,9 +200,9 @@ def finish(prob: BoxProblem, labels: np.ndarray, max_pivots: int) -> FinishOutco
             best = cand
         if cand.residual <= prob.threshold:
             return FinishOutcome(best=best, converged=True, pivots=pivots)
-        if pivots >= max_pivots or not np.isfinite(cand.residual):
+        if pivots >= max_pivots or cand.residual == math.inf:
             return FinishOutcome(best=best, converged=False, pivots=pivots)
-        bad = np.flatnonzero(np.abs(cand.r) > prob.threshold)
+        bad = np.flatnonzero(cand.r > prob.threshold)
         target = _targets(prob, labels, cand)
         if bad.size < fewest_bad:
             fewest_bad, stalls = bad.size, 0

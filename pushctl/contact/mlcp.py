@@ -226,12 +226,16 @@ def _problem(D, b, lo, hi, findex, mu, tol) -> BoxProblem:
     if D.ndim != 2 or D.shape[0] != D.shape[1]:
         raise MLCPInputError(f"D must be a square (n, n) array, got shape {D.shape}")
     n = D.shape[0]
-    b, lo, hi, mu = (_vector(v, k, n) for v, k in ((b, "b"), (lo, "lo"), (hi, "hi"), (mu, "mu")))
+    b = _vector(b, "b", n)
+    lo = _vector(lo, "lo", n)
+    hi = _vector(hi, "hi", n)
+    mu = _vector(mu, "mu", n)
     fidx = _findex(findex, n)
     # A sum is finite iff every entry is (barring overflow, which the exact check settles).
-    if not math.isfinite(D.sum() + b.sum()) and not (np.isfinite(D).all() and np.isfinite(b).all()):
-        name = "D" if not np.isfinite(D).all() else "b"
-        raise MLCPInputError(f"{name} must hold finite numbers only, got NaN or inf")
+    if not math.isfinite(D.sum() + sum(b.tolist())):
+        for name, arr in (("D", D), ("b", b)):
+            if not np.isfinite(arr).all():
+                raise MLCPInputError(f"{name} must hold finite numbers only, got NaN or inf")
     if not (isinstance(tol, float | int) and 0.0 < tol < math.inf):
         raise MLCPInputError(f"tol must be a positive finite number, got {tol!r}")
     _check_rows(fidx.tolist(), lo.tolist(), hi.tolist(), mu.tolist())
@@ -323,6 +327,6 @@ def _check_rows(fidx: list[int], lo: list[float], hi: list[float], mu: list[floa
 
 def _warm_vector(warm_start, n: int) -> np.ndarray:
     arr = _vector(warm_start, "warm_start", n)
-    if not np.isfinite(arr).all():
+    if not math.isfinite(sum(arr.tolist())):
         raise MLCPInputError("warm_start must hold finite numbers only, got NaN or inf")
     return arr

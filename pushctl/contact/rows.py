@@ -26,15 +26,17 @@ class ProngRows:
     """Normal and tangential rows of the prongs within the contact margin.
 
     ``prongs`` (p,) indices of those prongs; rows 2i and 2i+1 belong to ``prongs[i]``.
-    ``A_arm`` (2p, nv), ``A_obj`` (2p, 3); ``bias`` (2p,) [m/s] the position-stabilisation
-    velocity added to the normal rows (a positive gap may close exactly within the step,
-    a fraction ``stabilisation`` of a penetration is removed per step).
+    ``A_arm`` (2p, nv); ``obj_rows`` 2p tuples (e_x, e_y, r × e), the object part;
+    ``bias`` 2p floats [m/s], the position-stabilisation velocity added to the normal rows
+    (a positive gap may close exactly within the step, a fraction ``stabilisation`` of a
+    penetration is removed per step). Plain lists: the caller stacks them with the ground
+    rows in one array.
     """
 
     prongs: tuple[int, ...]
     A_arm: np.ndarray
-    A_obj: np.ndarray
-    bias: np.ndarray
+    obj_rows: list[tuple[float, float, float]]
+    bias: list[float]
 
 
 def prong_rows(
@@ -53,30 +55,32 @@ def prong_rows(
     of the nearest feature), e_t = e_z × e_n; rows measure the velocity of the object's
     contact point relative to the prong along them, so w_n > 0 separates.
     """
-    c, s = math.cos(pose[2]), math.sin(pose[2])
-    prongs, arm, obj, bias = [], [], [], []
-    for i, (px, py) in enumerate(prong_positions[:, :2] - pose[:2]):
+    x0, y0, theta = pose.tolist()
+    c, s = math.cos(theta), math.sin(theta)
+    prongs, directions, obj, bias = [], [], [], []
+    for i, (px, py, _) in enumerate(prong_positions.tolist()):
+        px, py = px - x0, py - y0
         gap, n_lx, n_ly, cl_x, cl_y = polygon.query(c * px + s * py, -s * px + c * py)
         if gap >= margin:
             continue
         nx, ny = -(c * n_lx - s * n_ly), -(s * n_lx + c * n_ly)
         # r: centre of mass to the contact point on the surface, world axes.
         rx, ry = c * cl_x - s * cl_y, s * cl_x + c * cl_y
-        J = prong_jacobians[i]
         prongs.append(i)
-        arm.append(-(nx * J[0] + ny * J[1]))
-        arm.append(ny * J[0] - nx * J[1])
+        directions.append(((nx, ny), (-ny, nx)))
         obj.append((nx, ny, rx * ny - ry * nx))
         obj.append((-ny, nx, rx * nx + ry * ny))
         bias.append(gap / h if gap >= 0.0 else stabilisation * gap / h)
         bias.append(0.0)
     nv = prong_jacobians.shape[2]
-    return ProngRows(
-        prongs=tuple(prongs),
-        A_arm=np.array(arm).reshape(-1, nv),
-        A_obj=np.array(obj, dtype=float).reshape(-1, 3),
-        bias=np.array(bias),
-    )
+    if prongs:
+        # Row (i, d) of the arm part: −e_d · J_i (planar components), one batched product.
+        jacobians = prong_jacobians if len(prongs) == len(prong_jacobians) else prong_jacobians[prongs]
+        A_arm = (np.array(directions) @ jacobians[:, :2, :]).reshape(-1, nv)
+        np.negative(A_arm, out=A_arm)
+    else:
+        A_arm = np.zeros((0, nv))
+    return ProngRows(prongs=tuple(prongs), A_arm=A_arm, obj_rows=obj, bias=bias)
 
 
 class GroundFriction:
@@ -90,36 +94,42 @@ class GroundFriction:
 
     def __init__(self, support_points: np.ndarray, friction_limits: np.ndarray) -> None:
         """``support_points`` (S, 2) [m] object frame; ``friction_limits`` (S,) [N] = μ_g N_j."""
-        self._points = np.asarray(support_points, dtype=float)
-        self._limits = np.asarray(friction_limits, dtype=float)
-        self._directions = np.zeros_like(self._points)
+        self._point_list = [tuple(point) for point in np.asarray(support_points, float).tolist()]
+        self._limit_list = np.asarray(friction_limits, dtype=float).tolist()
+        self._direction_list: list[tuple[float, float]] = []
         self.reset(0.0)
 
     @property
     def n_rows(self) -> int:
-        return 2 * len(self._points)
+        return 2 * len(self._point_list)
 
     def reset(self, theta: float) -> None:
         """Forget the slip history: at-rest boxes align with e_n at yaw ``theta`` [rad]."""
-        self._directions[:] = (math.cos(theta), math.sin(theta))
+        self._direction_list = [(math.cos(theta), math.sin(theta))] * len(self._point_list)
 
     def rows(self, pose: np.ndarray, velocity: np.ndarray, h: float):
-        """``(A_obj (2S, 3), hi (2S,))`` at the object's ``pose`` and pre-step ``velocity``;
-        the bounds are symmetric, ``lo = −hi`` [N·s]."""
-        c, s = math.cos(pose[2]), math.sin(pose[2])
-        r = self._points @ np.array([[c, s], [-s, c]])  # (S, 2) world offsets
-        slip = velocity[:2] + velocity[2] * np.column_stack((-r[:, 1], r[:, 0]))
-        speed = np.hypot(slip[:, 0], slip[:, 1])
-        sliding = speed > SLIP_SPEED
-        if sliding.any():
-            self._directions[sliding] = slip[sliding] / speed[sliding, None]
-        d = self._directions
-        A = np.empty((self.n_rows, 3))
-        A[0::2, 0], A[0::2, 1] = d[:, 0], d[:, 1]
-        A[1::2, 0], A[1::2, 1] = -d[:, 1], d[:, 0]
-        A[0::2, 2] = r[:, 0] * d[:, 1] - r[:, 1] * d[:, 0]
-        A[1::2, 2] = r[:, 0] * d[:, 0] + r[:, 1] * d[:, 1]
-        hi = np.empty(self.n_rows)
-        hi[0::2] = h * self._limits
-        hi[1::2] = np.where(sliding, 0.0, h * self._limits)
-        return A, hi
+        """Rows at the object's ``pose`` and pre-step ``velocity``: ``(obj_rows, hi)``, 2S
+        tuples (e_x, e_y, r × e) and 2S upper bounds [N·s]; the bounds are symmetric,
+        ``lo = −hi``. Plain lists, stacked by the caller."""
+        theta = float(pose[2])
+        c, s = math.cos(theta), math.sin(theta)
+        vx, vy, omega = velocity.tolist()
+        rows, hi = [], []
+        # Plain floats: for four points this is several times faster than numpy.
+        for j, (sx, sy) in enumerate(self._point_list):
+            rx, ry = c * sx - s * sy, s * sx + c * sy
+            ux, uy = vx - omega * ry, vy + omega * rx
+            speed = math.hypot(ux, uy)
+            bound = h * self._limit_list[j]
+            if speed > SLIP_SPEED:
+                dx, dy = ux / speed, uy / speed
+                self._direction_list[j] = (dx, dy)
+                cross = 0.0
+            else:
+                dx, dy = self._direction_list[j]
+                cross = bound
+            rows.append((dx, dy, rx * dy - ry * dx))
+            rows.append((-dy, dx, rx * dx + ry * dy))
+            hi.append(bound)
+            hi.append(cross)
+        return rows, hi
