@@ -151,3 +151,51 @@ def test_prong_forces_stay_in_their_friction_cone():
         assert np.all(np.abs(tangential) <= 0.2 * normal + 1e-9)
         slipped += int(np.any(np.abs(tangential) > 0.2 * normal - 1e-9) and normal.sum() > 0.1)
     assert slipped > 50  # the cone's edge was reached: the test exercised sliding
+
+
+@pytest.mark.parametrize("arm_name", ["kinova-j2s6s200", "panda"])
+def test_other_arms_press_without_penetration(arm_name):
+    world = pushctl.make_world(object="cube", arm=arm_name, mu_ground=3.0)
+    world.reset(object_pose=touching_pose(world))
+    results = list(press(world, np.array([3.0, 0.0, 0.0]), steps=200, kp=30.0))
+    assert max(-r.prong_gaps.min() for r in results) < 1e-3
+    assert np.mean([r.contact_forces[:, 0].sum() for r in results[-50:]]) == pytest.approx(
+        3.0, rel=0.1
+    )
+
+
+@pytest.mark.parametrize("theta_deg", [15.0, 30.0])  # the face turns away from prong 0
+def test_prong_beside_a_rotated_corner_touches_the_corner(theta_deg):
+    """A prong just outside the corner of a rotated cube is 1 mm from it, not deep behind
+    the pushed face's plane: pressing turns the cube instead of kicking it away."""
+    world = pushctl.make_world(object="cube", mu_ground=0.3)
+    prong = world.prong_positions()[1, :2]
+    half, theta = world.object.face_offset, np.radians(theta_deg)
+    rotation = np.array([[np.cos(theta), -np.sin(theta)], [np.sin(theta), np.cos(theta)]])
+    corner = np.array([-half, half])  # local; the prong sits outside it along the bisector
+    bisector = rotation @ np.array([-1.0, 1.0]) / np.sqrt(2)
+    centre = prong - 0.001 * bisector - rotation @ corner
+    world.reset(object_pose=(centre[0], centre[1], theta))
+    assert world.step(world.gravity_torque()).prong_gaps[1] == pytest.approx(0.001, abs=2e-4)
+    world.reset(object_pose=(centre[0], centre[1], theta))
+    results = list(press(world, np.array([1.5, 0.0, 0.0]), steps=100, kp=0.0))
+    assert max(-r.prong_gaps.min() for r in results) < 1e-3
+    assert max(np.abs(r.object_velocity[:2]).max() for r in results) < 0.5  # no kick
+    assert max(r.contact_forces[1, 0] for r in results) > 0.1  # and the corner was pushed
+
+
+def test_contact_problem_is_a_well_formed_mlcp():
+    world = pushctl.make_world(object="wedge")
+    world.reset(object_pose=touching_pose(world))
+    problem = world.contact_problem(world.gravity_torque(), implicit_kv=2.0)
+    n_support = len(world.object.support_points)
+    assert problem.prongs == (0, 1)
+    assert problem.D.shape == (4 + 2 * n_support,) * 2
+    np.testing.assert_allclose(problem.D, problem.D.T, atol=1e-12)
+    assert np.linalg.eigvalsh(problem.D).min() > -1e-10  # A M̃⁻¹ Aᵀ is positive semi-definite
+    assert list(problem.findex[:4]) == [-1, 0, -1, 2] and np.all(problem.findex[4:] == -1)
+    np.testing.assert_allclose(problem.mu[[1, 3]], world.config.mu_contact)
+    solution = pushctl.solve_box_mlcp(
+        problem.D, problem.b, problem.lo, problem.hi, problem.findex, problem.mu
+    )
+    assert solution.converged and solution.residual < 1e-9

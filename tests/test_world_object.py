@@ -93,3 +93,13 @@ def test_friction_free_object_keeps_its_momentum():
         result = world.step()
     assert np.allclose(result.object_velocity, (0.1, -0.05, 0.2), atol=1e-12)
     assert np.allclose(result.object_pose, (0.1, -0.05, 0.2), atol=1e-12)
+
+
+def test_substeps_refine_the_step():
+    def distance(substeps):
+        world = pushctl.make_world(object="cube", arm=None, dt=0.01, substeps=substeps)
+        world.reset(object_pose=(0, 0, 0), object_velocity=(0.6, 0, 0))
+        return slide_until_rest(world)[0]
+
+    exact = 0.36 / (2 * 0.3 * GRAVITY)
+    assert abs(distance(8) - exact) < abs(distance(1) - exact) / 4
