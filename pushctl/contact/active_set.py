@@ -19,26 +19,25 @@ identical rows came out unequal by up to 1e-3 relative.)
 
 :func:`finish` solves the system, verifies complementarity through the natural-map residual,
 and pivots when the verification fails: block principal pivoting (Júdice & Pires, 1994) —
-flip every infeasible row at once — falling back to a single least-index pivot (Murty) when
-the number of infeasible rows stops decreasing or a label pattern repeats.
+flip every infeasible row at once — backed up by single least-index pivots (Murty) in a
+best-first search that never revisits an active set, so it cannot cycle.
 """
 
 from __future__ import annotations
 
+import heapq
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.linalg.lapack import dgelsy, dgelsy_lwork, dgetrf, dgetrs
+from scipy.linalg.lapack import dgelsy, dgetrf, dgetrs
 
 SINGULAR_PIVOT = 1e-11
 """An LU pivot below this fraction of the largest one marks the active-set system singular."""
 
 RANK_RCOND = 1e-11
 """Relative threshold of the rank decision in the minimum-norm solve of a singular system."""
-
-BLOCK_PATIENCE = 3
-"""Block pivots tolerated without fewer infeasible rows before switching to single pivots."""
 
 
 @dataclass(slots=True)
@@ -48,8 +47,8 @@ class BoxProblem:
     ``lo``/``hi`` hold the fixed bounds, with 0 on friction rows, and ``mu`` holds the
     friction coefficient on friction rows and 0 elsewhere, so that the bounds at ``p`` are
     ``lo − mu·|p[fi]|`` and ``hi + mu·|p[fi]|``. ``fi[i]`` is the normal row of friction row
-    ``i`` and ``i`` itself otherwise. ``threshold`` is the accepted natural-map residual
-    (``tol · scale``).
+    ``i`` and 0 otherwise (any index does there, since mu is 0). ``threshold`` is the
+    accepted natural-map residual (``tol · scale``).
 
     Precomputed indices for :func:`solve_labels`: ``diag_flat`` and ``coupling_flat`` (n,)
     address ``(i, i)`` and ``(i, fi[i])`` in a flattened (n, n) matrix; ``rhs_flat`` (3n,)
@@ -117,16 +116,18 @@ def evaluate(prob: BoxProblem, p: np.ndarray) -> Candidate:
     return Candidate(p=p, w=w, r=r, residual=residual)
 
 
-def labels_at(prob: BoxProblem, p: np.ndarray) -> np.ndarray:
-    """Active set (n,) of ints that the finite point p implies: rows within ``atol`` of a bound.
+def labels_at(prob: BoxProblem, p: np.ndarray, width: np.ndarray | None = None) -> np.ndarray:
+    """Active set (n,) of ints that the finite point p (n,) implies: rows within ``atol`` of a
+    bound are at it.
 
-    The tolerance is relative to ‖p‖∞ because the point usually comes from an iterative
-    solver (ProxQP) or from the previous time step; a row labelled at a bound by mistake is
-    corrected by the pivoting in :func:`finish`. Lower wins when both hold (a friction row
-    whose normal impulse is 0 has lo = hi = 0).
+    The friction half-widths ``width`` (n,) default to ``mu·|p_n|``; pass the ones a QP was
+    solved with to read off that QP's active set. The tolerance is relative to ‖p‖∞ because
+    the point comes from an iterative solver (ProxQP) or from the previous time step; a row
+    labelled at a bound by mistake is corrected by the pivoting in :func:`finish`. Lower wins
+    when both hold (a friction row whose normal impulse is 0 has lo = hi = 0).
     """
     atol = 1e-9 * max(1.0, max(map(abs, p.tolist())))
-    c = prob.mu * np.abs(p[prob.fi])
+    c = prob.mu * np.abs(p[prob.fi]) if width is None else width.copy()
     c -= atol
     labels = (p >= prob.hi + c).astype(np.intp)
     labels[p <= prob.lo - c] = -1
@@ -162,7 +163,9 @@ def _min_norm_solve(A: np.ndarray, rhs: np.ndarray) -> np.ndarray:
     the solution is exactly zero, so identical rows get equal shares to rounding.
     """
     n = A.shape[0]
-    lwork = int(dgelsy_lwork(n, n, 1, RANK_RCOND)[0])
+    # Workspace for block size up to 64 (LAPACK's optimum is MN + 2N + NB·(N + 1)); a fixed
+    # formula saves the workspace query.
+    lwork = 3 * n + 64 * (n + 1)
     x = dgelsy(A, rhs, np.zeros(n, dtype=np.int32), RANK_RCOND, lwork)[1]
     return x[:n]
 
@@ -187,47 +190,80 @@ def _targets(prob: BoxProblem, labels: np.ndarray, cand: Candidate) -> np.ndarra
 def finish(prob: BoxProblem, labels: np.ndarray, max_pivots: int) -> FinishOutcome:
     """Solve the active set ``labels`` (n,) exactly and pivot until it verifies.
 
-    Verified means natural-map residual ≤ ``prob.threshold``. At most ``max_pivots`` label
-    changes are made; the candidate with the lowest residual is returned either way.
+    Verified means natural-map residual ≤ ``prob.threshold``. Pivoting is a best-first
+    search over active sets, each visited at most once: the most promising one seen so far
+    (fewest infeasible rows, then lowest residual) offers its next move — first the block
+    pivot of Júdice & Pires (flip every infeasible row), then single pivots in least-index
+    order (Murty), then single pivots to the other bound. While block pivots keep reducing
+    the infeasible rows this is plain block principal pivoting; when they stop, it backs up
+    to single pivots instead of cycling. Each move costs one linear solve and counts as one
+    pivot; at most ``max_pivots`` are made. The lowest-residual candidate is returned either
+    way.
     """
-    labels = labels.copy()
-    best: Candidate | None = None
+    cand = evaluate(prob, solve_labels(prob, labels))
+    best = cand
+    if cand.residual <= prob.threshold:
+        return FinishOutcome(best=best, converged=True, pivots=0)
     seen = {labels.tobytes()}
-    fewest_bad, stalls, pivots = labels.shape[0] + 1, 0, 0
-    while True:
-        cand = evaluate(prob, solve_labels(prob, labels))
-        if best is None or cand.residual < best.residual:
+    heap = [(_score(prob, cand), 0, _moves(prob, labels, cand))]
+    pivots = 0
+    while heap and pivots < max_pivots:
+        trial = next(heap[0][2], None)
+        if trial is None:
+            heapq.heappop(heap)
+            continue
+        key = trial.tobytes()
+        if key in seen:
+            continue
+        seen.add(key)
+        pivots += 1
+        cand = evaluate(prob, solve_labels(prob, trial))
+        if cand.residual < best.residual:
             best = cand
         if cand.residual <= prob.threshold:
             return FinishOutcome(best=best, converged=True, pivots=pivots)
-        if pivots >= max_pivots or cand.residual == math.inf:
-            return FinishOutcome(best=best, converged=False, pivots=pivots)
-        bad = np.flatnonzero(cand.r > prob.threshold)
-        target = _targets(prob, labels, cand)
-        if bad.size < fewest_bad:
-            fewest_bad, stalls = bad.size, 0
-        else:
-            stalls += 1
-        trial = labels.copy()
-        trial[bad] = target[bad]
-        if stalls >= BLOCK_PATIENCE or trial.tobytes() in seen:
-            # No progress, or the block pivot cycles: one least-index pivot instead.
-            stalls = BLOCK_PATIENCE
-            trial = _single_pivot(labels, bad, target, seen)
-            if trial is None:
-                return FinishOutcome(best=best, converged=False, pivots=pivots)
-        labels = trial
-        seen.add(labels.tobytes())
-        pivots += 1
+        if cand.residual < math.inf:
+            heapq.heappush(heap, (_score(prob, cand), pivots, _moves(prob, trial, cand)))
+    return FinishOutcome(best=best, converged=False, pivots=pivots)
 
 
-def _single_pivot(
-    labels: np.ndarray, bad: np.ndarray, target: np.ndarray, seen: set[bytes]
-) -> np.ndarray | None:
-    """Flip the least-index infeasible row whose flip gives an unseen pattern (None if none)."""
+def _score(prob: BoxProblem, cand: Candidate) -> tuple[int, float]:
+    """How promising an active set is: (number of infeasible rows, residual)."""
+    return int(np.count_nonzero(cand.r > prob.threshold)), cand.residual
+
+
+def _moves(prob: BoxProblem, labels: np.ndarray, cand: Candidate) -> Iterator[np.ndarray]:
+    """The pivots (n,) to try from ``labels``, most promising first (see :func:`finish`)."""
+    bad = np.flatnonzero(cand.r > prob.threshold).tolist()
+    target = _targets(prob, labels, cand)
+    base = _resign_friction(prob, labels, cand)
+    block = base.copy()
+    block[bad] = target[bad]
+    yield block
     for i in bad:
-        trial = labels.copy()
-        trial[i] = target[i]
-        if trial.tobytes() not in seen:
-            return trial
-    return None
+        single = base.copy()
+        single[i] = target[i]
+        yield single
+    lo, hi = bounds_at(prob, cand.p)
+    for i in bad:
+        other = -target[i] if target[i] != 0 else -labels[i]
+        if other != 0 and math.isfinite(lo[i] if other < 0 else hi[i]):
+            single = base.copy()
+            single[i] = other
+            yield single
+
+
+def _resign_friction(prob: BoxProblem, labels: np.ndarray, cand: Candidate) -> np.ndarray:
+    """Labels (n,) with friction rows of zero width turned to the side their w asks for.
+
+    A friction row whose normal impulse is 0 has bounds [0, 0]: the natural map cannot see
+    that its w has the wrong sign for its label (w < 0 at the lower bound), yet the label
+    decides ``p_t = ∓mu·p_n`` once the normal row goes free — keeping the wrong one makes the
+    pivoting cycle between "normal free, pushing the wrong way" and "normal at 0".
+    """
+    wrong = (labels * cand.w > prob.threshold) & (cand.r <= prob.threshold) & (prob.mu > 0.0)
+    if not wrong.any():
+        return labels
+    labels = labels.copy()
+    labels[wrong] = -labels[wrong]
+    return labels

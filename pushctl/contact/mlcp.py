@@ -15,8 +15,10 @@ Method:
 2. Otherwise, with the friction bounds frozen, the MLCP is the KKT system of the box QP
    ``min ½ pᵀDp + bᵀp s.t. lo ≤ p ≤ hi``, solved by ProxQP; an outer fixed point re-solves it
    (warm-started) with the bounds of the last solution until they stop moving. The plain
-   fixed point cycles on a few percent of instances, so the active set it settles on (or
-   cycles through) is finished exactly and pivoted (``method="proxqp+active-set"``).
+   fixed point cycles on a few percent of instances (residuals 1e-5..1e-2), so the active
+   set it settles on (or cycles through) is solved exactly and pivoted; if that fails, the
+   fixed point goes on under-relaxed and its active sets are tried in turn
+   (``method="proxqp+active-set"``).
 3. If nothing verifies, the iterate with the lowest residual is returned with
    ``converged=False`` (``method="fallback"``). If no finite iterate exists at all, p is 0
    clipped to the fixed bounds (friction rows 0): the result is never NaN.
@@ -25,6 +27,7 @@ Method:
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -45,6 +48,16 @@ _QP_EPS_ABS = 1e-11
 _WARM_PIVOTS = 4
 """Pivots allowed from a warm start's active set before the cold path takes over."""
 
+_HANDOVER_PIVOTS = 4
+"""Pivots allowed when the fixed point's active set repeats, before iterating on."""
+
+_CYCLE_MEMORY = 8
+"""Iterates remembered to recognise a cycle of the fixed point."""
+
+_RELAXATION = (1.0, 0.5, 0.25)
+"""Fraction of each friction-bound update taken, per phase of the fixed point: the plain
+fixed point first, then damped ones where it cycles."""
+
 
 @dataclass(frozen=True, slots=True)
 class MLCPResult:
@@ -55,8 +68,11 @@ class MLCPResult:
     - ``residual``: ∞-norm of the natural map ``p − Π_[lo(p), hi(p)](p − w)``, with the
       friction bounds ``±mu·|p_n|`` evaluated at the returned p.
     - ``iterations``: fixed-point iterations (ProxQP solves) + active-set pivots.
-    - ``converged``: ``residual ≤ tol · max(1, ‖b‖∞)``.
-    - ``method``: ``"warm-start"``, ``"proxqp+active-set"`` or ``"fallback"``.
+    - ``converged``: ``residual ≤ tol · max(1, ‖b‖∞)`` (the scale keeps the test relative for
+      large free velocities; below 1 it is absolute).
+    - ``method``: ``"warm-start"`` (the warm start's active set, pivoted at most 4 times,
+      verified), ``"proxqp+active-set"`` (fixed point + exact finish verified) or
+      ``"fallback"`` (nothing verified: the lowest-residual iterate, ``converged=False``).
     """
 
     p: np.ndarray
@@ -94,12 +110,14 @@ def solve_box_mlcp(
             elsewhere.
         warm_start: (n,) optional previous p, e.g. the last time step's.
         tol: accepted natural-map residual relative to ``scale = max(1, ‖b‖∞)``.
-        max_iterations: bound on the fixed-point iterations and, separately, on the pivots.
+        max_iterations: bound on the fixed-point iterations of each relaxation phase and on
+            the pivots of each exact finish (the warm start's finish gets at most 4 pivots).
 
     Returns:
-        An :class:`MLCPResult`; never NaN. Unique-solution ties (singular D) are broken by
-        the minimum (diag-D-weighted) norm solution of the final active set: identical rows
-        get equal shares.
+        An :class:`MLCPResult`; never NaN. Ties (a singular D admits many p) are broken by the
+        minimum-norm solution of the final active set's linear system, so identical rows get
+        equal shares and the same active set always gives the same p. With ``n = 0`` the
+        result is empty and converged.
 
     Raises:
         MLCPInputError: arrays of mismatched sizes, non-finite D or b, NaN bounds, lo > hi,
@@ -112,7 +130,8 @@ def solve_box_mlcp(
         raise MLCPInputError(f"max_iterations must be an integer >= 1, got {max_iterations!r}")
     start = None if warm_start is None else _warm_vector(warm_start, n)
     if n == 0:
-        return MLCPResult(np.zeros(0), np.zeros(0), 0.0, 0, True, "warm-start")
+        method = "proxqp+active-set" if start is None else "warm-start"
+        return MLCPResult(np.zeros(0), np.zeros(0), 0.0, 0, True, method)
     iterations, best = 0, None
     if start is not None:
         out = finish(prob, labels_at(prob, start), min(_WARM_PIVOTS, max_iterations))
@@ -139,38 +158,64 @@ class _ColdOutcome:
 def _cold_solve(prob: BoxProblem, start: np.ndarray, max_iterations: int) -> _ColdOutcome:
     """ProxQP fixed point on the friction bounds from ``start`` (n,), then the exact finish.
 
-    The fixed point hands over as soon as its iterate's active set repeats one seen before
-    (settled, or cycling): the finish is tried on it and, if it verifies, returned. Otherwise
-    iteration continues until the bounds stop moving or ``max_iterations``; then the last
-    active set is finished with up to ``max_iterations`` pivots.
+    Phase one is the plain fixed point; if its active set cannot be finished, the fixed
+    point is run again from where it stopped with the bound updates under-relaxed
+    (``_RELAXATION``), which damps the overshoot that makes the plain one cycle and so
+    reaches other active sets to finish from. Within a phase, the fixed point hands over as
+    soon as its iterate's active set repeats one seen before (settled, or cycling): the
+    finish is tried on it with a few pivots and, if it verifies, returned. A phase ends when
+    the bounds stop moving, after ``max_iterations`` iterations, or when the bounds repeat
+    those of an earlier iterate (a cycle); its last active set is then finished with up to
+    ``max_iterations`` pivots.
     """
     best: Candidate | None = None
-    seen: set[bytes] = set()
-    iterations, labels = 0, None
-    for cand in _fixed_point(prob, start, max_iterations):
-        iterations += 1
-        best = _better(best, cand)
-        labels = labels_at(prob, cand.p)
-        key = labels.tobytes()
-        if key in seen or cand.residual <= prob.threshold:
-            out = finish(prob, labels, 0)
-            if out.converged:
-                return _ColdOutcome(out.best, True, iterations)
-        seen.add(key)
-    if labels is None:
-        return _ColdOutcome(best, False, iterations)
-    out = finish(prob, labels, max_iterations)
-    iterations += out.pivots
-    best = _better(best, out.best)
-    return _ColdOutcome(best, out.converged or best.residual <= prob.threshold, iterations)
+    tried: set[bytes] = set()
+    iterations = 0
+    for relax in _RELAXATION:
+        seen: set[bytes] = set()
+        last: Candidate | None = None
+        labels = None
+        history: list[np.ndarray] = []
+        for cand, width in _fixed_point(prob, start, max_iterations, relax):
+            iterations += 1
+            best, last = _better(best, cand), cand
+            # The active set of the QP just solved: against its own bounds, not those at p.
+            labels = labels_at(prob, cand.p, width)
+            key = labels.tobytes()
+            if (key in seen and key not in tried) or cand.residual <= prob.threshold:
+                out = finish(prob, labels, _HANDOVER_PIVOTS)
+                iterations += out.pivots
+                if out.converged:
+                    return _ColdOutcome(out.best, True, iterations)
+                best = _better(best, out.best)
+                tried.add(key)
+            seen.add(key)
+            if _repeats(width, history, prob.threshold):
+                break  # a cycle: the fixed point would only repeat itself
+        if labels is None or last is None:
+            break
+        out = finish(prob, labels, max_iterations)
+        iterations += out.pivots
+        best = _better(best, out.best)
+        if out.converged:
+            return _ColdOutcome(out.best, True, iterations)
+        tried.add(labels.tobytes())
+        start = last.p
+    converged = best is not None and best.residual <= prob.threshold
+    return _ColdOutcome(best, converged, iterations)
 
 
-def _fixed_point(prob: BoxProblem, start: np.ndarray, max_iterations: int):
-    """Yield the ProxQP solution (as a Candidate) of each fixed-point iteration.
+def _fixed_point(
+    prob: BoxProblem, start: np.ndarray, max_iterations: int, relax: float
+) -> Iterator[tuple[Candidate, np.ndarray]]:
+    """Yield each fixed-point iteration's ProxQP solution and the friction half-widths (n,)
+    it was solved with.
 
-    Iteration k solves the box QP with the friction bounds of iterate k − 1 (of ``start`` for
-    the first), warm-started from iterate k − 1. Stops when the bounds move by at most the
-    residual threshold, on a non-finite iterate, or after ``max_iterations`` solves.
+    The first QP gets the friction bounds ``±mu·|p_n|`` of ``start`` (n,); iteration k + 1
+    moves the half-widths a fraction ``relax`` of the way to those of iterate k and re-solves,
+    warm-started from iterate k. Stops when the bounds of an iterate match those it was
+    solved with to the residual threshold, on a non-finite iterate, or after
+    ``max_iterations`` solves.
     """
     n = prob.b.shape[0]
     qp = proxqp.dense.QP(n, 0, 0, True)
@@ -180,21 +225,30 @@ def _fixed_point(prob: BoxProblem, start: np.ndarray, max_iterations: int):
     # Friction half-widths mu·|p_n| (0 on other rows): the part of the bounds that moves.
     width = prob.mu * np.abs(start[prob.fi])
     qp.init(prob.D, prob.b, None, None, None, None, None, prob.lo - width, prob.hi + width)
-    qp.solve()
-    # Warm start from the previous x passed explicitly: with WARM_START_WITH_PREVIOUS_RESULT,
-    # proxsuite 0.8.0 returns the previous solution unchanged after a box-only update.
+    # Warm start from x passed explicitly: with WARM_START_WITH_PREVIOUS_RESULT, proxsuite
+    # 0.8.0 returns the previous solution unchanged after a box-only update.
     qp.settings.initial_guess = proxqp.InitialGuess.WARM_START
+    qp.solve(start, None, None)
     for _ in range(max_iterations):
         p = np.array(qp.results.x, dtype=float)
         if not np.all(np.isfinite(p)):
             return
-        yield evaluate(prob, p)
-        new_width = prob.mu * np.abs(p[prob.fi])
-        if np.max(np.abs(new_width - width)) <= prob.threshold:
+        yield evaluate(prob, p), width
+        step = prob.mu * np.abs(p[prob.fi]) - width
+        if np.max(np.abs(step)) <= prob.threshold:
             return
-        width = new_width
+        width = width + relax * step
         qp.update(l_box=prob.lo - width, u_box=prob.hi + width)
         qp.solve(p, None, None)
+
+
+def _repeats(width: np.ndarray, history: list[np.ndarray], tol: float) -> bool:
+    """Whether the bounds ``width`` (n,) repeat those of an earlier iterate (a cycle of the
+    fixed point, period ≤ ``_CYCLE_MEMORY``); appends them to ``history``."""
+    cycle = any(float(np.max(np.abs(width - old))) <= tol for old in history[:-1])
+    history.append(width)
+    del history[:-_CYCLE_MEMORY]
+    return cycle
 
 
 def _better(a: Candidate | None, b: Candidate | None) -> Candidate | None:
@@ -231,8 +285,9 @@ def _problem(D, b, lo, hi, findex, mu, tol) -> BoxProblem:
     hi = _vector(hi, "hi", n)
     mu = _vector(mu, "mu", n)
     fidx = _findex(findex, n)
+    b_list = b.tolist()
     # A sum is finite iff every entry is (barring overflow, which the exact check settles).
-    if not math.isfinite(D.sum() + sum(b.tolist())):
+    if not math.isfinite(D.sum() + sum(b_list)):
         for name, arr in (("D", D), ("b", b)):
             if not np.isfinite(arr).all():
                 raise MLCPInputError(f"{name} must hold finite numbers only, got NaN or inf")
@@ -240,10 +295,10 @@ def _problem(D, b, lo, hi, findex, mu, tol) -> BoxProblem:
         raise MLCPInputError(f"tol must be a positive finite number, got {tol!r}")
     _check_rows(fidx.tolist(), lo.tolist(), hi.tolist(), mu.tolist())
     fric = fidx >= 0
-    rows = np.arange(n)
     lo_f = np.where(fric, 0.0, lo)
     hi_f = np.where(fric, 0.0, hi)
-    fi = np.where(fric, fidx, rows)
+    # Any index will do on non-friction rows, where mu is 0: clamping saves a np.where.
+    fi = np.maximum(fidx, 0)
     return BoxProblem(
         D=D,
         b=b,
@@ -252,10 +307,10 @@ def _problem(D, b, lo, hi, findex, mu, tol) -> BoxProblem:
         mu=np.where(fric, mu, 0.0),
         fi=fi,
         diag_flat=np.arange(0, n * n, n + 1),
-        coupling_flat=fi + rows * n,
+        coupling_flat=fi + np.arange(0, n * n, max(n, 1)),
         rhs_flat=np.concatenate((lo_f, -b, hi_f)),
         rhs_base=np.arange(n, 2 * n),
-        threshold=float(tol) * max(1.0, max(map(abs, b.tolist()), default=0.0)),
+        threshold=float(tol) * max(1.0, max(map(abs, b_list), default=0.0)),
     )
 
 
@@ -274,10 +329,12 @@ def _findex(findex, n: int) -> np.ndarray:
     if arr.shape != (n,):
         raise MLCPInputError(f"findex must have shape ({n},) to match D, got {arr.shape}")
     if arr.dtype.kind not in "iu":
-        integral = arr.dtype.kind == "f" and bool(np.all(np.isfinite(arr) & (arr == np.round(arr))))
-        if not integral:
-            raise MLCPInputError(f"findex must hold integers (-1 or a row index), got {arr!r}")
-    arr = arr.astype(np.intp)
+        if arr.dtype.kind != "f":
+            raise MLCPInputError(f"findex must hold integers (-1 or a row index), got {arr.dtype}")
+        for i, j in enumerate(arr.tolist()):
+            if not (math.isfinite(j) and j == round(j)):
+                raise MLCPInputError(f"findex[{i}] = {j} is not an integer: use -1 or a row index")
+    arr = arr.astype(np.intp, copy=False)
     for i, j in enumerate(arr.tolist()):
         if not -1 <= j < n:
             raise MLCPInputError(
