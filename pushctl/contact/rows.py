@@ -3,133 +3,157 @@
 Each row maps the generalised velocity ``v = [q̇_arm (nv); v_obj (3)]`` to one constraint
 velocity; the impulse of the row acts along the same direction (``Aᵀ p``). Object columns are
 ``(vx, vy, ω)`` in the world frame, so a direction ``e`` at offset ``r`` from the centre of
-mass has object part ``(e_x, e_y, r × e)``.
+mass has object part ``(e_x, e_y, r × e)``. Rows: per prong in contact a normal and a
+tangential row, then per support point a row along its slip and one across it.
+
+:func:`assemble` builds the whole MLCP of a step in one compiled call (numba): at these sizes
+the cost of a step is the number of Python-level numpy calls, not the arithmetic.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 from pushctl.objects.geometry import ConvexPolygon
 
-# A support point moving slower than this [m/s] counts as sticking: both friction rows get
-# their full bound. Faster, friction acts only against the slip (the cross row's bound is
-# 0), so the box is isotropic in the plane and does not lock the yaw of a sliding object.
 SLIP_SPEED = 1e-6
+"""A support point moving slower than this [m/s] counts as sticking: both its friction rows
+get the full bound. Faster, friction acts only against the slip (the cross row's bound is 0),
+so the box is isotropic in the plane and does not lock the yaw of a sliding object."""
 
 
-@dataclass(frozen=True)
-class ProngRows:
-    """Normal and tangential rows of the prongs within the contact margin.
+def prong_contacts(
+    polygon: ConvexPolygon, pose: np.ndarray, prong_positions: np.ndarray, margin: float
+) -> tuple[tuple[int, ...], np.ndarray, np.ndarray]:
+    """The prongs nearer than ``margin`` [m] to the object's footprint, and their geometry.
 
-    ``prongs`` (p,) indices of those prongs; rows 2i and 2i+1 belong to ``prongs[i]``.
-    ``A_arm`` (2p, nv); ``obj_rows`` 2p tuples (e_x, e_y, r × e), the object part;
-    ``bias`` 2p floats [m/s], the position-stabilisation velocity added to the normal rows
-    (a positive gap may close exactly within the step, a fraction ``stabilisation`` of a
-    penetration is removed per step). Plain lists: the caller stacks them with the ground
-    rows in one array.
-    """
-
-    prongs: tuple[int, ...]
-    A_arm: np.ndarray
-    obj_rows: list[tuple[float, float, float]]
-    bias: list[float]
-
-
-def prong_rows(
-    polygon: ConvexPolygon,
-    pose: np.ndarray,
-    prong_positions: np.ndarray,
-    prong_jacobians: np.ndarray,
-    margin: float,
-    stabilisation: float,
-    h: float,
-) -> ProngRows:
-    """Rows of the prongs nearer than ``margin`` [m] to the object's footprint.
-
-    ``pose`` (3,) object (x, y, θ); ``prong_positions`` (k, 3) [m] and ``prong_jacobians``
-    (k, 3, nv) world frame. The normal e_n points into the object (minus the outward normal
-    of the nearest feature), e_t = e_z × e_n; rows measure the velocity of the object's
-    contact point relative to the prong along them, so w_n > 0 separates.
+    ``pose`` (3,) object (x, y, θ); ``prong_positions`` (k, 3) [m] world. Returns the indices
+    of the prongs in contact, their geometry (p, 5) — gap [m] (signed distance, negative
+    inside), e_n (2,) into the object (minus the outward normal of the nearest feature) and
+    r (2,) [m] from the centre of mass to the contact point, world axes — and every prong's
+    gap (k,).
     """
     x0, y0, theta = pose.tolist()
     c, s = math.cos(theta), math.sin(theta)
-    prongs, directions, obj, bias = [], [], [], []
+    prongs, geometry, gaps = [], [], []
     for i, (px, py, _) in enumerate(prong_positions.tolist()):
         px, py = px - x0, py - y0
         gap, n_lx, n_ly, cl_x, cl_y = polygon.query(c * px + s * py, -s * px + c * py)
-        if gap >= margin:
-            continue
-        nx, ny = -(c * n_lx - s * n_ly), -(s * n_lx + c * n_ly)
-        # r: centre of mass to the contact point on the surface, world axes.
-        rx, ry = c * cl_x - s * cl_y, s * cl_x + c * cl_y
-        prongs.append(i)
-        directions.append(((nx, ny), (-ny, nx)))
-        obj.append((nx, ny, rx * ny - ry * nx))
-        obj.append((-ny, nx, rx * nx + ry * ny))
-        bias.append(gap / h if gap >= 0.0 else stabilisation * gap / h)
-        bias.append(0.0)
-    nv = prong_jacobians.shape[2]
-    if prongs:
-        # Row (i, d) of the arm part: −e_d · J_i (planar components), one batched product.
-        jacobians = prong_jacobians if len(prongs) == len(prong_jacobians) else prong_jacobians[prongs]
-        A_arm = (np.array(directions) @ jacobians[:, :2, :]).reshape(-1, nv)
-        np.negative(A_arm, out=A_arm)
-    else:
-        A_arm = np.zeros((0, nv))
-    return ProngRows(prongs=tuple(prongs), A_arm=A_arm, obj_rows=obj, bias=bias)
+        gaps.append(gap)
+        if gap < margin:
+            prongs.append(i)
+            geometry.append(
+                (gap, -(c * n_lx - s * n_ly), -(s * n_lx + c * n_ly), c * cl_x - s * cl_y,
+                 s * cl_x + c * cl_y)
+            )
+    return tuple(prongs), np.array(geometry, dtype=float).reshape(-1, 5), np.array(gaps)
 
 
-class GroundFriction:
-    """Box friction at the object's support points, aligned with each point's slip.
+@njit(cache=True)
+def _set_row(A_obj, row, ex, ey, rx, ry):
+    """Object part of a row along (ex, ey) at offset (rx, ry): (e_x, e_y, r × e)."""
+    A_obj[row, 0], A_obj[row, 1], A_obj[row, 2] = ex, ey, rx * ey - ry * ex
 
-    Two rows per support point, always (a fixed structure keeps warm starts valid): along
-    the slip direction with bounds ±h μ_g N_j, and across it with the same bounds at rest and
-    0 while the point slides. At rest the box keeps the last slip direction seen (initially
-    the object's e_n).
+
+@njit(cache=True)
+def assemble(
+    contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
+    support_points, friction_limits, slip_directions, h, stabilisation, tie_break, mu_contact,
+):  # fmt: skip
+    """The MLCP of one step (impulses p = h λ) and what is needed to apply its solution.
+
+    Inputs: ``contacts`` (p, 5) and ``jacobians`` (p, 3, nv) of the prongs in contact (see
+    :func:`prong_contacts`); arm ``M`` (nv, nv) with armature, ``nle`` (nv,) = c + g, ``v_arm``
+    (nv,), ``tau`` (nv,), ``joint_damping`` (nv,) [N·m·s/rad] applied implicitly; object
+    ``pose`` (3,), ``velocity`` (3,), ``obj_mass_inv`` (3,) = (1/m, 1/m, 1/I_z);
+    ``support_points`` (S, 2) object frame, ``friction_limits`` (S,) = μ_g N_j [N],
+    ``slip_directions`` (S, 2) the last slip direction of each point, updated in place.
+
+    Returns ``D (m, m), b (m,), lo, hi, findex, mu, v_arm_free (nv,), Minv_At_arm (nv, 2p),
+    Minv_At_obj (3, m), A_arm (2p, nv)`` with ``m = 2p + 2S`` and
+    ``(M + h K_d) v_arm_free = M v + h (τ − nle)``. Normal rows get the stabilisation bias
+    (a positive gap may close within the step, a fraction ``stabilisation`` of a
+    penetration is removed per step) and, with the tangential rows, the relative diagonal
+    term ``tie_break``: the prongs' tangential rows are identical, and it makes their split
+    of the friction unique (the minimum-norm one) whichever path solves the MLCP.
     """
+    n_contacts, n_support, nv = contacts.shape[0], support_points.shape[0], M.shape[0]
+    n_prong = 2 * n_contacts
+    m = n_prong + 2 * n_support
+    A_obj = np.zeros((m, 3))
+    A_arm = np.zeros((n_prong, nv))
+    bias = np.zeros(m)
+    lo, hi = np.zeros(m), np.zeros(m)
+    findex, mu = np.full(m, -1, dtype=np.int64), np.zeros(m)
+    for i in range(n_contacts):
+        gap, nx, ny, rx, ry = contacts[i, 0], contacts[i, 1], contacts[i, 2], contacts[i, 3], contacts[i, 4]
+        row = 2 * i
+        # Velocity of the object's contact point relative to the prong along e_n, e_t.
+        _set_row(A_obj, row, nx, ny, rx, ry)
+        _set_row(A_obj, row + 1, -ny, nx, rx, ry)
+        for j in range(nv):
+            A_arm[row, j] = -(nx * jacobians[i, 0, j] + ny * jacobians[i, 1, j])
+            A_arm[row + 1, j] = ny * jacobians[i, 0, j] - nx * jacobians[i, 1, j]
+        bias[row] = gap / h if gap >= 0.0 else stabilisation * gap / h
+        hi[row] = np.inf
+        findex[row + 1], mu[row + 1] = row, mu_contact
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    for j in range(n_support):
+        sx, sy = support_points[j, 0], support_points[j, 1]
+        rx, ry = c * sx - s * sy, s * sx + c * sy
+        ux, uy = velocity[0] - velocity[2] * ry, velocity[1] + velocity[2] * rx
+        speed = math.hypot(ux, uy)
+        if speed > SLIP_SPEED:
+            slip_directions[j, 0], slip_directions[j, 1] = ux / speed, uy / speed
+        dx, dy = slip_directions[j, 0], slip_directions[j, 1]
+        row = n_prong + 2 * j
+        _set_row(A_obj, row, dx, dy, rx, ry)
+        _set_row(A_obj, row + 1, -dy, dx, rx, ry)
+        bound = h * friction_limits[j]
+        cross = 0.0 if speed > SLIP_SPEED else bound
+        lo[row], hi[row], lo[row + 1], hi[row + 1] = -bound, bound, -cross, cross
+    Minv_At_obj = A_obj.T * obj_mass_inv.reshape(3, 1)
+    D = A_obj @ Minv_At_obj
+    b = A_obj @ velocity + bias
+    v_arm_free = np.zeros(nv)
+    Minv_At_arm = np.zeros((nv, n_prong))
+    if nv:
+        M_tilde = M + np.diag(h * joint_damping)
+        rhs = np.empty((nv, 1 + n_prong))
+        rhs[:, 0] = M @ v_arm + h * (tau - nle)
+        rhs[:, 1:] = A_arm.T
+        solution = np.linalg.solve(M_tilde, rhs)
+        v_arm_free = solution[:, 0].copy()
+        Minv_At_arm = np.ascontiguousarray(solution[:, 1:])
+        if n_prong:
+            D[:n_prong, :n_prong] += A_arm @ Minv_At_arm
+            b[:n_prong] += A_arm @ v_arm_free
+    for i in range(n_prong):
+        D[i, i] *= 1.0 + tie_break
+    return D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, A_arm
 
-    def __init__(self, support_points: np.ndarray, friction_limits: np.ndarray) -> None:
-        """``support_points`` (S, 2) [m] object frame; ``friction_limits`` (S,) [N] = μ_g N_j."""
-        self._point_list = [tuple(point) for point in np.asarray(support_points, float).tolist()]
-        self._limit_list = np.asarray(friction_limits, dtype=float).tolist()
-        self._direction_list: list[tuple[float, float]] = []
-        self.reset(0.0)
 
-    @property
-    def n_rows(self) -> int:
-        return 2 * len(self._point_list)
+@njit(cache=True)
+def apply_impulses(p, v_arm_free, Minv_At_arm, velocity, Minv_At_obj, h):
+    """New velocities and the prongs' forces from the MLCP solution p (m,) [N·s]:
+    ``(v_arm (nv,), v_obj (3,), forces (n_contacts, 2) [N])``."""
+    n_prong = Minv_At_arm.shape[1]
+    p_prong = p[:n_prong].copy()
+    v_arm = v_arm_free + Minv_At_arm @ p_prong
+    v_obj = velocity + Minv_At_obj @ p
+    return v_arm, v_obj, p_prong.reshape(-1, 2) / h
 
-    def reset(self, theta: float) -> None:
-        """Forget the slip history: at-rest boxes align with e_n at yaw ``theta`` [rad]."""
-        self._direction_list = [(math.cos(theta), math.sin(theta))] * len(self._point_list)
 
-    def rows(self, pose: np.ndarray, velocity: np.ndarray, h: float):
-        """Rows at the object's ``pose`` and pre-step ``velocity``: ``(obj_rows, hi)``, 2S
-        tuples (e_x, e_y, r × e) and 2S upper bounds [N·s]; the bounds are symmetric,
-        ``lo = −hi``. Plain lists, stacked by the caller."""
-        theta = float(pose[2])
-        c, s = math.cos(theta), math.sin(theta)
-        vx, vy, omega = velocity.tolist()
-        rows, hi = [], []
-        # Plain floats: for four points this is several times faster than numpy.
-        for j, (sx, sy) in enumerate(self._point_list):
-            rx, ry = c * sx - s * sy, s * sx + c * sy
-            ux, uy = vx - omega * ry, vy + omega * rx
-            speed = math.hypot(ux, uy)
-            bound = h * self._limit_list[j]
-            if speed > SLIP_SPEED:
-                dx, dy = ux / speed, uy / speed
-                self._direction_list[j] = (dx, dy)
-                cross = 0.0
-            else:
-                dx, dy = self._direction_list[j]
-                cross = bound
-            rows.append((dx, dy, rx * dy - ry * dx))
-            rows.append((-dy, dx, rx * dx + ry * dy))
-            hi.append(bound)
-            hi.append(cross)
-        return rows, hi
+@njit(cache=True)
+def coriolis_energy_error(ledger, v_new, M_old, nle_old, g_old, M_new, h):
+    """Add one step's Coriolis energy error to ``ledger`` [J]; return it and the new
+    kinetic energy ``½ v⁺ᵀ M(q⁺) v⁺`` [J] (see ``World._advance_arm``).
+
+    The error is ``½ v⁺ᵀ (M(q⁺) − M(q)) v⁺ − h v⁺ᵀ C(q, v) v``, with ``C(q, v) v = nle − g``.
+    """
+    energy = 0.5 * (v_new @ (M_new @ v_new))
+    error = energy - 0.5 * (v_new @ (M_old @ v_new)) - h * (v_new @ (nle_old - g_old))
+    return ledger + error, energy

@@ -26,13 +26,19 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.linalg import lapack
 
 from pushctl.config import GRAVITY
 from pushctl.contact.mlcp import MLCPResult, solve_box_mlcp
-from pushctl.contact.rows import GroundFriction, prong_rows
+from pushctl.contact.rows import apply_impulses, assemble, coriolis_energy_error, prong_contacts
 from pushctl.errors import ConfigError, StateError
 from pushctl.objects import ObjectSpec
+
+_TIE_BREAK = 1e-6
+"""Relative diagonal term added to the prong rows of D [-] (DESIGN.md: 1e-6·diag D)."""
+
+_NO_CONTACTS = np.zeros((0, 5))
+_NO_JACOBIANS = np.zeros((0, 3, 0))
+_NO_ARM_MATRIX = np.zeros((0, 0))
 
 DEFAULT_OBJECT_POSE = (0.42, 0.0, 0.0)
 """Object pose (x [m], y [m], θ [rad]) of ``World.reset()`` without arguments: 12 cm ahead
@@ -143,25 +149,16 @@ class World:
         self.config = config
         self.stats = WorldStats()
         self._M_obj_inv = np.array([1.0 / obj.mass, 1.0 / obj.mass, 1.0 / obj.inertia_z])
+        self._support_points = np.ascontiguousarray(obj.support_points, dtype=float)
         # Support loads are computed at GRAVITY; the friction bounds follow the world's.
-        limits = config.mu_ground * obj.support_loads * (config.gravity / GRAVITY)
-        self._ground = GroundFriction(obj.support_points, limits)
+        self._friction_limits = config.mu_ground * obj.support_loads * (config.gravity / GRAVITY)
+        self._slip_directions = np.zeros_like(self._support_points)
         self._n_prongs = 0 if arm is None else arm.pusher.n_prongs
         self._nv = 0 if arm is None else arm.nv
         self._damping = np.zeros(self._nv) if arm is None else np.asarray(arm.damping, float)
-        self._patterns = [self._row_pattern(p) for p in range(self._n_prongs + 1)]
         self._kv_zero = np.zeros(self._nv)
         self._kv_scalar: tuple[float, np.ndarray] = (0.0, self._kv_zero)
         self.reset()
-
-    def _row_pattern(self, n_contacts: int):
-        """(findex, mu, prong lo, prong hi) for ``n_contacts`` prongs then the ground rows."""
-        m = 2 * n_contacts + self._ground.n_rows
-        findex, mu = np.full(m, -1, dtype=np.int64), np.zeros(m)
-        findex[1 : 2 * n_contacts : 2] = np.arange(0, 2 * n_contacts, 2)
-        mu[1 : 2 * n_contacts : 2] = self.config.mu_contact
-        hi = np.tile([np.inf, 0.0], n_contacts)
-        return findex, mu, np.zeros(2 * n_contacts), hi
 
     # ------------------------------------------------------------------ state
 
@@ -180,11 +177,14 @@ class World:
             self.q = _finite_vector(q, self.arm.nq, "arm_q").copy()
             v = np.zeros(self._nv) if arm_v is None else arm_v
             self.v = _finite_vector(v, self._nv, "arm_v").copy()
-        self._ground.reset(self.object_pose[2])
+        # At rest the ground boxes align with e_n until a slip direction is seen.
+        theta = self.object_pose[2]
+        self._slip_directions[:] = (math.cos(theta), math.sin(theta))
         self._last_prongs: tuple[int, ...] | None = None
         self._last_p: np.ndarray | None = None
         self._energy_ledger = 0.0  # spurious arm kinetic energy not yet removed [J]
         self._refresh_arm_terms()
+        self._find_contacts()
         return self._result(np.zeros((self._n_prongs, 2)), None, 0)
 
     def prong_positions(self) -> np.ndarray:
@@ -229,66 +229,32 @@ class World:
         """The MLCP the next (sub)step would solve, without stepping: for inspection and
         benchmarks. Arguments as in :meth:`step`."""
         tau_arm, kv = self._check_command(tau, implicit_kv)
-        return self._build_problem(self.config.dt / self.config.substeps, tau_arm, kv)
+        directions = self._slip_directions.copy()  # assembling updates them; keep the state
+        problem = self._build_problem(self.config.dt / self.config.substeps, tau_arm, kv)
+        self._slip_directions = directions
+        return problem
 
     def _build_problem(self, h: float, tau: np.ndarray, kv: np.ndarray) -> ContactProblem:
         """Free velocities and the contact MLCP of one time step of length h."""
-        ground_rows, ground_hi = self._ground.rows(self.object_pose, self.object_velocity, h)
         if self.arm is None:
-            prongs, A_arm, v_arm_free, Minv_At_arm = (), np.zeros((0, 0)), np.zeros(0), None
-            A_obj, bias = np.array(ground_rows), np.zeros(len(ground_hi))
+            prongs, contacts, jacobians = (), _NO_CONTACTS, _NO_JACOBIANS
+            M, nle = _NO_ARM_MATRIX, self.v
         else:
-            terms, cfg = self._terms, self.config
-            rows = prong_rows(
-                self.object.polygon,
-                self.object_pose,
-                terms.prong_positions,
-                terms.prong_jacobians,
-                cfg.contact_margin,
-                cfg.stabilisation,
-                h,
-            )
-            prongs, A_arm = rows.prongs, rows.A_arm
-            A_obj = np.array(rows.obj_rows + ground_rows)
-            bias = np.array(rows.bias + [0.0] * len(ground_hi))
-            v_arm_free, Minv_At_arm = self._free_arm_velocity(h, tau, kv, A_arm)
-        Minv_At_obj = self._M_obj_inv[:, None] * A_obj.T
-        D = A_obj @ Minv_At_obj
-        b = A_obj @ self.object_velocity + bias
-        if prongs:
-            p_rows = len(A_arm)
-            D[:p_rows, :p_rows] += A_arm @ Minv_At_arm
-            b[:p_rows] += A_arm @ v_arm_free
-        findex, mu, lo_prong, hi_prong = self._patterns[len(prongs)]
-        hi_ground = np.array(ground_hi)
+            terms = self._terms
+            prongs, contacts = self._prongs, self._contacts
+            jacobians = terms.prong_jacobians
+            if len(prongs) < self._n_prongs:
+                jacobians = jacobians[list(prongs)]
+            M, nle = terms.M, terms.nle
+        cfg = self.config
+        D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, A_arm = assemble(
+            contacts, jacobians, M, nle, self.v, tau, self._damping + kv, self.object_pose,
+            self.object_velocity, self._M_obj_inv, self._support_points, self._friction_limits,
+            self._slip_directions, h, cfg.stabilisation, _TIE_BREAK, cfg.mu_contact,
+        )  # fmt: skip
         return ContactProblem(
-            h=h,
-            D=D,
-            b=b,
-            lo=np.concatenate((lo_prong, -hi_ground)),
-            hi=np.concatenate((hi_prong, hi_ground)),
-            findex=findex,
-            mu=mu,
-            prongs=prongs,
-            A_arm=A_arm,
-            v_arm_free=v_arm_free,
-            Minv_At_arm=Minv_At_arm,
-            Minv_At_obj=Minv_At_obj,
+            h, D, b, lo, hi, findex, mu, prongs, A_arm, v_arm_free, Minv_At_arm, Minv_At_obj
         )
-
-    def _free_arm_velocity(self, h: float, tau: np.ndarray, kv: np.ndarray, A_arm: np.ndarray):
-        """``(q̇_free (nv,), M̃⁻¹ A_armᵀ (nv, 2p))`` with ``M̃ = M + h (K_d + K_v)``: one
-        Cholesky solve for both (LAPACK's dposv directly; numpy's wrapper costs 4× more)."""
-        terms, nv = self._terms, self._nv
-        M_tilde = terms.M.copy()
-        M_tilde.flat[:: nv + 1] += h * (self._damping + kv)
-        rhs = np.empty((nv, 1 + len(A_arm)))
-        rhs[:, 0] = terms.M @ self.v + h * (tau - terms.nle)
-        rhs[:, 1:] = A_arm.T
-        _, sol, info = lapack.dposv(M_tilde, rhs)
-        if info != 0:  # not positive definite: cannot happen for a valid model, but be safe
-            sol = np.linalg.solve(M_tilde, rhs)
-        return sol[:, 0], sol[:, 1:]
 
     def _substep(self, h: float, tau: np.ndarray, kv: np.ndarray):
         """One MLCP time step of length h. Returns (prong forces (k, 2) [N], MLCP result)."""
@@ -303,16 +269,20 @@ class World:
             problem.findex,
             problem.mu,
             warm_start=warm,
+            validate=False,  # built here, valid by construction
         )
         self._record(result, problem.prongs)
-        p = result.p
-        n_prong_rows = 2 * len(problem.prongs)
+        v_arm, v_obj, contact_forces = apply_impulses(
+            result.p, problem.v_arm_free, problem.Minv_At_arm, self.object_velocity,
+            problem.Minv_At_obj, h,
+        )  # fmt: skip
         forces = np.zeros((self._n_prongs, 2))
-        forces[list(problem.prongs)] = p[:n_prong_rows].reshape(-1, 2) / h
-        self._advance_object(self.object_velocity + problem.Minv_At_obj @ p, h)
+        if problem.prongs:
+            forces[list(problem.prongs)] = contact_forces
+        self._advance_object(v_obj, h)
         if self.arm is not None:
-            p_prongs = p[:n_prong_rows]
-            self._advance_arm(problem.v_arm_free + problem.Minv_At_arm @ p_prongs, h)
+            self._advance_arm(v_arm, h)
+        self._find_contacts()
         return forces, result
 
     def _advance_object(self, v_obj: np.ndarray, h: float) -> None:
@@ -334,13 +304,13 @@ class World:
         of geometric integration). Torque, gravity, damping and contact work are untouched.
         """
         old = self._terms
-        coriolis_power = v_arm @ (old.nle - old.g)  # v⁺ᵀ C(q, v) v [W]
         self.q = self.arm.integrate(self.q, v_arm, h)
         self.v = v_arm
         self._refresh_arm_terms()
         new = self._terms
-        energy = 0.5 * v_arm @ new.M @ v_arm
-        self._energy_ledger += energy - 0.5 * v_arm @ old.M @ v_arm - h * coriolis_power
+        self._energy_ledger, energy = coriolis_energy_error(
+            self._energy_ledger, v_arm, old.M, old.nle, old.g, new.M, h
+        )
         if self._energy_ledger > 0.0 and energy > 0.0:
             scale = math.sqrt(max(energy - self._energy_ledger, 0.0) / energy)
             self._energy_ledger = 0.0
@@ -363,18 +333,18 @@ class World:
         """Arm terms at the current state, computed once: the next step and the gaps use them."""
         self._terms = None if self.arm is None else self.arm.compute(self.q, self.v)
 
-    def _prong_gaps(self) -> np.ndarray:
-        """Signed distance [m] of each prong to the footprint at the current state, (k,)."""
+    def _find_contacts(self) -> None:
+        """Prong–footprint geometry at the current state, found once: the step's result
+        reports the gaps and the next step's rows use the contacts."""
         if self.arm is None:
-            return np.zeros(0)
-        x0, y0, theta = self.object_pose.tolist()
-        c, s = math.cos(theta), math.sin(theta)
-        query = self.object.polygon.query
-        gaps = []
-        for px, py, _ in self._terms.prong_positions.tolist():
-            px, py = px - x0, py - y0
-            gaps.append(query(c * px + s * py, -s * px + c * py)[0])
-        return np.array(gaps)
+            self._prongs, self._contacts, self._gaps = (), _NO_CONTACTS, np.zeros(0)
+            return
+        self._prongs, self._contacts, self._gaps = prong_contacts(
+            self.object.polygon,
+            self.object_pose,
+            self._terms.prong_positions,
+            self.config.contact_margin,
+        )
 
     def _check_command(self, tau, implicit_kv) -> tuple[np.ndarray, np.ndarray]:
         """Validated (tau (nv,), kv (nv,)); StateError naming the argument otherwise."""
@@ -400,7 +370,7 @@ class World:
             object_pose=self.object_pose.copy(),
             object_velocity=self.object_velocity.copy(),
             contact_forces=forces,
-            prong_gaps=self._prong_gaps(),
+            prong_gaps=self._gaps.copy(),
             arm_q=self.q.copy(),
             arm_v=self.v.copy(),
             mlcp_residual=0.0 if result is None else float(result.residual),
