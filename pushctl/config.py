@@ -40,9 +40,7 @@ class PusherConfig:
         if not (isinstance(self.n_prongs, int) and 1 <= self.n_prongs <= 4):
             raise ConfigError(f"pusher n_prongs must be an integer in 1..4, got {self.n_prongs!r}")
         if not np.isfinite(self.prong_spacing) or self.prong_spacing < 0.0:
-            raise ConfigError(
-                f"pusher prong_spacing must be >= 0 m, got {self.prong_spacing!r}"
-            )
+            raise ConfigError(f"pusher prong_spacing must be >= 0 m, got {self.prong_spacing!r}")
         span = self.prong_spacing * (self.n_prongs - 1)
         if span > self.width + 1e-12:
             raise ConfigError(

@@ -32,7 +32,9 @@ def test_free_arm_step_equals_pinocchio_aba(free_world):
         tau = rng.uniform(-5, 5, arm.nv)
         world.reset(object_pose=FAR_AWAY, arm_q=q, arm_v=v)
         v_aba = v + h * arm.forward_dynamics(q, v, tau)
-        np.testing.assert_allclose(world.contact_problem(tau).v_arm_free, v_aba, rtol=1e-10, atol=1e-12)
+        np.testing.assert_allclose(
+            world.contact_problem(tau).v_arm_free, v_aba, rtol=1e-10, atol=1e-12
+        )
         corrections = world.stats.energy_corrections
         result = world.step(tau)
         np.testing.assert_allclose(result.arm_q, arm.integrate(q, v_aba, h), rtol=0, atol=1e-12)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-
 from pushctl.arm import ArmConfig, load_arm
 from pushctl.config import GRAVITY, PusherConfig
 from pushctl.contact.world import World, WorldConfig

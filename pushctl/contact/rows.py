@@ -46,8 +46,13 @@ def prong_contacts(
         if gap < margin:
             prongs.append(i)
             geometry.append(
-                (gap, -(c * n_lx - s * n_ly), -(s * n_lx + c * n_ly), c * cl_x - s * cl_y,
-                 s * cl_x + c * cl_y)
+                (
+                    gap,
+                    -(c * n_lx - s * n_ly),
+                    -(s * n_lx + c * n_ly),
+                    c * cl_x - s * cl_y,
+                    s * cl_x + c * cl_y,
+                )
             )
     return tuple(prongs), np.array(geometry, dtype=float).reshape(-1, 5), np.array(gaps)
 
@@ -89,7 +94,13 @@ def assemble(
     lo, hi = np.zeros(m), np.zeros(m)
     findex, mu = np.full(m, -1, dtype=np.int64), np.zeros(m)
     for i in range(n_contacts):
-        gap, nx, ny, rx, ry = contacts[i, 0], contacts[i, 1], contacts[i, 2], contacts[i, 3], contacts[i, 4]
+        gap, nx, ny, rx, ry = (
+            contacts[i, 0],
+            contacts[i, 1],
+            contacts[i, 2],
+            contacts[i, 3],
+            contacts[i, 4],
+        )
         row = 2 * i
         # Velocity of the object's contact point relative to the prong along e_n, e_t.
         _set_row(A_obj, row, nx, ny, rx, ry)

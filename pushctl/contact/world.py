@@ -163,7 +163,11 @@ class World:
     # ------------------------------------------------------------------ state
 
     def reset(
-        self, object_pose=DEFAULT_OBJECT_POSE, object_velocity=(0.0, 0.0, 0.0), arm_q=None, arm_v=None
+        self,
+        object_pose=DEFAULT_OBJECT_POSE,
+        object_velocity=(0.0, 0.0, 0.0),
+        arm_q=None,
+        arm_v=None,
     ) -> StepResult:
         """Set the state. ``object_pose`` (x [m], y [m], θ [rad]); ``object_velocity``
         (vx, vy, ω); ``arm_q=None`` is the ready configuration, ``arm_v=None`` rest.
@@ -356,7 +360,9 @@ class World:
         if isinstance(implicit_kv, (int, float)):
             # A scalar gain, usually the same every step: keep its array.
             if not (math.isfinite(implicit_kv) and implicit_kv >= 0.0):
-                raise StateError(f"implicit_kv must be finite and >= 0 N·m·s/rad, got {implicit_kv!r}")
+                raise StateError(
+                    f"implicit_kv must be finite and >= 0 N·m·s/rad, got {implicit_kv!r}"
+                )
             if implicit_kv != self._kv_scalar[0]:
                 self._kv_scalar = (implicit_kv, np.full(self._nv, float(implicit_kv)))
             return tau, self._kv_scalar[1]
