@@ -17,6 +17,7 @@ import math
 import numpy as np
 from numba import njit
 
+from pushctl.contact.kernels import active_set_step
 from pushctl.objects.geometry import ConvexPolygon
 
 SLIP_SPEED = 1e-6
@@ -168,3 +169,28 @@ def coriolis_energy_error(ledger, v_new, M_old, nle_old, g_old, M_new, h):
     energy = 0.5 * (v_new @ (M_new @ v_new))
     error = energy - 0.5 * (v_new @ (M_old @ v_new)) - h * (v_new @ (nle_old - g_old))
     return ledger + error, energy
+
+
+@njit(cache=True)
+def warm_contact_step(
+    contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
+    support_points, friction_limits, slip_directions, h, stabilisation, tie_break, mu_contact,
+    guess, tol,
+):  # fmt: skip
+    """:func:`assemble`, the MLCP solved on the active set of ``guess`` (n,) (the previous
+    step's impulses), and :func:`apply_impulses`, in one compiled call: the common step.
+
+    Returns ``(verified, p, w, residual, v_arm, v_obj, forces)``; when ``verified`` is False
+    the caller solves the step's MLCP in full (ProxQP and pivoting) instead. Moving arrays
+    between Python and compiled code costs about a microsecond each, so the step's matrices
+    stay in here.
+    """
+    D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, _ = assemble(
+        contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
+        support_points, friction_limits, slip_directions, h, stabilisation, tie_break,
+        mu_contact,
+    )  # fmt: skip
+    threshold = tol * max(1.0, np.max(np.abs(b)))
+    p, w, residual, verified = active_set_step(D, b, lo, hi, findex, mu, guess, threshold)
+    v_arm_new, v_obj, forces = apply_impulses(p, v_arm_free, Minv_At_arm, velocity, Minv_At_obj, h)
+    return verified, p, w, residual, v_arm_new, v_obj, forces

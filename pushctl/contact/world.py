@@ -29,12 +29,21 @@ import numpy as np
 
 from pushctl.config import GRAVITY
 from pushctl.contact.mlcp import MLCPResult, solve_box_mlcp
-from pushctl.contact.rows import apply_impulses, assemble, coriolis_energy_error, prong_contacts
+from pushctl.contact.rows import (
+    apply_impulses,
+    assemble,
+    coriolis_energy_error,
+    prong_contacts,
+    warm_contact_step,
+)
 from pushctl.errors import ConfigError, StateError
 from pushctl.objects import ObjectSpec
 
 _TIE_BREAK = 1e-6
 """Relative diagonal term added to the prong rows of D [-] (DESIGN.md: 1e-6·diag D)."""
+
+_MLCP_TOL = 1e-9
+"""Natural-map residual accepted by the step's MLCP solves (``solve_box_mlcp``'s default)."""
 
 _NO_CONTACTS = np.zeros((0, 5))
 _NO_JACOBIANS = np.zeros((0, 3, 0))
@@ -215,31 +224,33 @@ class World:
         world has no arm.
         """
         tau_arm, kv = self._check_command(tau, implicit_kv)
+        damping = self._damping + kv
         n_sub = self.config.substeps
         h = self.config.dt / n_sub
-        force_sum = np.zeros((self._n_prongs, 2))
-        worst: MLCPResult | None = None
-        iterations = 0
-        for _ in range(n_sub):
-            forces, result = self._substep(h, tau_arm, kv)
-            force_sum += forces
+        forces, worst = self._substep(h, tau_arm, damping)
+        iterations = worst.iterations
+        for _ in range(n_sub - 1):
+            more_forces, result = self._substep(h, tau_arm, damping)
+            forces = forces + more_forces
             iterations += result.iterations
-            if worst is None or result.residual > worst.residual:
+            if result.residual > worst.residual:
                 worst = result
         self.stats.steps += 1
-        return self._result(force_sum / n_sub, worst, iterations)
+        return self._result(forces / n_sub if n_sub > 1 else forces, worst, iterations)
 
     def contact_problem(self, tau=None, implicit_kv=None) -> ContactProblem:
         """The MLCP the next (sub)step would solve, without stepping: for inspection and
         benchmarks. Arguments as in :meth:`step`."""
         tau_arm, kv = self._check_command(tau, implicit_kv)
         directions = self._slip_directions.copy()  # assembling updates them; keep the state
-        problem = self._build_problem(self.config.dt / self.config.substeps, tau_arm, kv)
+        h = self.config.dt / self.config.substeps
+        problem = self._build_problem(h, tau_arm, self._damping + kv)
         self._slip_directions = directions
         return problem
 
-    def _build_problem(self, h: float, tau: np.ndarray, kv: np.ndarray) -> ContactProblem:
-        """Free velocities and the contact MLCP of one time step of length h."""
+    def _step_inputs(self, h: float, tau: np.ndarray, damping: np.ndarray) -> tuple:
+        """Arguments of :func:`assemble` for one time step of length h, and the prongs.
+        ``damping`` (nv,) [N·m·s/rad]: all joint damping applied implicitly."""
         if self.arm is None:
             prongs, contacts, jacobians = (), _NO_CONTACTS, _NO_JACOBIANS
             M, nle = _NO_ARM_MATRIX, self.v
@@ -251,38 +262,55 @@ class World:
                 jacobians = jacobians[list(prongs)]
             M, nle = terms.M, terms.nle
         cfg = self.config
-        D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, A_arm = assemble(
-            contacts, jacobians, M, nle, self.v, tau, self._damping + kv, self.object_pose,
+        inputs = (
+            contacts, jacobians, M, nle, self.v, tau, damping, self.object_pose,
             self.object_velocity, self._M_obj_inv, self._support_points, self._friction_limits,
             self._slip_directions, h, cfg.stabilisation, _TIE_BREAK, cfg.mu_contact,
         )  # fmt: skip
+        return prongs, inputs
+
+    def _build_problem(self, h: float, tau: np.ndarray, damping: np.ndarray) -> ContactProblem:
+        """Free velocities and the contact MLCP of one time step of length h."""
+        prongs, inputs = self._step_inputs(h, tau, damping)
+        D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, A_arm = assemble(*inputs)
         return ContactProblem(
             h, D, b, lo, hi, findex, mu, prongs, A_arm, v_arm_free, Minv_At_arm, Minv_At_obj
         )
 
-    def _substep(self, h: float, tau: np.ndarray, kv: np.ndarray):
+    def _substep(self, h: float, tau: np.ndarray, damping: np.ndarray):
         """One MLCP time step of length h. Returns (prong forces (k, 2) [N], MLCP result)."""
-        problem = self._build_problem(h, tau, kv)
-        # The previous impulses are a good guess while the same prongs touch.
-        warm = self._last_p if problem.prongs == self._last_prongs else None
-        result = solve_box_mlcp(
-            problem.D,
-            problem.b,
-            problem.lo,
-            problem.hi,
-            problem.findex,
-            problem.mu,
-            warm_start=warm,
-            validate=False,  # built here, valid by construction
-        )
-        self._record(result, problem.prongs)
-        v_arm, v_obj, contact_forces = apply_impulses(
-            result.p, problem.v_arm_free, problem.Minv_At_arm, self.object_velocity,
-            problem.Minv_At_obj, h,
-        )  # fmt: skip
-        forces = np.zeros((self._n_prongs, 2))
-        if problem.prongs:
-            forces[list(problem.prongs)] = contact_forces
+        prongs, inputs = self._step_inputs(h, tau, damping)
+        result = None
+        # While the same prongs touch, the previous impulses' active set usually still holds:
+        # the whole step is then one compiled call.
+        if prongs == self._last_prongs:
+            verified, p, w, residual, v_arm, v_obj, contact_forces = warm_contact_step(
+                *inputs, self._last_p, _MLCP_TOL
+            )
+            if verified:
+                result = MLCPResult(p, w, residual, 0, True, "warm-start")
+        if result is None:
+            problem = self._build_problem(h, tau, damping)
+            result = solve_box_mlcp(
+                problem.D,
+                problem.b,
+                problem.lo,
+                problem.hi,
+                problem.findex,
+                problem.mu,
+                warm_start=self._last_p if prongs == self._last_prongs else None,
+                validate=False,  # built here, valid by construction
+            )
+            v_arm, v_obj, contact_forces = apply_impulses(
+                result.p, problem.v_arm_free, problem.Minv_At_arm, self.object_velocity,
+                problem.Minv_At_obj, h,
+            )  # fmt: skip
+        self._record(result, prongs)
+        if len(prongs) == self._n_prongs:
+            forces = contact_forces
+        else:
+            forces = np.zeros((self._n_prongs, 2))
+            forces[list(prongs)] = contact_forces
         self._advance_object(v_obj, h)
         if self.arm is not None:
             self._advance_arm(v_arm, h)
