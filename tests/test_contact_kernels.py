@@ -8,7 +8,8 @@ import pytest
 import pushctl
 from pushctl.contact.active_set import labels_at, solve_labels
 from pushctl.contact.kernels import active_set_step
-from pushctl.contact.mlcp import _box_problem, _validated
+from pushctl.contact.mlcp import _box_problem
+from pushctl.contact.mlcp_checks import validated_arrays
 
 
 def random_mlcp(rng, n_contacts, n_fixed, singular):
@@ -32,7 +33,7 @@ def test_active_set_kernel_matches_the_numpy_solve(singular):
     checked = 0
     for _ in range(200):
         args = random_mlcp(rng, int(rng.integers(1, 4)), int(rng.integers(0, 5)), singular)
-        D, b, lo, hi, findex, mu = _validated(*args, 1e-9)
+        D, b, lo, hi, findex, mu = validated_arrays(*args, 1e-9)
         prob = _box_problem(D, b, lo, hi, findex, mu, 1e-9)
         guess = rng.normal(scale=0.5, size=len(b))
         p_kernel, w, residual, _ = active_set_step(D, b, lo, hi, findex, mu, guess, 1e-9)
@@ -49,7 +50,7 @@ def test_kernel_verifies_the_solution_it_is_given():
     for _ in range(100):
         args = random_mlcp(rng, 2, 4, singular=False)
         solution = pushctl.solve_box_mlcp(*args)
-        D, b, lo, hi, findex, mu = _validated(*args, 1e-9)
+        D, b, lo, hi, findex, mu = validated_arrays(*args, 1e-9)
         p, _, residual, verified = active_set_step(D, b, lo, hi, findex, mu, solution.p, 1e-9)
         assert verified and residual <= 1e-9
         np.testing.assert_allclose(p, solution.p, atol=1e-9)
@@ -69,7 +70,7 @@ def test_step_assembly_matches_explicit_matrices():
     problem = world.contact_problem(tau, implicit_kv=kv)
     assert problem.prongs == (0, 1)
 
-    terms, arm, spec = world._terms, world.arm, world.object
+    terms, spec = world._terms, world.object
     x, y, theta = world.object_pose
     c, s = math.cos(theta), math.sin(theta)
     rows = []

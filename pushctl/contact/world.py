@@ -38,6 +38,7 @@ from pushctl.contact.rows import (
 )
 from pushctl.errors import ConfigError, StateError
 from pushctl.objects import ObjectSpec
+from pushctl.types import ContactProblem, StepResult, WorldStats
 
 _TIE_BREAK = 1e-6
 """Relative diagonal term added to the prong rows of D [-] (DESIGN.md: 1e-6·diag D)."""
@@ -88,65 +89,6 @@ class WorldConfig:
             raise ConfigError(f"stabilisation must be in (0, 1], got {self.stabilisation!r}")
         if not (math.isfinite(self.gravity) and self.gravity >= 0.0):
             raise ConfigError(f"gravity must be a finite number >= 0 m/s², got {self.gravity!r}")
-
-
-@dataclass(frozen=True)
-class StepResult:
-    """The world after one step. Forces are averaged over the step's substeps.
-
-    ``object_pose`` (3,) (x, y, θ) and ``object_velocity`` (3,) (vx, vy, ω), world frame.
-    ``contact_forces`` (k, 2): normal and tangential force [N] of each prong on the object in
-    the contact frame (e_n into the object, e_t = e_z × e_n); zero for a prong out of contact.
-    ``prong_gaps`` (k,): signed distance [m] of each prong to the footprint (negative:
-    penetration). ``arm_q`` (nq,), ``arm_v`` (nv,). ``mlcp_residual``: the largest
-    natural-map residual of the step's solves; ``mlcp_iterations`` their sum.
-    """
-
-    object_pose: np.ndarray
-    object_velocity: np.ndarray
-    contact_forces: np.ndarray
-    prong_gaps: np.ndarray
-    arm_q: np.ndarray
-    arm_v: np.ndarray
-    mlcp_residual: float
-    mlcp_converged: bool
-    mlcp_iterations: int
-
-
-@dataclass
-class WorldStats:
-    """Counters over the life of a world: steps, MLCP solves, fallbacks (solves that did not
-    converge), warm-start hits, energy corrections (see ``World._advance_arm``)."""
-
-    steps: int = 0
-    solves: int = 0
-    fallbacks: int = 0
-    warm_starts: int = 0
-    energy_corrections: int = 0
-    max_residual: float = 0.0
-
-
-@dataclass(frozen=True)
-class ContactProblem:
-    """One step's box-friction MLCP in impulses p = h λ, and what is needed to apply it.
-
-    ``D (m, m) = A M̃⁻¹ Aᵀ``, ``b (m,)``, bounds and friction indices as in
-    :func:`solve_box_mlcp`. Rows: per prong in contact (normal, tangential), then two
-    ground-friction rows per support point. ``prongs``: the prongs those rows belong to.
-    """
-
-    h: float
-    D: np.ndarray
-    b: np.ndarray
-    lo: np.ndarray
-    hi: np.ndarray
-    findex: np.ndarray
-    mu: np.ndarray
-    prongs: tuple[int, ...]
-    A_arm: np.ndarray  # (2p, nv): the arm part of the prong rows (ground rows have none)
-    v_arm_free: np.ndarray  # (nv,) [rad/s]
-    Minv_At_arm: np.ndarray  # (nv, 2p)
-    Minv_At_obj: np.ndarray  # (3, m)
 
 
 class World:

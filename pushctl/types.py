@@ -1,0 +1,66 @@
+"""Value types shared across the package: what a world step returns and reports."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class StepResult:
+    """The world after one step. Forces are averaged over the step's substeps.
+
+    ``object_pose`` (3,) (x, y, θ) and ``object_velocity`` (3,) (vx, vy, ω), world frame.
+    ``contact_forces`` (k, 2): normal and tangential force [N] of each prong on the object in
+    the contact frame (e_n into the object, e_t = e_z × e_n); zero for a prong out of contact.
+    ``prong_gaps`` (k,): signed distance [m] of each prong to the footprint (negative:
+    penetration). ``arm_q`` (nq,), ``arm_v`` (nv,). ``mlcp_residual``: the largest
+    natural-map residual of the step's solves; ``mlcp_iterations`` their sum.
+    """
+
+    object_pose: np.ndarray
+    object_velocity: np.ndarray
+    contact_forces: np.ndarray
+    prong_gaps: np.ndarray
+    arm_q: np.ndarray
+    arm_v: np.ndarray
+    mlcp_residual: float
+    mlcp_converged: bool
+    mlcp_iterations: int
+
+
+@dataclass
+class WorldStats:
+    """Counters over the life of a world: steps, MLCP solves, fallbacks (solves that did not
+    converge), warm-start hits, energy corrections (see ``World._advance_arm``)."""
+
+    steps: int = 0
+    solves: int = 0
+    fallbacks: int = 0
+    warm_starts: int = 0
+    energy_corrections: int = 0
+    max_residual: float = 0.0
+
+
+@dataclass(frozen=True)
+class ContactProblem:
+    """One step's box-friction MLCP in impulses p = h λ, and what is needed to apply it.
+
+    ``D (m, m) = A M̃⁻¹ Aᵀ``, ``b (m,)``, bounds and friction indices as in
+    :func:`solve_box_mlcp`. Rows: per prong in contact (normal, tangential), then two
+    ground-friction rows per support point. ``prongs``: the prongs those rows belong to.
+    """
+
+    h: float
+    D: np.ndarray
+    b: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+    findex: np.ndarray
+    mu: np.ndarray
+    prongs: tuple[int, ...]
+    A_arm: np.ndarray  # (2p, nv): the arm part of the prong rows (ground rows have none)
+    v_arm_free: np.ndarray  # (nv,) [rad/s]
+    Minv_At_arm: np.ndarray  # (nv, 2p)
+    Minv_At_obj: np.ndarray  # (3, m)
