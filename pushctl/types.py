@@ -40,6 +40,7 @@ class WorldStats:
     fallbacks: int = 0
     warm_starts: int = 0
     energy_corrections: int = 0
+    energy_removed: float = 0.0  # [J] spurious arm kinetic energy removed by the ledger
     max_residual: float = 0.0
 
 

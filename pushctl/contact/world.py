@@ -287,6 +287,7 @@ class World:
         )
         if self._energy_ledger > 0.0 and energy > 0.0:
             scale = math.sqrt(max(energy - self._energy_ledger, 0.0) / energy)
+            self.stats.energy_removed += energy * (1.0 - scale**2)
             self._energy_ledger = 0.0
             self.v = scale * v_arm
             # c(q, v) is quadratic in v: rescale it instead of recomputing the terms.
