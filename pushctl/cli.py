@@ -61,7 +61,7 @@ def info(
     for point, load in zip(spec.support_points, spec.support_loads, strict=True):
         table.add_row(
             "support point (x, y) / load",
-            f"({1e3 * point[0]:.1f}, {1e3 * point[1]:.1f}) mm / {load:.4f} N",
+            f"({1e3 * point[0] + 0.0:.1f}, {1e3 * point[1] + 0.0:.1f}) mm / {load:.4f} N",
         )
     table.add_row("pusher mass (Table II)", f"{spec.pusher_mass:.3g} kg")
     console.print(table)

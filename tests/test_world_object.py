@@ -1,6 +1,7 @@
 """Object-only worlds against analytic friction results (DESIGN.md §3, ground friction)."""
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -103,3 +104,15 @@ def test_substeps_refine_the_step():
 
     exact = 0.36 / (2 * 0.3 * GRAVITY)
     assert abs(distance(8) - exact) < abs(distance(1) - exact) / 4
+
+
+def test_a_toml_prism_slides_like_the_presets():
+    hexagon = Path(__file__).resolve().parents[1] / "experiments/objects/hexagon.toml"
+    world = pushctl.make_world(object=str(hexagon), arm=None, mu_ground=0.4, dt=1e-3)
+    spec = world.object
+    assert spec.mass == pytest.approx(0.25)
+    assert spec.support_loads.sum() == pytest.approx(0.25 * GRAVITY)
+    assert spec.face_offset == pytest.approx(0.0433, abs=1e-4)  # flat side towards the arm
+    world.reset(object_pose=(0, 0, 0), object_velocity=(0.4, 0.1, 0.0))
+    final = slide_until_rest(world)
+    assert np.linalg.norm(final[:2]) == pytest.approx(0.17 / (2 * 0.4 * GRAVITY), abs=4e-4)
