@@ -20,8 +20,9 @@ import pinocchio as pin
 from pushctl.arm.ik import IKResult, IKSettings, solve_frame_ik
 from pushctl.arm.pusher import attach_pusher, placement_ee_to_pusher
 from pushctl.arm.specs import ARM_NAMES, ArmSpec, arm_spec, check_spec_model
+from pushctl.checks import finite_vector
 from pushctl.config import GRAVITY, PusherConfig
-from pushctl.errors import ConfigError, StateError
+from pushctl.errors import ConfigError
 
 __all__ = ["ARM_NAMES", "ArmConfig", "ArmModel", "ArmTerms", "load_arm"]
 
@@ -159,15 +160,15 @@ class ArmModel:
     # ----------------------------------------------------------------- validation
     def check_q(self, q) -> np.ndarray:
         """``q`` as a float array (nq,) [rad]; StateError if it is not nq finite numbers."""
-        return _finite_vector("q", q, self.nq)
+        return finite_vector("q", q, self.nq)
 
     def check_v(self, v) -> np.ndarray:
         """``v`` as a float array (nv,) [rad/s]; StateError if it is not nv finite numbers."""
-        return _finite_vector("v", v, self.nv)
+        return finite_vector("v", v, self.nv)
 
     def check_tau(self, tau) -> np.ndarray:
         """``tau`` as a float array (nv,) [N·m]; StateError if it is not nv finite numbers."""
-        return _finite_vector("tau", tau, self.nv)
+        return finite_vector("tau", tau, self.nv)
 
     # ----------------------------------------------------------------- dynamics
     def compute(self, q: np.ndarray, v: np.ndarray) -> ArmTerms:
@@ -278,21 +279,6 @@ def _centre_full_turn_joints(q: np.ndarray, lower: np.ndarray, upper: np.ndarray
     wrapped = np.mod(q + math.pi, 2.0 * math.pi) - math.pi
     full_turn = (upper - lower) >= 4.0 * math.pi - 1e-6
     return np.where(full_turn & (np.abs(q) > math.pi), wrapped, q)
-
-
-def _finite_vector(label: str, x, n: int) -> np.ndarray:
-    """``x`` as a float64 array (n,) (no copy if it already is one), else StateError."""
-    accepted = f"{label} must be a finite vector of length {n}"
-    try:
-        array = np.asarray(x, dtype=float)
-    except (TypeError, ValueError):
-        raise StateError(f"{accepted}, got {type(x).__name__} {x!r:.40}") from None
-    if array.shape != (n,):
-        raise StateError(f"{accepted}, got shape {array.shape}")
-    if not np.all(np.isfinite(array)):
-        bad = int(np.flatnonzero(~np.isfinite(array))[0])
-        raise StateError(f"{accepted}, got {array[bad]} at index {bad}")
-    return array
 
 
 def load_arm(config: ArmConfig | None = None) -> ArmModel:

@@ -27,6 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pushctl.checks import finite_vector
 from pushctl.config import GRAVITY
 from pushctl.contact.mlcp import MLCPResult, solve_box_mlcp
 from pushctl.contact.rows import (
@@ -123,15 +124,15 @@ class World:
         """Set the state. ``object_pose`` (x [m], y [m], θ [rad]); ``object_velocity``
         (vx, vy, ω); ``arm_q=None`` is the ready configuration, ``arm_v=None`` rest.
         Returns the state as a zero-force StepResult."""
-        self.object_pose = _finite_vector(object_pose, 3, "object_pose").copy()
-        self.object_velocity = _finite_vector(object_velocity, 3, "object_velocity").copy()
+        self.object_pose = finite_vector("object_pose", object_pose, 3).copy()
+        self.object_velocity = finite_vector("object_velocity", object_velocity, 3).copy()
         if self.arm is None:
             self.q, self.v = np.zeros(0), np.zeros(0)
         else:
             q = self.arm.q_ready if arm_q is None else arm_q
-            self.q = _finite_vector(q, self.arm.nq, "arm_q").copy()
+            self.q = finite_vector("arm_q", q, self.arm.nq).copy()
             v = np.zeros(self._nv) if arm_v is None else arm_v
-            self.v = _finite_vector(v, self._nv, "arm_v").copy()
+            self.v = finite_vector("arm_v", v, self._nv).copy()
         # At rest the ground boxes align with e_n until a slip direction is seen.
         theta = self.object_pose[2]
         self._slip_directions[:] = (math.cos(theta), math.sin(theta))
@@ -325,7 +326,7 @@ class World:
         """Validated (tau (nv,), kv (nv,)); StateError naming the argument otherwise."""
         if self.arm is None:
             return np.zeros(0), np.zeros(0)
-        tau = _finite_vector(tau, self._nv, "tau")
+        tau = finite_vector("tau", tau, self._nv)
         if implicit_kv is None:
             return tau, self._kv_zero
         if isinstance(implicit_kv, (int, float)):
@@ -337,7 +338,7 @@ class World:
             if implicit_kv != self._kv_scalar[0]:
                 self._kv_scalar = (implicit_kv, np.full(self._nv, float(implicit_kv)))
             return tau, self._kv_scalar[1]
-        kv = _finite_vector(implicit_kv, self._nv, "implicit_kv")
+        kv = finite_vector("implicit_kv", implicit_kv, self._nv)
         if kv.min() < 0.0:
             raise StateError(f"implicit_kv must be >= 0 N·m·s/rad, got {kv.tolist()}")
         return tau, kv
@@ -354,19 +355,3 @@ class World:
             mlcp_converged=True if result is None else bool(result.converged),
             mlcp_iterations=iterations,
         )
-
-
-def _finite_vector(value, n: int, name: str) -> np.ndarray:
-    """``value`` as a float vector (n,), or a StateError saying what is accepted."""
-    if type(value) is np.ndarray and value.shape == (n,) and value.dtype == np.float64:
-        array = value  # the hot path: already the right thing, no copy
-    else:
-        try:
-            array = np.array(value, dtype=float)
-        except (TypeError, ValueError):
-            raise StateError(f"{name} must be a sequence of {n} numbers, got {value!r}") from None
-        if array.shape != (n,):
-            raise StateError(f"{name} must have length {n}, got shape {array.shape}")
-    if not np.isfinite(array).all():
-        raise StateError(f"{name} must be finite (no NaN or infinity), got {array.tolist()}")
-    return array
