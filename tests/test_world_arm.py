@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 import pushctl
+from pushctl.config import PusherConfig
 
 FAR_AWAY = (3.0, 3.0, 0.0)  # an object pose no arm can touch
 
@@ -213,3 +214,16 @@ def test_contact_problem_is_a_well_formed_mlcp():
         problem.D, problem.b, problem.lo, problem.hi, problem.findex, problem.mu
     )
     assert solution.converged and solution.residual < 1e-9
+
+
+@pytest.mark.parametrize(("n_prongs", "spacing"), [(1, 0.0), (3, 0.035), (4, 0.025)])
+def test_any_number_of_prongs_shares_the_push(n_prongs, spacing):
+    pusher = PusherConfig(mass=0.03, n_prongs=n_prongs, prong_spacing=spacing)
+    world = pushctl.make_world(object="cube", mu_ground=3.0, pusher=pusher)
+    world.reset(object_pose=touching_pose(world))
+    results = list(press(world, np.array([3.0, 0.0, 0.0]), steps=200, kp=30.0))
+    normal = np.mean([r.contact_forces[:, 0] for r in results[-50:]], axis=0)
+    assert normal.shape == (n_prongs,)
+    assert normal.sum() == pytest.approx(3.0, rel=0.1)
+    assert np.all(normal > 0.2 * 3.0 / n_prongs)  # every prong takes part
+    assert max(-r.prong_gaps.min() for r in results) < 1e-3
