@@ -23,6 +23,7 @@ test: $(STAMP)
 lint: $(STAMP)
 	$(PY) -m ruff check pushctl tests
 	$(PY) -m ruff format --check pushctl tests
+	$(PY) -m mypy pushctl
 
 bench: $(STAMP)
 	$(PY) -m pushctl.bench --out results/bench.csv

@@ -16,6 +16,7 @@ import sys
 import time
 from datetime import datetime, timezone
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -47,6 +48,7 @@ def _pushing_world(object_name: str = "cube", speed: float = 0.01):
     """
     world = pushctl.make_world(object=object_name)
     arm = world.arm
+    assert arm is not None
     start = arm.pusher_placement(arm.q_ready)
     world.reset(
         object_pose=(start.translation[0] + world.object.face_offset, start.translation[1], 0.0)
@@ -84,9 +86,9 @@ def _time_world_step(world: World, torque, kv: float, steps: int) -> tuple[float
     return 1e6 * statistics.median(times), in_contact
 
 
-def run_benchmarks(repeats: int = 2000) -> list[dict]:
+def run_benchmarks(repeats: int = 2000) -> list[dict[str, Any]]:
     """All benchmark rows: name, value, unit, note."""
-    rows = []
+    rows: list[dict[str, Any]] = []
     world, torque, kv = _pushing_world("cube")
     problem = world.contact_problem(torque(), implicit_kv=kv)
     args = (problem.D, problem.b, problem.lo, problem.hi, problem.findex, problem.mu)

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from typing import Annotated
 
+import numpy as np
 import typer
 from rich.console import Console
 from rich.table import Table
@@ -58,7 +59,7 @@ def info(
     table.add_row("I_z about the centre of mass", f"{spec.inertia_z:.4e} kg·m²")
     table.add_row("centre of mass height", f"{1e3 * spec.com_height:.2f} mm")
     table.add_row("centre of mass to pushed face", f"{1e3 * spec.face_offset:.2f} mm")
-    for point, load in zip(spec.support_points, spec.support_loads, strict=True):
+    for point, load in zip(np.asarray(spec.support_points), spec.support_loads, strict=True):
         table.add_row(
             "support point (x, y) / load",
             f"({1e3 * point[0] + 0.0:.1f}, {1e3 * point[1] + 0.0:.1f}) mm / {load:.4f} N",

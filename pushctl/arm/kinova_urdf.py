@@ -148,8 +148,8 @@ def lumped_hand_inertial() -> tuple[float, np.ndarray, np.ndarray]:
     for rot, pos in _finger_links_in_link7():
         com = pos + rot @ np.array(FINGER_LINK.com)
         bodies.append((FINGER_LINK.mass, com, rot @ finger_inertia @ rot.T))
-    mass = sum(m for m, _, _ in bodies)
-    com = sum(m * c for m, c, _ in bodies) / mass
+    mass = float(sum(m for m, _, _ in bodies))
+    com = np.sum([m * c for m, c, _ in bodies], axis=0) / mass
     inertia = np.zeros((3, 3))
     for m, c, inertia_c in bodies:
         d = c - com  # parallel-axis shift from the body's CoM to the lumped CoM

@@ -157,7 +157,7 @@ def solve_box_mlcp(
         iterations, best = out.pivots, out.best
     cold = _cold_solve(prob, np.zeros(n) if start is None else start, max_iterations)
     iterations += cold.iterations
-    if cold.converged:
+    if cold.converged and cold.best is not None:
         return _result(cold.best, iterations, True, "proxqp+active-set")
     best = _better(best, cold.best)
     if best is None:

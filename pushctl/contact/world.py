@@ -27,6 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pushctl.arm import ArmModel, ArmTerms
 from pushctl.checks import finite_vector
 from pushctl.config import GRAVITY
 from pushctl.contact.mlcp import MLCPResult, solve_box_mlcp
@@ -95,7 +96,7 @@ class WorldConfig:
 class World:
     """Arm (optional) + pusher + one object on the table. Build it with :func:`make_world`."""
 
-    def __init__(self, obj: ObjectSpec, arm, config: WorldConfig) -> None:
+    def __init__(self, obj: ObjectSpec, arm: ArmModel | None, config: WorldConfig) -> None:
         self.object = obj
         self.arm = arm
         self.config = config
@@ -108,6 +109,9 @@ class World:
         self._n_prongs = 0 if arm is None else arm.pusher.n_prongs
         self._nv = 0 if arm is None else arm.nv
         self._damping = np.zeros(self._nv) if arm is None else np.asarray(arm.damping, float)
+        self._terms: ArmTerms | None = None
+        self._prongs: tuple[int, ...] = ()
+        self._contacts, self._gaps = _NO_CONTACTS, np.zeros(0)
         self._kv_zero = np.zeros(self._nv)
         self._kv_scalar: tuple[float, np.ndarray] = (0.0, self._kv_zero)
         self.reset()
@@ -145,13 +149,13 @@ class World:
 
     def prong_positions(self) -> np.ndarray:
         """World positions [m] of the prongs at the current arm state, (k, 3)."""
-        if self.arm is None:
+        if self._terms is None:
             return np.zeros((0, 3))
         return self._terms.prong_positions.copy()
 
     def gravity_torque(self) -> np.ndarray:
         """g(q) [N·m] at the current arm state, (nv,); empty for an object-only world."""
-        if self.arm is None:
+        if self._terms is None:
             return np.zeros(0)
         return self._terms.g.copy()
 
@@ -194,11 +198,12 @@ class World:
     def _step_inputs(self, h: float, tau: np.ndarray, damping: np.ndarray) -> tuple:
         """Arguments of :func:`assemble` for one time step of length h, and the prongs.
         ``damping`` (nv,) [N·m·s/rad]: all joint damping applied implicitly."""
-        if self.arm is None:
+        terms = self._terms
+        prongs: tuple[int, ...]
+        if terms is None:
             prongs, contacts, jacobians = (), _NO_CONTACTS, _NO_JACOBIANS
             M, nle = _NO_ARM_MATRIX, self.v
         else:
-            terms = self._terms
             prongs, contacts = self._prongs, self._contacts
             jacobians = terms.prong_jacobians
             if len(prongs) < self._n_prongs:
@@ -229,7 +234,7 @@ class World:
         if prongs == self._last_prongs:
             verified, p, w, residual, v_arm, v_obj, contact_forces = warm_contact_step(
                 *inputs, self._last_p, _MLCP_TOL
-            )
+            )  # type: ignore[call-arg]  # numba's Dispatcher hides the signature
             if verified:
                 result = MLCPResult(p, w, residual, 0, True, "warm-start")
         if result is None:
@@ -278,11 +283,13 @@ class World:
         joint velocity and the ledger is cleared (an inequality form of the energy projection
         of geometric integration). Torque, gravity, damping and contact work are untouched.
         """
-        old = self._terms
-        self.q = self.arm.integrate(self.q, v_arm, h)
+        arm, old = self.arm, self._terms
+        assert arm is not None and old is not None  # only called for a world with an arm
+        self.q = arm.integrate(self.q, v_arm, h)
         self.v = v_arm
         self._refresh_arm_terms()
         new = self._terms
+        assert new is not None
         self._energy_ledger, energy = coriolis_energy_error(
             self._energy_ledger, v_arm, old.M, old.nle, old.g, new.M, h
         )
@@ -312,7 +319,7 @@ class World:
     def _find_contacts(self) -> None:
         """Prong–footprint geometry at the current state, found once: the step's result
         reports the gaps and the next step's rows use the contacts."""
-        if self.arm is None:
+        if self._terms is None:
             self._prongs, self._contacts, self._gaps = (), _NO_CONTACTS, np.zeros(0)
             return
         self._prongs, self._contacts, self._gaps = prong_contacts(

@@ -13,7 +13,6 @@ object with ``x``, ``y`` and ``theta`` attributes.
 from __future__ import annotations
 
 import math
-import weakref
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -52,7 +51,6 @@ class ConvexPolygon:
             nx, ny = ty, -tx
             records.append((ax, ay, tx, ty, nx, ny, nx * ax + ny * ay, length))
         polygon = cls(vertices=ccw, edges=tuple(records))
-        _register(polygon)
         return polygon
 
     @property
@@ -117,33 +115,14 @@ class ConvexPolygon:
         return distance, (px - cx) / distance, (py - cy) / distance, cx, cy
 
 
-# Polygons by the id of their read-only ``vertices`` array, so that a caller passing
-# ``spec.footprint`` (which is that array) gets the precomputed edges without a rebuild.
-# Entries are weak: they vanish with the polygon (which owns the array).
-_BY_VERTICES: dict[int, weakref.ref[ConvexPolygon]] = {}
-
-
-def _register(polygon: ConvexPolygon) -> None:
-    key = id(polygon.vertices)
-
-    def forget(ref: weakref.ref[ConvexPolygon]) -> None:
-        if _BY_VERTICES.get(key) is ref:
-            del _BY_VERTICES[key]
-
-    _BY_VERTICES[key] = weakref.ref(polygon, forget)
-
-
 def _as_polygon(shape: ConvexPolygon | ObjectSpec | ArrayLike) -> ConvexPolygon:
+    """The edge data of ``shape``: precomputed for a polygon or an ObjectSpec, else built."""
     if isinstance(shape, ConvexPolygon):
         return shape
-    ref = _BY_VERTICES.get(id(shape))
-    cached = ref() if ref is not None else None
-    if cached is not None and cached.vertices is shape:
-        return cached
     polygon = getattr(shape, "polygon", None)
     if isinstance(polygon, ConvexPolygon):
         return polygon
-    return ConvexPolygon.from_vertices(shape)
+    return ConvexPolygon.from_vertices(shape)  # type: ignore[arg-type]
 
 
 def signed_distance(
@@ -152,9 +131,9 @@ def signed_distance(
     """Signed distance from a point to a convex polygon, with the nearest feature.
 
     Args:
-        shape: the polygon: a :class:`ConvexPolygon`, an ``ObjectSpec`` or its
-            ``footprint`` (the precomputed edges are used: the fast path), or other vertices
-            ``(V, 2)`` [m] (validated and preprocessed on every call, so slower).
+        shape: the polygon: a :class:`ConvexPolygon` or an ``ObjectSpec`` (their edges are
+            precomputed: the fast path), or vertices ``(V, 2)`` [m] (validated and
+            preprocessed on every call, so slower).
         point: ``(2,)`` [m], in the polygon's frame.
 
     Returns:
@@ -164,8 +143,8 @@ def signed_distance(
         vertex→point direction; inside or on the boundary: the normal of the face of least
         penetration); the nearest boundary point [m].
     """
-    px, py = point  # type: ignore[misc]
-    d, nx, ny, cx, cy = _as_polygon(shape).query(float(px), float(py))
+    px, py = np.asarray(point, dtype=float).tolist()
+    d, nx, ny, cx, cy = _as_polygon(shape).query(px, py)
     return d, np.array((nx, ny)), np.array((cx, cy))
 
 

@@ -122,7 +122,8 @@ def support_loads(points: np.ndarray, weight: float) -> np.ndarray:
         eps_abs=1e-12,
         eps_rel=0.0,
     )
-    loads = _polish(equilibrium, rhs, solution.x) if solution.found else None
+    approx = solution.x if solution.found else None
+    loads = None if approx is None else _polish(equilibrium, rhs, approx)
     if loads is None:
         raise ConfigError(
             f"support loads are infeasible: the centre of mass lies outside the support "

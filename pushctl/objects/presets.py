@@ -71,12 +71,13 @@ def with_masses(
     spec: ObjectSpec, *, mass: float | None = None, pusher_mass: float | None = None
 ) -> ObjectSpec:
     """``spec`` with another object and/or pusher mass [kg] (None keeps the current one)."""
-    changes = {}
-    if mass is not None:
-        changes["mass"] = mass
-    if pusher_mass is not None:
-        changes["pusher_mass"] = pusher_mass
-    return dataclasses.replace(spec, **changes) if changes else spec
+    if mass is None and pusher_mass is None:
+        return spec
+    return dataclasses.replace(
+        spec,
+        mass=spec.mass if mass is None else mass,
+        pusher_mass=spec.pusher_mass if pusher_mass is None else pusher_mass,
+    )
 
 
 def resolve_object(

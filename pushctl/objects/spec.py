@@ -145,7 +145,7 @@ class ObjectSpec:
             and self.height_at_origin == other.height_at_origin
             and np.array_equal(self.footprint, other.footprint)
             and np.array_equal(self.slope, other.slope)
-            and np.array_equal(self.support_points, other.support_points)
+            and np.array_equal(np.asarray(self.support_points), np.asarray(other.support_points))
         )
 
     def __hash__(self) -> int:
