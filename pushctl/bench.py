@@ -8,8 +8,11 @@ records how it was made (command, version, git commit, date, machine).
 from __future__ import annotations
 
 import argparse
+import cProfile
+import io
 import os
 import platform
+import pstats
 import statistics
 import subprocess
 import sys
@@ -155,6 +158,20 @@ def run_benchmarks(repeats: int = 2000) -> list[dict[str, Any]]:
     return rows
 
 
+def profile_world_step(steps: int = 2000, top: int = 15) -> str:
+    """cProfile of ``steps`` world steps of the pushing benchmark: where the time goes."""
+    world, torque, kv = _pushing_world("cube")
+    profiler = cProfile.Profile()
+    for _ in range(steps):
+        tau = torque()
+        profiler.enable()
+        world.step(tau, implicit_kv=kv)
+        profiler.disable()
+    out = io.StringIO()
+    pstats.Stats(profiler, stream=out).sort_stats("tottime").print_stats(top)
+    return out.getvalue()
+
+
 def _provenance() -> str:
     try:
         commit = subprocess.run(
@@ -174,6 +191,9 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=Path("results/bench.csv"))
     parser.add_argument("--repeats", type=int, default=2000)
+    parser.add_argument(
+        "--profile", action="store_true", help="also print a cProfile of the world step"
+    )
     args = parser.parse_args(argv)
     rows = run_benchmarks(args.repeats)
     table = Table(title="pushctl core benchmarks (median, one core)")
@@ -182,6 +202,8 @@ def main(argv: list[str] | None = None) -> int:
     for row in rows:
         table.add_row(row["name"], f"{row['value']:.1f}", row["unit"], row["note"])
     Console().print(table)
+    if args.profile:
+        print(profile_world_step(args.repeats))
     args.out.parent.mkdir(parents=True, exist_ok=True)
     tmp = args.out.with_suffix(".csv.tmp")
     with tmp.open("w") as handle:
