@@ -60,17 +60,17 @@ def test_step_assembly_matches_explicit_matrices():
     """D = A M̃⁻¹ Aᵀ and b = A v_free + bias, with A built here row by row from the geometry."""
     world = pushctl.make_world(object="cube")
     prongs = world.prong_positions()[:, :2]
-    world.reset(object_pose=(prongs[:, 0].mean() + world.object.face_offset, 0.01, 0.05))
-    world.object_velocity = np.array([0.02, -0.01, 0.1])
     rng = np.random.default_rng(2)
-    world.v = rng.normal(scale=0.05, size=7)
-    world._refresh_arm_terms()
-    world._find_contacts()
+    state = world.reset(
+        object_pose=(prongs[:, 0].mean() + world.object.face_offset, 0.01, 0.05),
+        object_velocity=(0.02, -0.01, 0.1),
+        arm_v=rng.normal(scale=0.05, size=7),
+    )
     tau, kv, h = rng.normal(size=7), 3.0, world.config.dt
     problem = world.contact_problem(tau, implicit_kv=kv)
     assert problem.prongs == (0, 1)
 
-    terms, spec = world._terms, world.object
+    terms, spec = world.arm.compute(world.q, world.v), world.object
     x, y, theta = world.object_pose
     c, s = math.cos(theta), math.sin(theta)
     rows = []
@@ -99,7 +99,7 @@ def test_step_assembly_matches_explicit_matrices():
         (np.linalg.solve(M_tilde[:7, :7], terms.M @ world.v + h * (tau - terms.nle)), velocity)
     )
     np.testing.assert_allclose(problem.D, D, rtol=1e-9, atol=1e-12)
-    gaps = world._gaps
+    gaps = state.prong_gaps
     bias = np.zeros(len(A))
     bias[[0, 2]] = [g / h if g >= 0 else world.config.stabilisation * g / h for g in gaps]
     np.testing.assert_allclose(problem.b, A @ v_free + bias, rtol=1e-9, atol=1e-12)
