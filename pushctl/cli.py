@@ -73,6 +73,12 @@ def info(
     arm_table.add_row("ready q", ", ".join(f"{q:.4f}" for q in model.q_ready) + " rad")
     position = ", ".join(f"{x:.3f}" for x in model.ready_pusher_position)
     arm_table.add_row("ready pusher position", f"({position}) m")
+    jacobian = model.pusher_jacobian(model.q_ready)
+    mass = model.compute(model.q_ready, np.zeros(model.nv)).M
+    arm_table.add_row("cond J (pusher, ready)", f"{np.linalg.cond(jacobian):.1f}")
+    arm_table.add_row(
+        "smallest eigenvalue of M (ready)", f"{np.linalg.eigvalsh(mass)[0]:.4f} kg·m²"
+    )
     console.print(arm_table)
 
 

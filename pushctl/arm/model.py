@@ -194,10 +194,6 @@ class ArmModel:
         mass = pin.crba(self.model, self.data, q).copy()
         return np.triu(mass) + np.triu(mass, 1).T if self._symmetrise else mass
 
-    def nonlinear_effects(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
-        """c(q, v) + g(q) (nv,) [N·m]."""
-        return pin.nonLinearEffects(self.model, self.data, q, v).copy()
-
     def set_gravity(self, magnitude: float) -> None:
         """Set the magnitude [m/s²] of gravity, along world −z (default 9.81; 0 turns it off)."""
         if not np.isfinite(magnitude) or magnitude < 0.0:

@@ -33,11 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.linalg.lapack import dgelsy, dgetrf, dgetrs
 
-SINGULAR_PIVOT = 1e-11
-"""An LU pivot below this fraction of the largest one marks the active-set system singular."""
-
-RANK_RCOND = 1e-11
-"""Relative threshold of the rank decision in the minimum-norm solve of a singular system."""
+from pushctl.contact.kernels import RANK_RCOND, SINGULAR_PIVOT
 
 
 @dataclass(slots=True)

@@ -6,15 +6,29 @@ step's small dense algebra in one compiled call each. They implement nothing the
 the package does not also do in plain numpy (:mod:`pushctl.contact.active_set` holds the
 reference implementation of the active-set solve; the tests compare the two), and they are
 compiled once and cached on disk (``cache=True``).
+
+Every compiled function, and every constant they read, lives in this one file: numba's disk
+cache is invalidated per source file and does not follow calls or globals into other files,
+so a kernel calling a kernel elsewhere could run stale code after an edit.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 from numba import njit
 
 SINGULAR_PIVOT = 1e-11
-"""An LU pivot below this fraction of the largest one marks a system singular."""
+"""An LU pivot below this fraction of the largest one marks an active-set system singular."""
+
+RANK_RCOND = 1e-11
+"""Relative threshold of the rank decision in the minimum-norm solve of a singular system."""
+
+SLIP_SPEED = 1e-6
+"""A support point moving slower than this [m/s] counts as sticking: both its friction rows
+get the full bound. Faster, friction acts only against the slip (the cross row's bound is 0),
+so the box is isotropic in the plane and does not lock the yaw of a sliding object."""
 
 
 @njit(cache=True)
@@ -94,7 +108,7 @@ def active_set_step(D, b, lo, hi, findex, mu, guess, threshold):
             rhs[i] = lo[i] if label < 0 else hi[i]
     p, ok = _lu_solve(A, rhs)
     if not ok:
-        p = np.linalg.lstsq(A, rhs, rcond=1e-11)[0]
+        p = np.linalg.lstsq(A, rhs, rcond=RANK_RCOND)[0]
     w = D @ p + b
     residual = 0.0
     for i in range(n):
@@ -106,3 +120,141 @@ def active_set_step(D, b, lo, hi, findex, mu, guess, threshold):
         if not r <= residual:  # also catches NaN
             residual = r if r == r else np.inf
     return p, w, residual, residual <= threshold
+
+
+@njit(cache=True)
+def _set_row(A_obj, row, ex, ey, rx, ry):
+    """Object part of a row along (ex, ey) at offset (rx, ry): (e_x, e_y, r × e)."""
+    A_obj[row, 0], A_obj[row, 1], A_obj[row, 2] = ex, ey, rx * ey - ry * ex
+
+
+@njit(cache=True)
+def assemble(
+    contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
+    support_points, friction_limits, slip_directions, h, stabilisation, tie_break, mu_contact,
+):  # fmt: skip
+    """The MLCP of one step (impulses p = h λ) and what is needed to apply its solution.
+
+    Inputs: ``contacts`` (p, 5) and ``jacobians`` (p, 3, nv) of the prongs in contact (see
+    :func:`prong_contacts`); arm ``M`` (nv, nv) with armature, ``nle`` (nv,) = c + g, ``v_arm``
+    (nv,), ``tau`` (nv,), ``joint_damping`` (nv,) [N·m·s/rad] applied implicitly; object
+    ``pose`` (3,), ``velocity`` (3,), ``obj_mass_inv`` (3,) = (1/m, 1/m, 1/I_z);
+    ``support_points`` (S, 2) object frame, ``friction_limits`` (S,) = μ_g N_j [N],
+    ``slip_directions`` (S, 2) the last slip direction of each point, updated in place.
+
+    Returns ``D (m, m), b (m,), lo, hi, findex, mu, v_arm_free (nv,), Minv_At_arm (nv, 2p),
+    Minv_At_obj (3, m), A_arm (2p, nv)`` with ``m = 2p + 2S`` and
+    ``(M + h K_d) v_arm_free = M v + h (τ − nle)``. Normal rows get the stabilisation bias
+    (a positive gap may close within the step, a fraction ``stabilisation`` of a
+    penetration is removed per step) and, with the tangential rows, the relative diagonal
+    term ``tie_break``: the prongs' tangential rows are identical, and it makes their split
+    of the friction unique (the minimum-norm one) whichever path solves the MLCP.
+    """
+    n_contacts, n_support, nv = contacts.shape[0], support_points.shape[0], M.shape[0]
+    n_prong = 2 * n_contacts
+    m = n_prong + 2 * n_support
+    A_obj = np.zeros((m, 3))
+    A_arm = np.zeros((n_prong, nv))
+    bias = np.zeros(m)
+    lo, hi = np.zeros(m), np.zeros(m)
+    findex, mu = np.full(m, -1, dtype=np.int64), np.zeros(m)
+    for i in range(n_contacts):
+        gap, nx, ny, rx, ry = (
+            contacts[i, 0],
+            contacts[i, 1],
+            contacts[i, 2],
+            contacts[i, 3],
+            contacts[i, 4],
+        )
+        row = 2 * i
+        # Velocity of the object's contact point relative to the prong along e_n, e_t.
+        _set_row(A_obj, row, nx, ny, rx, ry)
+        _set_row(A_obj, row + 1, -ny, nx, rx, ry)
+        for j in range(nv):
+            A_arm[row, j] = -(nx * jacobians[i, 0, j] + ny * jacobians[i, 1, j])
+            A_arm[row + 1, j] = ny * jacobians[i, 0, j] - nx * jacobians[i, 1, j]
+        bias[row] = gap / h if gap >= 0.0 else stabilisation * gap / h
+        hi[row] = np.inf
+        findex[row + 1], mu[row + 1] = row, mu_contact
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    for j in range(n_support):
+        sx, sy = support_points[j, 0], support_points[j, 1]
+        rx, ry = c * sx - s * sy, s * sx + c * sy
+        ux, uy = velocity[0] - velocity[2] * ry, velocity[1] + velocity[2] * rx
+        speed = math.hypot(ux, uy)
+        if speed > SLIP_SPEED:
+            slip_directions[j, 0], slip_directions[j, 1] = ux / speed, uy / speed
+        dx, dy = slip_directions[j, 0], slip_directions[j, 1]
+        row = n_prong + 2 * j
+        _set_row(A_obj, row, dx, dy, rx, ry)
+        _set_row(A_obj, row + 1, -dy, dx, rx, ry)
+        bound = h * friction_limits[j]
+        cross = 0.0 if speed > SLIP_SPEED else bound
+        lo[row], hi[row], lo[row + 1], hi[row + 1] = -bound, bound, -cross, cross
+    Minv_At_obj = A_obj.T * obj_mass_inv.reshape(3, 1)
+    D = A_obj @ Minv_At_obj
+    b = A_obj @ velocity + bias
+    v_arm_free = np.zeros(nv)
+    Minv_At_arm = np.zeros((nv, n_prong))
+    if nv:
+        M_tilde = M + np.diag(h * joint_damping)
+        rhs = np.empty((nv, 1 + n_prong))
+        rhs[:, 0] = M @ v_arm + h * (tau - nle)
+        rhs[:, 1:] = A_arm.T
+        solution = np.linalg.solve(M_tilde, rhs)
+        v_arm_free = solution[:, 0].copy()
+        Minv_At_arm = np.ascontiguousarray(solution[:, 1:])
+        if n_prong:
+            D[:n_prong, :n_prong] += A_arm @ Minv_At_arm
+            b[:n_prong] += A_arm @ v_arm_free
+    for i in range(n_prong):
+        D[i, i] *= 1.0 + tie_break
+    return D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, A_arm
+
+
+@njit(cache=True)
+def apply_impulses(p, v_arm_free, Minv_At_arm, velocity, Minv_At_obj, h):
+    """New velocities and the prongs' forces from the MLCP solution p (m,) [N·s]:
+    ``(v_arm (nv,), v_obj (3,), forces (n_contacts, 2) [N])``."""
+    n_prong = Minv_At_arm.shape[1]
+    p_prong = p[:n_prong].copy()
+    v_arm = v_arm_free + Minv_At_arm @ p_prong
+    v_obj = velocity + Minv_At_obj @ p
+    return v_arm, v_obj, p_prong.reshape(-1, 2) / h
+
+
+@njit(cache=True)
+def coriolis_energy_error(ledger, v_new, M_old, nle_old, g_old, M_new, h):
+    """Add one step's Coriolis energy error to ``ledger`` [J]; return it and the new
+    kinetic energy ``½ v⁺ᵀ M(q⁺) v⁺`` [J] (see ``World._advance_arm``).
+
+    The error is ``½ v⁺ᵀ (M(q⁺) − M(q)) v⁺ − h v⁺ᵀ C(q, v) v``, with ``C(q, v) v = nle − g``.
+    """
+    energy = 0.5 * (v_new @ (M_new @ v_new))
+    error = energy - 0.5 * (v_new @ (M_old @ v_new)) - h * (v_new @ (nle_old - g_old))
+    return ledger + error, energy
+
+
+@njit(cache=True)
+def warm_contact_step(
+    contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
+    support_points, friction_limits, slip_directions, h, stabilisation, tie_break, mu_contact,
+    guess, tol,
+):  # fmt: skip
+    """:func:`assemble`, the MLCP solved on the active set of ``guess`` (n,) (the previous
+    step's impulses), and :func:`apply_impulses`, in one compiled call: the common step.
+
+    Returns ``(verified, p, w, residual, v_arm, v_obj, forces)``; when ``verified`` is False
+    the caller solves the step's MLCP in full (ProxQP and pivoting) instead. Moving arrays
+    between Python and compiled code costs about a microsecond each, so the step's matrices
+    stay in here.
+    """
+    D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, _ = assemble(
+        contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
+        support_points, friction_limits, slip_directions, h, stabilisation, tie_break,
+        mu_contact,
+    )  # fmt: skip
+    threshold = tol * max(1.0, np.max(np.abs(b)))
+    p, w, residual, verified = active_set_step(D, b, lo, hi, findex, mu, guess, threshold)
+    v_arm_new, v_obj, forces = apply_impulses(p, v_arm_free, Minv_At_arm, velocity, Minv_At_obj, h)
+    return verified, p, w, residual, v_arm_new, v_obj, forces

@@ -44,6 +44,9 @@ from pushctl.contact.kernels import active_set_step
 from pushctl.contact.mlcp_checks import validated_arrays, warm_vector
 from pushctl.errors import MLCPInputError
 
+DEFAULT_TOL = 1e-9
+"""Natural-map residual accepted by default, relative to max(1, ‖b‖∞)."""
+
 _QP_EPS_ABS = 1e-11
 """ProxQP's absolute accuracy; the exact finish does the rest."""
 
@@ -94,7 +97,7 @@ def solve_box_mlcp(
     mu: np.ndarray,
     *,
     warm_start: np.ndarray | None = None,
-    tol: float = 1e-9,
+    tol: float = DEFAULT_TOL,
     max_iterations: int = 50,
     validate: bool = True,
 ) -> MLCPResult:

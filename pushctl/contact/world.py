@@ -30,23 +30,20 @@ import numpy as np
 from pushctl.arm import ArmModel, ArmTerms
 from pushctl.checks import finite_vector
 from pushctl.config import GRAVITY
-from pushctl.contact.mlcp import MLCPResult, solve_box_mlcp
-from pushctl.contact.rows import (
+from pushctl.contact.kernels import (
     apply_impulses,
     assemble,
     coriolis_energy_error,
-    prong_contacts,
     warm_contact_step,
 )
+from pushctl.contact.mlcp import DEFAULT_TOL, MLCPResult, solve_box_mlcp
+from pushctl.contact.rows import prong_contacts
 from pushctl.errors import ConfigError, StateError
 from pushctl.objects import ObjectSpec
 from pushctl.types import ContactProblem, StepResult, WorldStats
 
 _TIE_BREAK = 1e-6
 """Relative diagonal term added to the prong rows of D [-] (DESIGN.md: 1e-6·diag D)."""
-
-_MLCP_TOL = 1e-9
-"""Natural-map residual accepted by the step's MLCP solves (``solve_box_mlcp``'s default)."""
 
 _NO_CONTACTS = np.zeros((0, 5))
 _NO_JACOBIANS = np.zeros((0, 3, 0))
@@ -233,7 +230,7 @@ class World:
         # the whole step is then one compiled call.
         if prongs == self._last_prongs:
             verified, p, w, residual, v_arm, v_obj, contact_forces = warm_contact_step(
-                *inputs, self._last_p, _MLCP_TOL
+                *inputs, self._last_p, DEFAULT_TOL
             )  # type: ignore[call-arg]  # numba's Dispatcher hides the signature
             if verified:
                 result = MLCPResult(p, w, residual, 0, True, "warm-start")
@@ -277,8 +274,8 @@ class World:
         In continuous time the Coriolis forces do no work: ½ q̇ᵀ Ṁ q̇ − q̇ᵀ C q̇ = 0. Semi-implicit
         Euler evaluates the two halves at different instants, and on a configuration-dependent
         M(q) their sum ``½ v⁺ᵀ (M(q⁺) − M(q)) v⁺ − h v⁺ᵀ C(q, v) v`` is an O(h²) energy per
-        step of either sign (measured on the Kinova arm without gravity, before this
-        correction: +1.5 % in 20 s at 0.3 rad/s, +19–30 % at 1 rad/s). The steps' errors are
+        step of either sign (``make bench`` reports how much it removes from a fast free arm
+        in 20 s: that is what the uncorrected step would have created). The steps' errors are
         summed in a ledger; whenever the sum is positive it is removed by scaling the new
         joint velocity and the ledger is cleared (an inequality form of the energy projection
         of geometric integration). Torque, gravity, damping and contact work are untouched.
