@@ -19,3 +19,8 @@ class StateError(PushctlError):
 
 class MLCPInputError(PushctlError):
     """An MLCP whose arrays do not fit together (sizes, bounds, friction indices)."""
+
+
+class PlanError(PushctlError):
+    """A plan that cannot be executed: the goal is out of the arm's reach or the prongs
+    cannot produce the wrench the plan needs. The message names the step and the reason."""

@@ -65,3 +65,28 @@ class ContactProblem:
     v_arm_free: np.ndarray  # (nv,) [rad/s]
     Minv_At_arm: np.ndarray  # (nv, 2p)
     Minv_At_obj: np.ndarray  # (3, m)
+
+
+@dataclass(frozen=True)
+class PlanarPose:
+    """A planar pose in the world frame: position ``x``, ``y`` [m], heading ``theta`` [rad]
+    (counter-clockwise about +z; at 0 the object's pushed face faces the arm)."""
+
+    x: float
+    y: float
+    theta: float
+
+    def as_array(self) -> np.ndarray:
+        """(3,) array (x, y, θ)."""
+        return np.array([self.x, self.y, self.theta])
+
+    @classmethod
+    def from_array(cls, values) -> PlanarPose:
+        """From any 3-sequence (x [m], y [m], θ [rad])."""
+        x, y, theta = (float(v) for v in values)
+        return cls(x, y, theta)
+
+    @classmethod
+    def from_degrees(cls, x: float, y: float, theta_deg: float) -> PlanarPose:
+        """From x, y [m] and θ in degrees (the CLI's unit)."""
+        return cls(float(x), float(y), float(np.deg2rad(theta_deg)))

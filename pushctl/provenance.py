@@ -1,0 +1,68 @@
+"""How a results file was made, and writing files so that none is ever half-written.
+
+Every CSV the tool writes starts with one comment line, ``# made by: <command>; pushctl
+<version>; commit <git describe>; <UTC time>; …``. Read such files with
+``pandas.read_csv(path, comment="#")``.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from collections.abc import Callable
+from datetime import datetime, timezone
+from pathlib import Path
+
+import pandas as pd
+
+import pushctl
+
+
+def git_commit() -> str:
+    """``git describe --always --dirty`` of the source tree, or ``unknown`` outside git."""
+    try:
+        return subprocess.run(
+            ["git", "describe", "--always", "--dirty"],
+            capture_output=True,
+            text=True,
+            check=True,
+            cwd=Path(pushctl.__file__).parent,
+        ).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+
+
+def provenance_line(command: str | None = None, extra: str = "") -> str:
+    """The ``# made by:`` line; ``command`` defaults to this process's command line."""
+    command = command or " ".join([Path(sys.argv[0]).name, *sys.argv[1:]])
+    now = datetime.now(timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+    tail = f"; {extra}" if extra else ""
+    return (
+        f"# made by: {command}; pushctl {pushctl.__version__}; commit {git_commit()}; "
+        f"{now}{tail}"
+    )
+
+
+def write_atomic(path: Path, write: Callable[[Path], None]) -> None:
+    """Call ``write(tmp)`` on a temporary file beside ``path``, then rename it over ``path``:
+    readers see the old file or the new one, never a partial one. The temporary file is
+    removed if ``write`` fails."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        write(tmp)
+        tmp.replace(path)
+    finally:
+        tmp.unlink(missing_ok=True)
+
+
+def write_csv(path: Path, frame: pd.DataFrame, provenance: str, float_format: str = "%.9g") -> None:
+    """Write ``frame`` to ``path`` atomically under its ``provenance`` line."""
+
+    def write(tmp: Path) -> None:
+        with tmp.open("w", newline="") as handle:
+            handle.write(provenance + "\n")
+            frame.to_csv(handle, index=False, float_format=float_format, lineterminator="\n")
+
+    write_atomic(path, write)
