@@ -39,8 +39,7 @@ def provenance_line(command: str | None = None, extra: str = "") -> str:
     now = datetime.now(timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
     tail = f"; {extra}" if extra else ""
     return (
-        f"# made by: {command}; pushctl {pushctl.__version__}; commit {git_commit()}; "
-        f"{now}{tail}"
+        f"# made by: {command}; pushctl {pushctl.__version__}; commit {git_commit()}; {now}{tail}"
     )
 
 

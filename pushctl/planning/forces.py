@@ -114,7 +114,9 @@ def required_wrench(
     )
 
 
-def admissible_offsets(obj: ObjectSpec, prong_offsets: np.ndarray, margin: float) -> tuple[float, float]:
+def admissible_offsets(
+    obj: ObjectSpec, prong_offsets: np.ndarray, margin: float
+) -> tuple[float, float]:
     """Interval (lo, hi) [m] of plate offsets δ keeping every prong on the face, ``margin``
     inside its ends. ConfigError if the prongs do not fit."""
     t_min, t_max = (float(v) for v in obj.face_extent)
@@ -173,9 +175,7 @@ class _StepQP:
 
 
 def _prong_points(obj: ObjectSpec, prong_offsets: np.ndarray, offset: float) -> np.ndarray:
-    return np.column_stack(
-        [np.full(len(prong_offsets), -obj.face_offset), offset + prong_offsets]
-    )
+    return np.column_stack([np.full(len(prong_offsets), -obj.face_offset), offset + prong_offsets])
 
 
 def distribute_forces(

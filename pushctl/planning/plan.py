@@ -89,8 +89,14 @@ def check_push_direction(trajectory: Trajectory) -> None:
         )
 
 
-def _reach_problem(plan_steps: np.ndarray, reach: ReachReport, trajectory: Trajectory,
-                   positions: np.ndarray, yaws: np.ndarray, arm_name: str) -> str | None:
+def _reach_problem(
+    plan_steps: np.ndarray,
+    reach: ReachReport,
+    trajectory: Trajectory,
+    positions: np.ndarray,
+    yaws: np.ndarray,
+    arm_name: str,
+) -> str | None:
     bad = reach.first_unreached
     if bad is None:
         return None
