@@ -1,7 +1,8 @@
 """``make bench``: timings of the simulator core, printed as a table and written as CSV.
 
 Run as ``python -m pushctl.bench [--out results/bench.csv]``. Each figure is the median over
-many calls of one operation on one core (this is a single-threaded process), in µs; the CSV
+many calls of one operation on one core (this is a single-threaded process), in µs (plans:
+seconds); the CSV
 records how it was made (command, version, git commit, date, machine).
 """
 
@@ -14,10 +15,8 @@ import os
 import platform
 import pstats
 import statistics
-import subprocess
 import sys
 import time
-from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any
 
@@ -28,11 +27,12 @@ from rich.table import Table
 
 import pushctl
 from pushctl.contact.world import World
+from pushctl.provenance import provenance_line, write_csv
 
 
 def _median_us(func, repeats: int) -> float:
     """Median wall time of ``func()`` over ``repeats`` calls [µs], after a short warm-up."""
-    for _ in range(min(50, repeats)):
+    for _ in range(min(50, max(1, repeats // 5))):
         func()
     times = []
     for _ in range(repeats):
@@ -181,6 +181,7 @@ def run_benchmarks(repeats: int = 2000) -> list[dict[str, Any]]:
             "note": f"of {world.stats.solves} solves; warm-start hits {world.stats.warm_starts}",
         }
     )
+    rows.extend(plan_rows())
     return rows
 
 
@@ -199,18 +200,42 @@ def profile_world_step(steps: int = 2000, top: int = 15) -> str:
 
 
 def _provenance() -> str:
-    try:
-        commit = subprocess.run(
-            ["git", "describe", "--always", "--dirty"], capture_output=True, text=True, check=True
-        ).stdout.strip()
-    except (OSError, subprocess.CalledProcessError):
-        commit = "unknown"
-    now = datetime.now(timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
     command = " ".join(["python -m pushctl.bench", *sys.argv[1:]])
-    return (
-        f"# made by: {command}; pushctl {pushctl.__version__}; commit {commit}; {now}; "
-        f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, one used"
-    )
+    machine = f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, one used"
+    return provenance_line(command, machine)
+
+
+def plan_rows(repeats: int = 7) -> list[dict[str, Any]]:
+    """Wall time of a 2000-step plan with its force distribution, without and with the
+    arm's reach check [s], median of ``repeats`` (the arm is loaded once, outside)."""
+    from pushctl.arm import ArmConfig, load_arm
+    from pushctl.config import PusherConfig
+    from pushctl.objects import make_object
+    from pushctl.planning import make_plan
+
+    rows = []
+    goal = (0.62, 0.03, np.radians(30.0))
+    for name in ("cube", "wedge"):
+        obj = make_object(name)
+        arm = load_arm(ArmConfig(pusher=PusherConfig(mass=obj.pusher_mass)))
+        for label, with_arm in (("forces", None), ("forces + reach", arm)):
+            seconds = _median_us(
+                lambda obj=obj, with_arm=with_arm: make_plan(
+                    obj, goal, profile="chirp", arm=with_arm
+                ),
+                repeats,
+            )
+            rows.append(
+                {
+                    "name": f"plan {name} 2000 steps, {label}",
+                    "value": 1e-6 * seconds,
+                    "unit": "s",
+                    "note": "chirp to (0.62, 0.03, 30 deg); ICR arc, ProxQP force distribution "
+                    "with the offset search"
+                    + (", IK at 51 points along the path" if with_arm else ""),
+                }
+            )
+    return rows
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -234,11 +259,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.profile:
         print(profile_world_step(args.repeats))
     args.out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = args.out.with_suffix(".csv.tmp")
-    with tmp.open("w") as handle:
-        handle.write(_provenance() + "\n")
-        pd.DataFrame(rows).to_csv(handle, index=False, float_format="%.3f")
-    tmp.replace(args.out)
+    write_csv(args.out, pd.DataFrame(rows), _provenance(), float_format="%.4g")
     return 0
 
 

@@ -1,11 +1,12 @@
 """The ``pushctl`` command line. Each command parses, validates, calls the core, renders.
 
-Built so far: ``pushctl info``. ``plan``, ``simulate``, ``train``, ``evaluate`` and ``report``
-come with the issues that build them.
+Built so far: ``pushctl info`` and ``pushctl plan``. ``simulate``, ``train``, ``evaluate`` and
+``report`` come with the issues that build them.
 """
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Annotated
 
 import numpy as np
@@ -80,6 +81,79 @@ def info(
         "smallest eigenvalue of M (ready)", f"{np.linalg.eigvalsh(mass)[0]:.4f} kg·m²"
     )
     console.print(arm_table)
+
+
+@app.command()
+def plan(
+    goal: Annotated[str, typer.Option(help="goal pose x,y,theta_deg [m, m, deg]")],
+    object_name: Annotated[
+        str, typer.Option("--object", help="cube, wedge, or a TOML object file")
+    ] = "cube",
+    profile: Annotated[str, typer.Option(help="constant, trapezoid or chirp")] = "constant",
+    start: Annotated[
+        str | None,
+        typer.Option(help="start pose x,y,theta_deg; default: in front of the ready pose"),
+    ] = None,
+    duration: Annotated[float, typer.Option(help="push duration [s]")] = 20.0,
+    dt: Annotated[float, typer.Option(help="control step [s]")] = 0.01,
+    mu_contact: Annotated[float, typer.Option(help="prong-object friction μ_c")] = 0.4,
+    mu_ground: Annotated[float, typer.Option(help="object-table friction μ_g")] = 0.3,
+    arm: Annotated[str, typer.Option(help="kinova-gen2-7dof, kinova-j2s6s200 or panda")] = (
+        "kinova-gen2-7dof"
+    ),
+    out: Annotated[Path | None, typer.Option(help="write the plan as CSV here")] = None,
+    plot: Annotated[Path | None, typer.Option(help="save a figure (.png, .pdf, .svg)")] = None,
+) -> None:
+    """Plan a push: ICR arc, angular profile, prong forces; check the arm can follow it."""
+    from pushctl.arm import ArmConfig, load_arm
+    from pushctl.cli_plan import PLOT_SUFFIXES, check_output, parse_pose, print_summary
+    from pushctl.config import PusherConfig
+    from pushctl.objects import resolve_object
+    from pushctl.planning import ForceSettings, make_plan
+    from pushctl.planning.profiles import make_profile
+    from pushctl.provenance import provenance_line, write_csv
+
+    try:
+        check_output("--out", out, (".csv",))
+        check_output("--plot", plot, PLOT_SUFFIXES)
+        goal_pose = parse_pose("--goal", goal)
+        start_pose = None if start is None else parse_pose("--start", start)
+        timing = make_profile(profile)
+        settings = ForceSettings(mu_contact=mu_contact, mu_ground=mu_ground)
+        spec = resolve_object(object_name)
+        model = load_arm(ArmConfig(name=arm, pusher=PusherConfig(mass=spec.pusher_mass)))
+        result = make_plan(
+            spec,
+            goal_pose,
+            start=start_pose,
+            profile=timing,
+            duration=duration,
+            dt=dt,
+            forces=settings,
+            arm=model,
+        )
+        print_summary(console, result, mu_contact, mu_ground)
+        result.raise_if_infeasible()
+    except PushctlError as error:
+        _fail(error)
+    if out is not None:
+        write_csv(out, result.to_frame(), provenance_line("pushctl plan " + _arguments()))
+        console.print(f"wrote {out}")
+    if plot is not None:
+        from pushctl.provenance import write_atomic
+        from pushctl.report import plan_figure
+
+        figure = plan_figure(result, mu_contact=mu_contact)
+        write_atomic(plot, lambda tmp: figure.savefig(tmp, format=plot.suffix[1:], dpi=150))
+        console.print(f"wrote {plot}")
+
+
+def _arguments() -> str:
+    """This process's arguments after the command name, for provenance lines."""
+    import shlex
+    import sys
+
+    return shlex.join(sys.argv[2:])
 
 
 if __name__ == "__main__":

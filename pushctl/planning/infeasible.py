@@ -20,7 +20,7 @@ _TINY_FORCE = 1e-9
 
 
 def _where(trajectory: Trajectory, step: int, count: int) -> str:
-    others = f" and {count - 1} more" if count > 1 else ""
+    others = f" and {count - 1} later steps" if count > 1 else ""
     return f"step {step} (t = {trajectory.t[step]:.2f} s){others}"
 
 
