@@ -13,3 +13,14 @@ def test_readme_python_example_runs():
     exec(compile(blocks[0], str(README), "exec"), namespace)  # noqa: S102 - our own README
     assert namespace["sol"].converged
     assert abs(namespace["table"].object_pose[0] - 0.5**2 / (2 * 0.3 * 9.81)) < 1e-3
+
+
+def test_readme_planning_example_runs():
+    blocks = re.findall(r"```python\n(.*?)```", README.read_text(), flags=re.S)
+    planning = [block for block in blocks if "make_plan" in block]
+    assert planning, "the README has no planning example"
+    namespace: dict = {}
+    exec(compile(planning[0], str(README), "exec"), namespace)  # noqa: S102 - our own README
+    plan = namespace["plan"]
+    assert plan.feasible and plan.problems == ()
+    assert plan.forces.forces.shape == (2001, 2, 2)
