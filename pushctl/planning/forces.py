@@ -36,6 +36,7 @@ from scipy.optimize import minimize_scalar
 from pushctl.errors import ConfigError
 from pushctl.objects import ObjectSpec
 from pushctl.planning.ground import sliding_friction
+from pushctl.planning.infeasible import explain
 from pushctl.planning.trajectory import Trajectory
 
 # Weight of the worst residual [N] against the prong-share term [-] in the offset search.
@@ -221,8 +222,6 @@ def distribute_forces(
     bad = np.flatnonzero(residual > settings.feasibility_tolerance)
     reason = None
     if bad.size:
-        from pushctl.planning.infeasible import explain
-
         reason = explain(
             trajectory, wrench, points, settings.mu_contact, int(bad[0]), int(bad.size)
         )

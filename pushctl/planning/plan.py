@@ -16,13 +16,14 @@ import pandas as pd
 
 from pushctl.arm.model import ArmModel
 from pushctl.arm.reach import ReachReport, check_pusher_path
-from pushctl.config import GRAVITY
+from pushctl.config import GRAVITY, PusherConfig
 from pushctl.errors import ConfigError, PlanError
 from pushctl.objects import ObjectSpec
 from pushctl.planning.forces import ForcePlan, ForceSettings, distribute_forces
 from pushctl.planning.profiles import AngularProfile
 from pushctl.planning.trajectory import Trajectory, check_rotation, plan_icr
 from pushctl.planning.workspace import default_start, pusher_path
+from pushctl.types import PlanarPose
 
 REACH_SAMPLES = 50
 """Intervals along the plan at which the arm's reach is checked by IK (plus both ends)."""
@@ -134,9 +135,6 @@ def make_plan(
     Without an arm, the default pusher layout is used, the default start assumes the
     Kinova Gen2 7-DOF's ready pose and reach is not checked.
     """
-    from pushctl.config import PusherConfig
-    from pushctl.types import PlanarPose
-
     if goal is None:
         raise ConfigError("a goal pose (x, y, theta) is required")
     settings = forces or ForceSettings()

@@ -23,6 +23,10 @@ from pushctl.errors import ConfigError
 PROFILE_NAMES = ("constant", "trapezoid", "chirp")
 """Names accepted by :func:`make_profile`."""
 
+MIN_RAMP_FRACTION = 1e-6
+"""Shortest non-zero trapezoid ramp [fraction of the push]: below it the ramp's acceleration
+(cruise rate / fraction) overflows; use 0 for a step in rate."""
+
 
 @dataclass(frozen=True)
 class AngularProfile:
@@ -61,8 +65,10 @@ class TrapezoidProfile(AngularProfile):
     def __post_init__(self) -> None:
         a, d = self.accel_fraction, self.decel_fraction
         for label, value in (("accel_fraction", a), ("decel_fraction", d)):
-            if not (math.isfinite(value) and 0.0 <= value <= 1.0):
-                raise ConfigError(f"trapezoid {label} must be in [0, 1], got {value!r}")
+            if not (math.isfinite(value) and (value == 0.0 or MIN_RAMP_FRACTION <= value <= 1.0)):
+                raise ConfigError(
+                    f"trapezoid {label} must be 0 or in [{MIN_RAMP_FRACTION:g}, 1], got {value!r}"
+                )
         if a + d > 1.0 + 1e-12:
             raise ConfigError(
                 f"trapezoid accel_fraction + decel_fraction must be <= 1, got {a} + {d}"
