@@ -42,6 +42,11 @@ from pushctl.planning.trajectory import Trajectory
 # Weight of the worst residual [N] against the prong-share term [-] in the offset search.
 _RESIDUAL_WEIGHT = 1e3
 _NO_BOUND = 1e20
+# ProxQP's absolute tolerance on the scaled problem [-] and its iteration cap.
+_QP_TOLERANCE = 1e-12
+_QP_MAX_ITER = 1000
+_SOLVED = proxsuite.proxqp.QPSolverOutput.PROXQP_SOLVED
+_WARM = proxsuite.proxqp.InitialGuess.WARM_START_WITH_PREVIOUS_RESULT
 
 
 @dataclass(frozen=True)
@@ -155,22 +160,39 @@ class _StepQP:
         self._upper = np.zeros(2 * k)
         self._gradient_map = -(weighted.T * self.weights)  # g = −Gᵀ S² w
         self._qp = proxsuite.proxqp.dense.QP(2 * k, 0, 2 * k)
-        self._qp.settings.eps_abs = 1e-12
+        self._qp.settings.eps_abs = _QP_TOLERANCE
         self._qp.settings.eps_rel = 0.0
+        self._qp.settings.max_iter = _QP_MAX_ITER
         self._qp.init(hessian, np.zeros(2 * k), None, None, cone, self._lower, self._upper)
-        self._qp.settings.initial_guess = (
-            proxsuite.proxqp.InitialGuess.WARM_START_WITH_PREVIOUS_RESULT
-        )
+        self._qp.settings.initial_guess = _WARM
+        self._hessian = hessian
+
+    def _solve_one(self, gradient: np.ndarray) -> np.ndarray:
+        """Warm start from the previous step; on any status but SOLVED (ProxQP now and then
+        reports a warm-started instance of this always-feasible QP primal infeasible after
+        one iteration) solve it again from scratch. NaN if that fails too."""
+        qp = self._qp
+        qp.update(None, gradient, None, None, self._cone, self._lower, self._upper)
+        qp.solve()
+        if qp.results.info.status == _SOLVED:
+            return qp.results.x.copy()
+        cold = proxsuite.proxqp.dense.solve(
+            self._hessian, gradient, None, None, self._cone, self._lower, self._upper,
+            eps_abs=_QP_TOLERANCE, eps_rel=0.0, max_iter=_QP_MAX_ITER,
+        )  # fmt: skip
+        if cold.info.status == _SOLVED:
+            return cold.x.copy()
+        return np.full(len(gradient), np.nan)
 
     def solve(self, wrenches: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Forces (N, 2k) and weighted residuals (N,) [N] for wrenches (N, 3)."""
-        forces = np.empty((len(wrenches), self.G.shape[1]))
-        gradients = wrenches @ self._gradient_map.T
-        qp = self._qp
-        for i, gradient in enumerate(gradients):
-            qp.update(None, gradient, None, None, self._cone, self._lower, self._upper)
-            qp.solve()
-            forces[i] = qp.results.x
+        """Forces (N, 2k) and weighted residuals (N,) [N] for wrenches (N, 3); a step whose
+        QP fails gets NaN forces and a NaN residual.
+
+        The QP runs on wrenches divided by their largest magnitude, so its absolute
+        tolerance is relative to the plan's forces whatever their size."""
+        scale = float(np.abs(wrenches).max()) or 1.0
+        gradients = (wrenches / scale) @ self._gradient_map.T
+        forces = scale * np.array([self._solve_one(gradient) for gradient in gradients])
         residual = np.linalg.norm((forces @ self.G.T - wrenches) * self.weights, axis=1)
         return forces, residual
 
@@ -205,9 +227,10 @@ def distribute_forces(
         forces, residual = _StepQP(points, settings.mu_contact, half_width, settings).solve(
             wrench[sample]
         )
-        normals = forces[:, 0::2]
+        normals = np.nan_to_num(forces[:, 0::2], nan=0.0)
         share = normals.min(axis=1) / np.maximum(normals.sum(axis=1), 1e-12)
-        return _RESIDUAL_WEIGHT * float(residual.max()) - float(share.min())
+        worst = float(np.nan_to_num(residual, nan=np.abs(wrench).max()).max())
+        return _RESIDUAL_WEIGHT * worst - float(share.min())
 
     if hi - lo > 1e-9:
         offset = float(
@@ -219,7 +242,7 @@ def distribute_forces(
     flat, residual = _StepQP(points, settings.mu_contact, half_width, settings).solve(wrench)
     forces = flat.reshape(len(wrench), -1, 2)
     torques = points[:, 0] * forces[:, :, 1] - points[:, 1] * forces[:, :, 0]
-    bad = np.flatnonzero(residual > settings.feasibility_tolerance)
+    bad = np.flatnonzero(~(residual <= settings.feasibility_tolerance))  # NaN counts as bad
     reason = None
     if bad.size:
         reason = explain(

@@ -24,6 +24,12 @@ def _where(trajectory: Trajectory, step: int, count: int) -> str:
     return f"step {step} (t = {trajectory.t[step]:.2f} s){others}"
 
 
+def _lateral_hint(trajectory: Trajectory) -> str:
+    if trajectory.delta_theta == 0.0:
+        return "reduce the goal's lateral offset, or raise μ_c"
+    return "move the goal's lateral offset towards the direction of rotation"
+
+
 def explain(
     trajectory: Trajectory,
     wrench: np.ndarray,
@@ -54,11 +60,15 @@ def explain(
         return (
             f"infeasible at {where}: the plan needs a side force of {abs(w_t):.3f} N with a "
             f"push of {w_n:.3f} N, {abs(angle):.1f} deg off the face normal; μ_c = "
-            f"{mu_contact:g} allows at most {cone:.1f} deg (move the goal's lateral offset "
-            "towards the direction of rotation)"
+            f"{mu_contact:g} allows at most {cone:.1f} deg ({_lateral_hint(trajectory)})"
         )
     # achievable torque: −d w_t − Σ t_i F_n,i with Σ F_n,i = w_n, t_i in [t_lo, t_hi]
     tau_a, tau_b = -depth * w_t - t_hi * w_n, -depth * w_t - t_lo * w_n
+    if min(tau_a, tau_b) <= w_tau <= max(tau_a, tau_b):
+        return (
+            f"the force QP failed at {where} although the wrench ({w_n:.4f} N, {w_t:.4f} N, "
+            f"{w_tau:.5f} N·m) is within the prongs' reach: a solver fault, please report it"
+        )
     count_word = {1: "one prong", 2: "two prongs"}.get(len(points), f"{len(points)} prongs")
     spots = " and ".join(f"{1e3 * t:+.1f}" for t in points[:, 1])
     return (

@@ -137,6 +137,8 @@ def make_plan(
     """
     if goal is None:
         raise ConfigError("a goal pose (x, y, theta) is required")
+    if not (math.isfinite(gravity) and gravity >= 0.0):
+        raise ConfigError(f"gravity must be a finite magnitude >= 0 m/s², got {gravity!r}")
     settings = forces or ForceSettings()
     pusher = arm.pusher if arm is not None else PusherConfig()
     ready = arm.ready_pusher_position if arm is not None else np.array([0.30, 0.0, 0.06])
