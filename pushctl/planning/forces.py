@@ -109,8 +109,9 @@ def required_wrench(
     trajectory: Trajectory, obj: ObjectSpec, mu_ground: float, gravity: float
 ) -> np.ndarray:
     """The wrench the pusher must apply at each sample, object frame, (N, 3) [N, N, N·m]."""
-    direction = np.column_stack([trajectory.path_tangent, np.full(len(trajectory.t), 1.0)])
-    direction[:, 2] = trajectory.delta_theta
+    # the direction of motion per unit arc fraction, (dp/ds, dθ/ds): defined at rest too
+    turn = np.full(len(trajectory.t), trajectory.delta_theta)
+    direction = np.column_stack([trajectory.path_tangent, turn])
     friction = sliding_friction(obj, mu_ground, trajectory.pose, direction, gravity)
     inertial = trajectory.acceleration * np.array([obj.mass, obj.mass, obj.inertia_z])
     world = inertial - friction

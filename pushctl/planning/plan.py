@@ -85,8 +85,8 @@ def check_push_direction(trajectory: Trajectory) -> None:
         raise ConfigError(
             f"the goal is behind the pushed face: the object would move "
             f"{math.degrees(angle):+.1f} deg off the face's inward normal and have to be "
-            "pulled; accepted: goals ahead of the face (within ±90 deg of it, and within "
-            "the prong friction cone, about ±22 deg for μ_c = 0.4, to be feasible)"
+            "pulled; accepted: goals ahead of the face (within ±90 deg of its normal, and "
+            "within ±atan(μ_c) of it to be feasible)"
         )
 
 
