@@ -136,16 +136,22 @@ def plan(
         result.raise_if_infeasible()
     except PushctlError as error:
         _fail(error)
-    if out is not None:
-        write_csv(out, result.to_frame(), provenance_line("pushctl plan " + _arguments()))
-        console.print(f"wrote {out}")
+    figure = None
     if plot is not None:
-        from pushctl.provenance import write_atomic
         from pushctl.report import plan_figure
 
         figure = plan_figure(result, mu_contact=mu_contact)
-        write_atomic(plot, lambda tmp: figure.savefig(tmp, format=plot.suffix[1:], dpi=150))
-        console.print(f"wrote {plot}")
+    try:
+        if out is not None:
+            write_csv(out, result.to_frame(), provenance_line("pushctl plan " + _arguments()))
+            console.print(f"wrote {out}")
+        if plot is not None and figure is not None:
+            from pushctl.provenance import write_atomic
+
+            write_atomic(plot, lambda tmp: figure.savefig(tmp, format=plot.suffix[1:], dpi=150))
+            console.print(f"wrote {plot}")
+    except OSError as error:
+        _fail(PushctlError(f"cannot write {error.filename}: {error.strerror}"))
 
 
 def _arguments() -> str:

@@ -104,3 +104,25 @@ def test_failed_plan_keeps_an_existing_output_file(tmp_path):
     result = runner.invoke(app, ["plan", "--goal", "0.42,0,30", "--out", str(out)])
     assert result.exit_code == 2
     assert out.read_text() == "keep me\n"
+
+
+def test_plot_and_csv_are_written_together(tmp_path):
+    plot = tmp_path / "plan.png"
+    result, out = _plan(tmp_path, "--goal", "0.6,0.02,15", "--plot", str(plot))
+    assert result.exit_code == 0, result.output
+    assert out.exists() and plot.read_bytes()[:4] == b"\x89PNG"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["plan.csv", "plan.png"]
+
+
+def test_unwritable_output_is_one_line_exit_2(tmp_path, monkeypatch):
+    import pushctl.provenance
+
+    def refuse(path, write):
+        raise PermissionError(13, "Permission denied", str(path))
+
+    monkeypatch.setattr(pushctl.provenance, "write_atomic", refuse)
+    result, out = _plan(tmp_path, "--goal", "0.6,0,10")
+    assert result.exit_code == 2
+    assert result.output.strip().splitlines()[-1].startswith("error: cannot write")
+    assert "Permission denied" in result.output and "Traceback" not in result.output
+    assert not out.exists()
