@@ -106,7 +106,7 @@ def plan(
 ) -> None:
     """Plan a push: ICR arc, angular profile, prong forces; check the arm can follow it."""
     from pushctl.arm import ArmConfig, load_arm
-    from pushctl.cli_plan import PLOT_SUFFIXES, check_output, parse_pose, print_summary
+    from pushctl.cli_plan import PLOT_SUFFIXES, check_output, parse_pose, summary_table
     from pushctl.config import PusherConfig
     from pushctl.objects import resolve_object
     from pushctl.planning import ForceSettings, make_plan
@@ -132,7 +132,7 @@ def plan(
             forces=settings,
             arm=model,
         )
-        print_summary(console, result, mu_contact, mu_ground)
+        console.print(summary_table(result))
         result.raise_if_infeasible()
     except PushctlError as error:
         _fail(error)
@@ -140,7 +140,7 @@ def plan(
     if plot is not None:
         from pushctl.report import plan_figure
 
-        figure = plan_figure(result, mu_contact=mu_contact)
+        figure = plan_figure(result)
     try:
         if out is not None:
             write_csv(out, result.to_frame(), provenance_line("pushctl plan " + _arguments()))

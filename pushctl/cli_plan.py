@@ -6,7 +6,6 @@ import math
 from pathlib import Path
 
 import numpy as np
-from rich.console import Console
 from rich.table import Table
 
 from pushctl.errors import ConfigError
@@ -44,9 +43,10 @@ def _mm(value: float) -> str:
     return f"{1e3 * value:.1f} mm"
 
 
-def summary_table(plan: Plan, mu_contact: float, mu_ground: float) -> Table:
+def summary_table(plan: Plan) -> Table:
     """The rich summary printed by ``pushctl plan``."""
     tr, fp = plan.trajectory, plan.forces
+    mu_contact, mu_ground = plan.settings.mu_contact, plan.settings.mu_ground
     table = Table(title=f"plan: {plan.obj.name}, {tr.profile} profile", show_header=False)
     start, goal = tr.start, tr.goal
     table.add_row(
@@ -86,7 +86,3 @@ def summary_table(plan: Plan, mu_contact: float, mu_ground: float) -> Table:
     verdict = "[green]feasible[/green]" if plan.feasible else "[red]infeasible[/red]"
     table.add_row("feasibility", verdict)
     return table
-
-
-def print_summary(console: Console, plan: Plan, mu_contact: float, mu_ground: float) -> None:
-    console.print(summary_table(plan, mu_contact, mu_ground))

@@ -51,7 +51,7 @@ def _legend_texts(ax: Axes) -> list[str]:
 
 
 def test_figure_structure(plan: Plan) -> None:
-    fig = plan_figure(plan, mu_contact=0.4)
+    fig = plan_figure(plan)
     assert isinstance(fig, Figure)
     assert len(fig.axes) == N_AXES
     title = fig.get_suptitle()
@@ -100,5 +100,5 @@ def test_infeasible_plan_is_captioned() -> None:
 def test_saves_png(tmp_path: Path) -> None:
     """One case only: drawing (constrained layout) is most of the time of these tests."""
     out = tmp_path / "plan.png"
-    plan_figure(_plan("wedge-chirp-arm"), mu_contact=0.4).savefig(out, dpi=40)
+    plan_figure(_plan("wedge-chirp-arm")).savefig(out, dpi=40)
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

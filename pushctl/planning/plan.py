@@ -31,12 +31,15 @@ REACH_SAMPLES = 50
 
 @dataclass(frozen=True)
 class Plan:
-    """A planned push of ``obj``: ``trajectory``, ``forces`` and, when an arm was given,
-    ``reach`` at the samples ``reach_steps`` (M,) of the trajectory.
+    """A planned push of ``obj`` with ``pusher`` under ``settings`` (friction, margins):
+    ``trajectory``, ``forces`` and, when an arm was given, ``reach`` at the samples
+    ``reach_steps`` (M,) of the trajectory.
     ``pusher_positions`` (N, 3) [m] and ``pusher_yaws`` (N,) [rad]: the pusher frame along
     the plan. ``problems``: why the plan cannot be executed (empty when it can)."""
 
     obj: ObjectSpec
+    pusher: PusherConfig
+    settings: ForceSettings
     trajectory: Trajectory
     forces: ForcePlan
     pusher_positions: np.ndarray
@@ -161,6 +164,8 @@ def make_plan(
             problems.append(problem)
     return Plan(
         obj=obj,
+        pusher=pusher,
+        settings=settings,
         trajectory=trajectory,
         forces=force_plan,
         pusher_positions=positions,

@@ -24,7 +24,7 @@ from matplotlib.colors import Colormap
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
-from pushctl.config import PusherConfig
+from pushctl.objects import polygon_world, to_world
 
 if TYPE_CHECKING:
     from pushctl.planning import Plan
@@ -40,14 +40,9 @@ RATE_COLOUR = "#1f77b4"
 _FONT = {"title": 12, "label": 10, "tick": 9, "legend": 8}
 
 
-def _to_world(points: np.ndarray, pose: np.ndarray) -> np.ndarray:
-    """Local points (P, 2) [m] at planar pose (x, y, θ) [m, m, rad] → world (P, 2) [m]."""
-    c, s = math.cos(pose[2]), math.sin(pose[2])
-    return points @ np.array([[c, s], [-s, c]]) + pose[:2]
-
-
-def _plate_outline(plan: Plan, pusher: PusherConfig) -> np.ndarray:
+def _plate_outline(plan: Plan) -> np.ndarray:
     """Local corners (4, 2) [m] of the plate: flush behind the pushed face at the offset δ."""
+    pusher = plan.pusher
     x0 = -plan.obj.face_offset
     x1 = x0 - pusher.thickness
     y0, y1 = plan.forces.offset - 0.5 * pusher.width, plan.forces.offset + 0.5 * pusher.width
@@ -55,21 +50,21 @@ def _plate_outline(plan: Plan, pusher: PusherConfig) -> np.ndarray:
 
 
 def _draw_bodies(ax: Axes, plan: Plan, outlines: int, cmap: Colormap) -> np.ndarray:
-    """Object, plate (``PusherConfig()`` width × thickness) and prongs (gid ``"prong_i"``) at
+    """Object, plate (the plan's pusher, width × thickness) and prongs (gid ``"prong_i"``) at
     ``outlines`` instants evenly spaced in time, light → dark, later ones on top; returns
     every drawn world point (P, 2) [m] for the axis limits."""
     pose = plan.trajectory.pose
-    plate = _plate_outline(plan, PusherConfig())
+    plate = _plate_outline(plan)
     drawn = [pose[:, :2]]
     steps = np.linspace(0, len(pose) - 1, max(outlines, 1)).round().astype(int)
     for j, step in enumerate(steps):
         shade, z = 0.35 + 0.6 * j / max(len(steps) - 1, 1), 2.0 + 0.01 * j
-        body = _to_world(plan.obj.footprint, pose[step])
-        slab = _to_world(plate, pose[step])
+        body = polygon_world(plan.obj, pose[step])
+        slab = to_world(pose[step], plate)
         ax.fill(*body.T * MM, fc=cmap(shade), alpha=0.15, zorder=z)
         ax.fill(*body.T * MM, fill=False, ec=cmap(shade), lw=1.2, zorder=z)
         ax.fill(*slab.T * MM, fc="0.75", ec="0.3", lw=0.7, alpha=0.8, zorder=z)
-        for i, point in enumerate(_to_world(plan.forces.prong_points, pose[step])):
+        for i, point in enumerate(to_world(pose[step], plan.forces.prong_points)):
             colour = PRONG_COLOURS[i % len(PRONG_COLOURS)]
             (dot,) = ax.plot(*point * MM, "o", ms=5, mfc=colour, mec="white", mew=0.6, zorder=3)
             dot.set_gid(f"prong_{i + 1}")
@@ -99,7 +94,7 @@ def _draw_push_arrow(ax: Axes, plan: Plan, size: float) -> np.ndarray:
     its tail [m] (for the axis limits)."""
     tangent = plan.trajectory.path_tangent[0]
     direction = tangent / max(float(np.linalg.norm(tangent)), 1e-12)
-    back = plan.pusher_positions[0, :2] - direction * PusherConfig().thickness
+    back = plan.pusher_positions[0, :2] - direction * plan.pusher.thickness
     tail, head = back - direction * 0.16 * size, back - direction * 0.01 * size
     arrow = {"arrowstyle": "-|>", "color": "0.2", "lw": 1.8, "shrinkA": 0, "shrinkB": 0}
     ax.annotate("", xy=tuple(head * MM), xytext=tuple(tail * MM), arrowprops=arrow, zorder=6)
@@ -160,20 +155,19 @@ def _rotation_panel(ax: Axes, plan: Plan) -> None:
     twin.set_ylim(low - pad, high + pad)
 
 
-def _force_panel(ax: Axes, plan: Plan, mu_contact: float | None) -> None:
-    """Desired normal (solid) and tangential (dashed) prong forces [N]; the friction cone
-    ±μ_c F_n,i shaded grey when ``mu_contact`` is given."""
+def _force_panel(ax: Axes, plan: Plan) -> None:
+    """Desired normal (solid) and tangential (dashed) prong forces [N]; the plan's friction
+    cone ±μ_c F_n,i shaded grey."""
     t, forces = plan.trajectory.t, plan.forces.forces
+    mu_contact = plan.settings.mu_contact
     for i in range(forces.shape[1]):
         colour, width = PRONG_COLOURS[i % len(PRONG_COLOURS)], _width(i)
         normal, tangential = forces[:, i, 0], forces[:, i, 1]
         ax.plot(t, normal, color=colour, lw=width, label=f"$F_{{n,{i + 1}}}$")
         ax.plot(t, tangential, color=colour, lw=width, ls="--", label=f"$F_{{t,{i + 1}}}$")
-        if mu_contact is not None:
-            bound = mu_contact * normal
-            ax.fill_between(t, -bound, bound, color="0.5", alpha=0.12, lw=0)
-    if mu_contact is not None:
-        ax.fill_between([], [], [], color="0.5", alpha=0.25, lw=0, label=f"±{mu_contact:g} $F_n$")
+        bound = mu_contact * normal
+        ax.fill_between(t, -bound, bound, color="0.5", alpha=0.12, lw=0)
+    ax.fill_between([], [], [], color="0.5", alpha=0.25, lw=0, label=f"±{mu_contact:g} $F_n$")
     ax.axhline(0.0, color="0.4", lw=0.6)
     ax.set_ylabel("force [N]")
     ax.legend(loc="upper left", ncol=5, fontsize=_FONT["legend"])
@@ -215,11 +209,10 @@ def _title(plan: Plan) -> str:
     )
 
 
-def plan_figure(plan: Plan, outlines: int = 6, mu_contact: float | None = None) -> Figure:
-    """A (13 × 7 in) figure of ``plan``: top view [mm] left, θ/ω, prong forces [N] and
-    torques [N·m] over t [s] right. ``outlines`` (≥ 1) instants of the object are drawn;
-    ``mu_contact`` μ_c [-], if given, shades the friction cone ±μ_c F_n per prong. Returns
-    the figure without showing or saving it."""
+def plan_figure(plan: Plan, outlines: int = 6) -> Figure:
+    """A (13 × 7 in) figure of ``plan``: top view [mm] left, θ/ω, prong forces [N] with the
+    friction cone and torques [N·m] over t [s] right. ``outlines`` (≥ 1) instants of the
+    object are drawn. Returns the figure without showing or saving it."""
     fig = Figure(figsize=(13, 7), layout="constrained")
     grid = fig.add_gridspec(3, 2, width_ratios=(1.0, 1.05), height_ratios=(1.0, 1.2, 1.0))
     top = fig.add_subplot(grid[:, 0])
@@ -228,7 +221,7 @@ def plan_figure(plan: Plan, outlines: int = 6, mu_contact: float | None = None) 
     torques = fig.add_subplot(grid[2, 1], sharex=rotation)
     _map_panel(top, plan, outlines)
     _rotation_panel(rotation, plan)
-    _force_panel(forces, plan, mu_contact)
+    _force_panel(forces, plan)
     _torque_panel(torques, plan)
     for ax in (top, rotation, forces, torques):
         ax.grid(True, color="0.88", lw=0.6)
