@@ -1,8 +1,8 @@
 """How a results file was made, and writing files so that none is ever half-written.
 
 Every CSV the tool writes starts with one comment line, ``# made by: <command>; pushctl
-<version>; commit <git describe>; <UTC time>; …``. Read such files with
-``pandas.read_csv(path, comment="#")``.
+<version>; commit <git describe>; …``. It holds no clock time, so one command with one seed
+writes byte-identical files. Read such files with ``pandas.read_csv(path, comment="#")``.
 """
 
 from __future__ import annotations
@@ -11,7 +11,6 @@ import os
 import subprocess
 import sys
 from collections.abc import Callable
-from datetime import datetime, timezone
 from pathlib import Path
 
 import pandas as pd
@@ -36,11 +35,8 @@ def git_commit() -> str:
 def provenance_line(command: str | None = None, extra: str = "") -> str:
     """The ``# made by:`` line; ``command`` defaults to this process's command line."""
     command = command or " ".join([Path(sys.argv[0]).name, *sys.argv[1:]])
-    now = datetime.now(timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
     tail = f"; {extra}" if extra else ""
-    return (
-        f"# made by: {command}; pushctl {pushctl.__version__}; commit {git_commit()}; {now}{tail}"
-    )
+    return f"# made by: {command}; pushctl {pushctl.__version__}; commit {git_commit()}{tail}"
 
 
 def write_atomic(path: Path, write: Callable[[Path], None]) -> None:

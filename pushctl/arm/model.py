@@ -83,7 +83,10 @@ class ArmTerms(NamedTuple):
     ``g`` (nv,) [N·m] g(q) alone;
     ``prong_positions`` (k, 3) [m] prong points in the world frame;
     ``prong_jacobians`` (k, 3, nv) [m/rad] linear-velocity Jacobians of those points,
-    world-aligned axes: ``prong_velocity[i] = prong_jacobians[i] @ v``.
+    world-aligned axes: ``prong_velocity[i] = prong_jacobians[i] @ v``;
+    ``pusher_position`` (3,) [m] and ``pusher_rotation`` (3, 3) the pusher frame's world
+    placement; ``pusher_jacobian`` (6, nv) its Jacobian, rows [linear; angular], world-aligned
+    axes (what the controller needs, computed in the same pass).
     """
 
     M: np.ndarray
@@ -91,6 +94,9 @@ class ArmTerms(NamedTuple):
     g: np.ndarray
     prong_positions: np.ndarray
     prong_jacobians: np.ndarray
+    pusher_position: np.ndarray
+    pusher_rotation: np.ndarray
+    pusher_jacobian: np.ndarray
 
 
 _WORLD_ALIGNED = pin.LOCAL_WORLD_ALIGNED
@@ -172,10 +178,11 @@ class ArmModel:
 
     # ----------------------------------------------------------------- dynamics
     def compute(self, q: np.ndarray, v: np.ndarray) -> ArmTerms:
-        """M(q), c(q, v) + g(q), g(q) and the prong points with their Jacobians, in one pass.
+        """M(q), c(q, v) + g(q), g(q), the prong points and the pusher frame with their
+        Jacobians, in one pass.
 
         ``q`` (nq,) [rad], ``v`` (nv,) [rad/s], float64, not validated here (hot path: use
-        ``check_q``/``check_v`` at the boundary). About 11 µs for the 7-DOF arm, 2 prongs.
+        ``check_q``/``check_v`` at the boundary). About 13 µs for the 7-DOF arm, 2 prongs.
         """
         model, data = self.model, self.data
         pin.computeAllTerms(model, data, q, v)  # M, nle, joint placements and Jacobians
@@ -184,10 +191,21 @@ class ArmModel:
         for i, frame_id in enumerate(self.prong_frame_ids):
             positions[i] = pin.updateFramePlacement(model, data, frame_id).translation
             jacobians[i] = pin.getFrameJacobian(model, data, frame_id, _WORLD_ALIGNED)[:3]
+        pusher = pin.updateFramePlacement(model, data, self.pusher_frame_id)
+        pusher_jacobian = pin.getFrameJacobian(model, data, self.pusher_frame_id, _WORLD_ALIGNED)
         mass = data.M.copy()
         if self._symmetrise:
             mass = np.triu(mass) + np.triu(mass, 1).T
-        return ArmTerms(mass, data.nle.copy(), data.g.copy(), positions, jacobians)
+        return ArmTerms(
+            mass,
+            data.nle.copy(),
+            data.g.copy(),
+            positions,
+            jacobians,
+            pusher.translation.copy(),
+            pusher.rotation.copy(),
+            pusher_jacobian.copy(),
+        )
 
     def mass_matrix(self, q: np.ndarray) -> np.ndarray:
         """M(q) (nv, nv) including armature."""

@@ -5,11 +5,11 @@ from __future__ import annotations
 from pushctl.arm import ArmConfig, load_arm
 from pushctl.config import GRAVITY, PusherConfig
 from pushctl.contact.world import World, WorldConfig
-from pushctl.objects import resolve_object
+from pushctl.objects import ObjectSpec, resolve_object, with_masses
 
 
 def make_world(
-    object: str = "cube",  # noqa: A002 - the public keyword of the documented API
+    object: str | ObjectSpec = "cube",  # noqa: A002 - the public keyword of the documented API
     arm: str | None = "kinova-gen2-7dof",
     mu_ground: float = 0.3,
     mu_contact: float = 0.4,
@@ -24,7 +24,8 @@ def make_world(
 ) -> World:
     """Build a world. Every argument is validated; bad ones raise a ``ConfigError``.
 
-    object: a preset name (``cube``, ``wedge``) or the path of a TOML object file.
+    object: a preset name (``cube``, ``wedge``), the path of a TOML object file, or an
+        ObjectSpec (used as is; ``object_mass`` still overrides its mass).
     arm: ``kinova-gen2-7dof`` (default), ``kinova-j2s6s200``, ``panda``, or None for an
         object-only world (no pusher; ``step`` then ignores its torque argument).
     mu_ground, mu_contact: Coulomb coefficients of object–table and prong–object friction.
@@ -38,7 +39,10 @@ def make_world(
     config = WorldConfig(
         dt=dt, mu_ground=mu_ground, mu_contact=mu_contact, substeps=substeps, gravity=gravity
     )
-    spec = resolve_object(object, mass=object_mass)
+    if isinstance(object, ObjectSpec):
+        spec = object if object_mass is None else with_masses(object, mass=object_mass)
+    else:
+        spec = resolve_object(object, mass=object_mass)
     if arm is None:
         return World(spec, None, config)
     if pusher is None:

@@ -150,6 +150,12 @@ class World:
             return np.zeros((0, 3))
         return self._terms.prong_positions.copy()
 
+    @property
+    def arm_terms(self) -> ArmTerms | None:
+        """The arm's dynamics and kinematics at the current state (None without an arm):
+        computed once per step for the world's own use, shared read-only with controllers."""
+        return self._terms
+
     def gravity_torque(self) -> np.ndarray:
         """g(q) [N·m] at the current arm state, (nv,); empty for an object-only world."""
         if self._terms is None:

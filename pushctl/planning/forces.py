@@ -208,12 +208,15 @@ def distribute_forces(
     prong_offsets: np.ndarray,
     settings: ForceSettings,
     gravity: float,
+    offset: float | None = None,
 ) -> ForcePlan:
     """Choose the plate offset and the prong forces at every sample of ``trajectory``.
 
     ``prong_offsets`` (k,) [m]: the prongs' positions along the plate
-    (:meth:`PusherConfig.prong_offsets`). Never raises for an infeasible plan: the result's
-    ``feasible`` and ``reason`` say what failed.
+    (:meth:`PusherConfig.prong_offsets`). ``offset`` [m]: use this plate offset instead of
+    searching for one (the forces a plan made with other parameters needs at its offset).
+    Never raises for an infeasible plan: the result's ``feasible`` and ``reason`` say what
+    failed.
     """
     prong_offsets = np.asarray(prong_offsets, dtype=float)
     wrench = required_wrench(trajectory, obj, settings.mu_ground, gravity)
@@ -233,7 +236,9 @@ def distribute_forces(
         worst = float(np.nan_to_num(residual, nan=np.abs(wrench).max()).max())
         return _RESIDUAL_WEIGHT * worst - float(share.min())
 
-    if hi - lo > 1e-9:
+    if offset is not None:
+        offset = float(offset)
+    elif hi - lo > 1e-9:
         offset = float(
             minimize_scalar(cost, bounds=(lo, hi), method="bounded", options={"xatol": 1e-6}).x
         )

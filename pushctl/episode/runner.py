@@ -1,0 +1,248 @@
+"""The episode runner: scenario → plan → approach → push → trace.
+
+:class:`Episode` runs step by step (a learner drives :meth:`Episode.step` with its residual)
+or all at once (:meth:`Episode.run`). The planner and the controller use the scenario's
+*nominal* parameters, the world its *plant* parameters; the desired prong forces in the
+trace (and any reward) are the force distribution recomputed with the plant's parameters at
+the plan's prong offset: what the pushed object really needed where the prongs really were.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from pushctl.arm import ArmConfig, load_arm
+from pushctl.config import PusherConfig
+from pushctl.contact.build import make_world
+from pushctl.contact.world import World
+from pushctl.control.gains import PDGains, load_gains
+from pushctl.control.pd import PDController
+from pushctl.control.reference import (
+    PusherReference,
+    concatenate,
+    hold,
+    minimum_jerk,
+    push_reference,
+)
+from pushctl.episode.scenario import Scenario
+from pushctl.episode.trace import Trace, contact_torques
+from pushctl.errors import ConfigError, StateError
+from pushctl.objects import ObjectSpec, resolve_object
+from pushctl.planning import ForcePlan, ForceSettings, Plan, make_plan
+from pushctl.planning.forces import distribute_forces
+from pushctl.types import StepResult
+
+
+@dataclass(frozen=True)
+class ApproachSettings:
+    """The approach, from the ready configuration to the prongs touching the pushed face at
+    the plan's offset (not part of the trace or the metrics): a minimum-jerk move of
+    ``move_time`` [s] to ``standoff`` [m] behind the face, then one of ``creep_time`` [s] onto
+    it, then ``settle_time`` [s] holding there."""
+
+    standoff: float = 0.010
+    move_time: float = 2.0
+    creep_time: float = 1.0
+    settle_time: float = 0.2
+
+    def __post_init__(self) -> None:
+        for name in ("standoff", "move_time", "creep_time", "settle_time"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value >= 0.0):
+                raise ConfigError(f"approach {name} must be finite and >= 0, got {value!r}")
+        if self.move_time <= 0.0 or self.creep_time <= 0.0:
+            raise ConfigError("approach move_time and creep_time must be > 0 s")
+
+
+class Episode:
+    """One scenario on a fresh world with the PD baseline.
+
+    Construction plans (raising PlanError if the plan cannot be executed) and builds the
+    world; :meth:`reset` runs the approach; :meth:`step` advances one push step with an
+    optional residual planar twist (3,) (vx [m/s], vy [m/s], ω_z [rad/s]); :meth:`trace`
+    returns what has been recorded.
+    """
+
+    def __init__(
+        self,
+        scenario: Scenario,
+        gains: PDGains | None = None,
+        approach: ApproachSettings | None = None,
+    ) -> None:
+        self.scenario = scenario
+        self.gains = gains if gains is not None else load_gains()
+        self.approach = approach or ApproachSettings()
+        plant, nominal = scenario.plant, scenario.nominal
+        nominal_obj = resolve_object(
+            scenario.object, mass=nominal.object_mass, pusher_mass=nominal.pusher_mass
+        )
+        self.object: ObjectSpec = resolve_object(
+            scenario.object, mass=plant.object_mass, pusher_mass=plant.pusher_mass
+        )
+        planning_arm = load_arm(
+            ArmConfig(name=scenario.arm, pusher=PusherConfig(mass=nominal_obj.pusher_mass))
+        )
+        self.plan: Plan = make_plan(
+            nominal_obj,
+            scenario.goal.as_array(),
+            start=None if scenario.start is None else scenario.start.as_array(),
+            profile=scenario.profile,
+            duration=scenario.duration,
+            dt=scenario.dt,
+            forces=ForceSettings(mu_contact=nominal.mu_contact, mu_ground=nominal.mu_ground),
+            arm=planning_arm,
+            gravity=scenario.gravity,
+        )
+        self.plan.raise_if_infeasible()
+        self.plant_forces: ForcePlan = distribute_forces(
+            self.plan.trajectory,
+            self.object,
+            planning_arm.pusher.prong_offsets(),
+            ForceSettings(mu_contact=plant.mu_contact, mu_ground=plant.mu_ground),
+            scenario.gravity,
+            offset=self.plan.forces.offset,
+        )
+        self.world: World = make_world(
+            self.object,
+            arm=scenario.arm,
+            mu_ground=plant.mu_ground,
+            mu_contact=plant.mu_contact,
+            dt=scenario.dt,
+            pusher=PusherConfig(mass=self.object.pusher_mass),
+            gravity=scenario.gravity,
+        )
+        assert self.world.arm is not None
+        self.controller = PDController(self.world.arm, self.gains, scenario.dt)
+        self.reference: PusherReference = push_reference(self.plan)
+        self._allocate()
+
+    @property
+    def n_steps(self) -> int:
+        return self.plan.trajectory.n_steps
+
+    @property
+    def step_index(self) -> int:
+        """Push steps taken since :meth:`reset` (0 … n_steps)."""
+        return self._n
+
+    @property
+    def done(self) -> bool:
+        return self._n >= self.n_steps
+
+    def reset(self) -> StepResult:
+        """Put the arm at its ready configuration and the object at the plan's start, run
+        the approach, and return the state at the start of the push (t = 0)."""
+        world, trajectory = self.world, self.plan.trajectory
+        world.reset(object_pose=trajectory.pose[0])
+        result = self._approach()
+        self._n = 0
+        self._record(0, result, self._tau[0])
+        return result
+
+    def step(self, residual: np.ndarray | None = None) -> StepResult:
+        """One push step from t_n to t_{n+1}; ``residual`` (3,) is added to the commanded
+        pusher twist (Algorithm 1). StateError after the last step."""
+        if self._n >= self.n_steps:
+            raise StateError(f"the push is over: all {self.n_steps} steps have been taken")
+        n, world, ref = self._n, self.world, self.reference
+        terms = world.arm_terms
+        assert terms is not None
+        command = self.controller.command(
+            terms, world.q, ref.position[n], ref.yaw[n], self._twists[n], residual
+        )
+        result = world.step(command.tau, implicit_kv=command.implicit_kv)
+        self._n = n + 1
+        self._record(self._n, result, command.tau - command.implicit_kv * result.arm_v)
+        return result
+
+    def run(self) -> Trace:
+        """reset(), every push step without a residual, and the trace."""
+        self.reset()
+        for _ in range(self.n_steps):
+            self.step()
+        return self.trace()
+
+    def trace(self) -> Trace:
+        """The rows recorded so far (t = 0 … t_n)."""
+        rows = slice(0, self._n + 1)
+        forces = self._forces[rows]
+        return Trace(
+            t=self.plan.trajectory.t[rows].copy(),
+            object_pose=self._pose[rows].copy(),
+            desired_pose=self.plan.trajectory.pose[rows].copy(),
+            contact_forces=forces.copy(),
+            desired_forces=self.plant_forces.forces[rows].copy(),
+            contact_torque=contact_torques(self._pose[rows], self._prongs[rows], forces),
+            desired_torque=self.plant_forces.total_torque[rows].copy(),
+            prong_gaps=self._gaps[rows].copy(),
+            arm_q=self._q[rows].copy(),
+            arm_v=self._v[rows].copy(),
+            arm_tau=self._tau[rows].copy(),
+            pusher_position=self._pusher[rows].copy(),
+            pusher_position_des=self.plan.pusher_positions[rows].copy(),
+            mu_contact=self.scenario.plant.mu_contact,
+            arc_length=self.plan.trajectory.arc_length,
+            delta_theta=self.plan.trajectory.delta_theta,
+        )
+
+    # ---------------------------------------------------------------- internals
+
+    def _approach(self) -> StepResult:
+        """Ready pose → standoff → touching at the plan's offset → settle."""
+        world, settings, dt = self.world, self.approach, self.scenario.dt
+        terms = world.arm_terms
+        assert terms is not None
+        contact_position = self.reference.position[0]
+        yaw = float(self.reference.yaw[0])
+        normal = np.array([math.cos(yaw), math.sin(yaw), 0.0])
+        standoff = contact_position - settings.standoff * normal
+        ready_yaw = math.atan2(terms.pusher_rotation[1, 0], terms.pusher_rotation[0, 0])
+        parts = [
+            minimum_jerk(terms.pusher_position, ready_yaw, standoff, yaw, settings.move_time, dt),
+            minimum_jerk(standoff, yaw, contact_position, yaw, settings.creep_time, dt),
+        ]
+        settle_steps = round(settings.settle_time / dt)
+        if settle_steps:
+            parts.append(hold(contact_position, yaw, settle_steps, dt))
+        reference = concatenate(*parts)
+        twists = reference.twist
+        result = None
+        for n in range(len(reference) - 1):
+            terms = world.arm_terms
+            assert terms is not None
+            command = self.controller.command(
+                terms, world.q, reference.position[n], reference.yaw[n], twists[n]
+            )
+            result = world.step(command.tau, implicit_kv=command.implicit_kv)
+        assert result is not None
+        return result
+
+    def _allocate(self) -> None:
+        rows, k = self.n_steps + 1, self.plan.pusher.n_prongs
+        arm = self.world.arm
+        assert arm is not None
+        self._twists = self.reference.twist
+        self._pose = np.zeros((rows, 3))
+        self._forces = np.zeros((rows, k, 2))
+        self._gaps = np.zeros((rows, k))
+        self._prongs = np.zeros((rows, k, 3))
+        self._pusher = np.zeros((rows, 3))
+        self._q = np.zeros((rows, arm.nq))
+        self._v = np.zeros((rows, arm.nv))
+        self._tau = np.zeros((rows, arm.nv))
+        self._n = 0
+
+    def _record(self, row: int, result: StepResult, tau: np.ndarray) -> None:
+        terms = self.world.arm_terms
+        assert terms is not None
+        self._pose[row] = result.object_pose
+        self._forces[row] = result.contact_forces
+        self._gaps[row] = result.prong_gaps
+        self._prongs[row] = terms.prong_positions
+        self._pusher[row] = terms.pusher_position
+        self._q[row] = result.arm_q
+        self._v[row] = result.arm_v
+        self._tau[row] = tau
