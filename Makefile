@@ -26,7 +26,7 @@ lint: $(STAMP)
 	$(PY) -m mypy pushctl
 
 bench: $(STAMP)
-	$(PY) -m pushctl.bench --out results/bench.csv
+	$(PY) -m pushctl.bench --profile --out results/bench.csv
 
 reproduce-tables: $(STAMP)
 	@echo "reproduce-tables: training, evaluation and the report are not built yet (issues 3-6)." >&2

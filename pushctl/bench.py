@@ -3,7 +3,8 @@
 Run as ``python -m pushctl.bench [--out results/bench.csv]``. Each figure is the median over
 many calls of one operation on one core (this is a single-threaded process), in µs (plans:
 seconds); the CSV
-records how it was made (command, version, git commit, date, machine).
+records how it was made (command, version, git commit, date, machine). The closed-loop rows
+come from :mod:`pushctl.bench_episode`.
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ from rich.console import Console
 from rich.table import Table
 
 import pushctl
+from pushctl.bench_episode import episode_rows, profile_episode
 from pushctl.contact.world import World
 from pushctl.provenance import provenance_line, write_csv
 
@@ -182,6 +184,7 @@ def run_benchmarks(repeats: int = 2000) -> list[dict[str, Any]]:
         }
     )
     rows.extend(plan_rows())
+    rows.extend(episode_rows())
     return rows
 
 
@@ -202,7 +205,8 @@ def profile_world_step(steps: int = 2000, top: int = 15) -> str:
 def _provenance() -> str:
     command = " ".join(["python -m pushctl.bench", *sys.argv[1:]])
     machine = f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, one used"
-    return provenance_line(command, machine)
+    date = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
+    return provenance_line(command, f"{date}; {machine}")
 
 
 def plan_rows(repeats: int = 7) -> list[dict[str, Any]]:
@@ -243,7 +247,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, default=Path("results/bench.csv"))
     parser.add_argument("--repeats", type=int, default=2000)
     parser.add_argument(
-        "--profile", action="store_true", help="also print a cProfile of the world step"
+        "--profile",
+        action="store_true",
+        help="also print a cProfile of the world step and of a PD episode's push",
     )
     args = parser.parse_args(argv)
     rows = run_benchmarks(args.repeats)
@@ -258,6 +264,8 @@ def main(argv: list[str] | None = None) -> int:
     Console().print(table)
     if args.profile:
         print(profile_world_step(args.repeats))
+        print("PD episode, 2000-step push (cube, chirp):")
+        print(profile_episode())
     args.out.parent.mkdir(parents=True, exist_ok=True)
     write_csv(args.out, pd.DataFrame(rows), _provenance(), float_format="%.4g")
     return 0

@@ -1,7 +1,7 @@
 """The ``pushctl`` command line. Each command parses, validates, calls the core, renders.
 
-Built so far: ``pushctl info`` and ``pushctl plan``. ``simulate``, ``train``, ``evaluate`` and
-``report`` come with the issues that build them.
+Built so far: ``pushctl info``, ``plan``, ``simulate`` and ``tune-pd``. ``train``,
+``evaluate`` and ``report`` come with the issues that build them.
 """
 
 from __future__ import annotations
@@ -85,6 +85,7 @@ def info(
 
 @app.command()
 def plan(
+    ctx: typer.Context,
     goal: Annotated[str, typer.Option(help="goal pose x,y,theta_deg [m, m, deg]")],
     object_name: Annotated[
         str, typer.Option("--object", help="cube, wedge, or a TOML object file")
@@ -143,7 +144,7 @@ def plan(
         figure = plan_figure(result)
     try:
         if out is not None:
-            write_csv(out, result.to_frame(), provenance_line("pushctl plan " + _arguments()))
+            write_csv(out, result.to_frame(), provenance_line(_invocation(ctx)))
             console.print(f"wrote {out}")
         if plot is not None and figure is not None:
             from pushctl.provenance import write_atomic
@@ -154,12 +155,199 @@ def plan(
         _fail(PushctlError(f"cannot write {error.filename}: {error.strerror}"))
 
 
-def _arguments() -> str:
-    """This process's arguments after the command name, for provenance lines."""
-    import shlex
-    import sys
+@app.command()
+def simulate(
+    ctx: typer.Context,
+    object_name: Annotated[
+        str, typer.Option("--object", help="cube, wedge, or a TOML object file")
+    ] = "cube",
+    profile: Annotated[str, typer.Option(help="constant, trapezoid or chirp")] = "constant",
+    goal: Annotated[
+        str | None, typer.Option(help="goal pose x,y,theta_deg [m, m, deg]; or use --seed")
+    ] = None,
+    seed: Annotated[
+        int | None,
+        typer.Option(help="draw the goal (and with --randomize the plant) from this seed"),
+    ] = None,
+    controller: Annotated[str, typer.Option(help="pd (rl comes with the policy)")] = "pd",
+    randomize: Annotated[
+        bool, typer.Option("--randomize", help="draw μ_g, μ_c and masses from the sim ranges")
+    ] = False,
+    mu_ground: Annotated[float | None, typer.Option(help="plant's object-table μ_g")] = None,
+    mu_contact: Annotated[float | None, typer.Option(help="plant's prong-object μ_c")] = None,
+    object_mass: Annotated[float | None, typer.Option(help="plant's object mass [kg]")] = None,
+    duration: Annotated[float, typer.Option(help="push duration [s]")] = 20.0,
+    gains: Annotated[
+        Path | None, typer.Option(help="PD gains file; default experiments/pd_gains.toml")
+    ] = None,
+    arm: Annotated[str, typer.Option(help="kinova-gen2-7dof, kinova-j2s6s200 or panda")] = (
+        "kinova-gen2-7dof"
+    ),
+    out: Annotated[Path | None, typer.Option(help="write the trace as CSV here")] = None,
+    plot: Annotated[Path | None, typer.Option(help="save a figure (.png, .pdf, .svg)")] = None,
+) -> None:
+    """Run one push with the PD baseline: approach, push, metrics, trace and figure."""
+    from pushctl.cli_plan import PLOT_SUFFIXES, check_output, parse_pose
+    from pushctl.cli_simulate import (
+        check_controller,
+        metrics_table,
+        scenario_table,
+        simulate_scenario,
+    )
+    from pushctl.control import load_gains
+    from pushctl.episode import Episode
+    from pushctl.episode.metrics import compute_metrics
 
-    return shlex.join(sys.argv[2:])
+    try:
+        check_output("--out", out, (".csv",))
+        check_output("--plot", plot, PLOT_SUFFIXES)
+        check_controller(controller)
+        goal_pose = None if goal is None else parse_pose("--goal", goal)
+        pd_gains = load_gains(gains)
+        overrides = {"mu_ground": mu_ground, "mu_contact": mu_contact, "object_mass": object_mass}
+        scenario, redrawn = simulate_scenario(
+            object_name, profile, goal_pose, seed, randomize, overrides, duration, arm
+        )
+        episode = Episode(scenario, gains=pd_gains)
+        console.print(scenario_table(scenario, episode.plan.trajectory.start, redrawn))
+        trace = episode.run()
+        metrics = compute_metrics(trace)
+    except PushctlError as error:
+        _fail(error)
+    console.print(metrics_table(metrics))
+    figure = None
+    if plot is not None:
+        from pushctl.report import trace_figure
+
+        figure = trace_figure(trace)
+    command = _invocation(ctx)
+    extra = f"seed {seed}" if seed is not None else "no seed"
+    _write_outputs(command, out, trace.to_frame() if out else None, plot, figure, extra)
+
+
+@app.command("tune-pd")
+def tune_pd_command(
+    ctx: typer.Context,
+    seed: Annotated[int, typer.Option(help="seed of the tuning set (tuning stream)")] = 0,
+    per_case: Annotated[int, typer.Option(help="scenarios per object × profile")] = 2,
+    objects: Annotated[str, typer.Option(help="comma-separated objects")] = "cube,wedge",
+    profiles: Annotated[str, typer.Option(help="comma-separated profiles")] = (
+        "constant,trapezoid,chirp"
+    ),
+    duration: Annotated[float, typer.Option(help="push duration [s]")] = 20.0,
+    max_rounds: Annotated[int, typer.Option(help="refinement sweeps after the grid")] = 6,
+    out: Annotated[
+        Path | None, typer.Option(help="gains file to write; default experiments/pd_gains.toml")
+    ] = None,
+) -> None:
+    """Search the PD gains on a tuning set disjoint from evaluation; write the gains file."""
+    from pushctl.cli_plan import check_output
+    from pushctl.cli_simulate import check_profile, tuning_record
+    from pushctl.control.gains import DEFAULT_GAINS_FILE
+    from pushctl.evaluation.tune_pd import best_candidate, tune_pd, tuning_scenarios
+    from pushctl.objects import resolve_object
+
+    target = out if out is not None else DEFAULT_GAINS_FILE
+    try:
+        check_output("--out", target, (".toml",))
+        object_names = tuple(name for name in objects.split(",") if name)
+        profile_names = tuple(name for name in profiles.split(",") if name)
+        for name in object_names:
+            resolve_object(name)
+        for name in profile_names:
+            check_profile(name)
+        if not object_names or not profile_names:
+            raise PushctlError("--objects and --profiles each need at least one name")
+        if per_case < 1:
+            raise PushctlError(f"--per-case must be an integer >= 1, got {per_case}")
+        if max_rounds < 0:
+            raise PushctlError(f"--max-rounds must be >= 0, got {max_rounds}")
+        with console.status("drawing the tuning set"):
+            scenarios, redrawn = tuning_scenarios(
+                seed, object_names, profile_names, per_case, duration
+            )
+        with console.status("grid search") as status:
+
+            def report(candidate) -> None:
+                g = candidate.gains
+                status.update(
+                    f"K_p {g.kp:.4g}, K_v {g.kv:.4g}, K_x {g.kx_linear:.4g}: "
+                    f"{candidate.objective:.4f} % tracking error"
+                )
+
+            candidates = tune_pd(scenarios, max_rounds=max_rounds, progress=report)
+    except PushctlError as error:
+        _fail(error)
+    best = best_candidate(candidates)
+    table = Table(title=f"PD gain search: {len(scenarios)} tuning episodes, best 10")
+    for column in ("K_p", "K_v", "K_x", "translation %", "angle %", "objective"):
+        table.add_column(column, justify="right")
+    for candidate in sorted(candidates, key=lambda c: c.objective)[:10]:
+        g = candidate.gains
+        table.add_row(
+            f"{g.kp:.4g}",
+            f"{g.kv:.4g}",
+            f"{g.kx_linear:.4g}",
+            f"{candidate.translation_error_pct:.4f}",
+            f"{candidate.angle_error_pct:.4f}",
+            f"{candidate.objective:.4f}",
+        )
+    console.print(table)
+    text = tuning_record(
+        best, candidates, seed, per_case, object_names, profile_names, duration, redrawn,
+        _invocation(ctx),
+    )  # fmt: skip
+    _write_text(target, text)
+
+
+def _write_text(path: Path, text: str) -> None:
+    from pushctl.provenance import write_atomic
+
+    def write(tmp: Path) -> None:
+        tmp.write_text(text)
+
+    try:
+        write_atomic(path, write)
+    except OSError as error:
+        _fail(PushctlError(f"cannot write {error.filename}: {error.strerror}"))
+    console.print(f"wrote {path}")
+
+
+def _write_outputs(
+    command: str, out: Path | None, frame, plot: Path | None, figure, extra: str
+) -> None:
+    """The figure, then the CSV (under its provenance line), each written atomically; the
+    CSV's temporary file is renamed only once the figure is in place, so a failure leaves
+    either both new files or no new CSV."""
+    from pushctl.provenance import provenance_line, write_atomic, write_csv
+
+    def save_figure() -> None:
+        if plot is not None and figure is not None:
+            write_atomic(plot, lambda tmp: figure.savefig(tmp, format=plot.suffix[1:], dpi=150))
+            console.print(f"wrote {plot}")
+
+    try:
+        if out is not None and frame is not None:
+            write_csv(out, frame, provenance_line(command, extra), before_rename=save_figure)
+            console.print(f"wrote {out}")
+        else:
+            save_figure()
+    except OSError as error:
+        _fail(PushctlError(f"cannot write {error.filename}: {error.strerror}"))
+
+
+def _invocation(context: typer.Context) -> str:
+    """The running command with every option's effective value (defaults included, unset
+    options left out), for provenance lines: ``pushctl simulate --object cube …``."""
+    import shlex
+
+    parts = ["pushctl", context.info_name or ""]
+    for param in context.command.params:
+        value = context.params.get(param.name or "")
+        if value is None or value is False or not param.opts:
+            continue
+        parts += [param.opts[0]] if value is True else [param.opts[0], str(value)]
+    return shlex.join(parts)
 
 
 if __name__ == "__main__":

@@ -52,12 +52,22 @@ def write_atomic(path: Path, write: Callable[[Path], None]) -> None:
         tmp.unlink(missing_ok=True)
 
 
-def write_csv(path: Path, frame: pd.DataFrame, provenance: str, float_format: str = "%.9g") -> None:
-    """Write ``frame`` to ``path`` atomically under its ``provenance`` line."""
+def write_csv(
+    path: Path,
+    frame: pd.DataFrame,
+    provenance: str,
+    float_format: str = "%.9g",
+    before_rename: Callable[[], None] | None = None,
+) -> None:
+    """Write ``frame`` to ``path`` atomically under its ``provenance`` line. ``before_rename``
+    runs once the data is written, before the file appears (write a companion file there:
+    if it fails, ``path`` is left as it was)."""
 
     def write(tmp: Path) -> None:
         with tmp.open("w", newline="") as handle:
             handle.write(provenance + "\n")
             frame.to_csv(handle, index=False, float_format=float_format, lineterminator="\n")
+        if before_rename is not None:
+            before_rename()
 
     write_atomic(path, write)

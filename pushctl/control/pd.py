@@ -30,6 +30,7 @@ from typing import NamedTuple
 import numpy as np
 
 from pushctl.arm import ArmModel, ArmTerms
+from pushctl.checks import finite_vector
 from pushctl.control.gains import PDGains
 from pushctl.control.kernel import pd_torque
 
@@ -107,7 +108,7 @@ class PDController:
             position_des,
             float(yaw_des),
             twist_ff,
-            self._no_residual if residual is None else np.asarray(residual, dtype=float),
+            self._no_residual if residual is None else finite_vector("residual", residual, 3),
             self._task_gain,
             gains.ik_damping**2,
             gains.posture_gain,
@@ -134,7 +135,7 @@ class PDController:
         error[3:] = rotation_error(yaw_rotation(yaw_des), terms.pusher_rotation)
         twist = twist_ff + self._task_gain * error
         if residual is not None:
-            twist[list(PLANAR_TWIST_ROWS)] += residual
+            twist[list(PLANAR_TWIST_ROWS)] += finite_vector("residual", residual, 3)
         jacobian = terms.pusher_jacobian
         posture = self.gains.posture_gain * (self._q_posture - q)
         # J⁺ v + (I − J⁺J) z = z + Jᵀ (J Jᵀ + λ²I)⁻¹ (v − J z): one 6×6 solve for both.

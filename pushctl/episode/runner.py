@@ -114,10 +114,19 @@ class Episode:
             pusher=PusherConfig(mass=self.object.pusher_mass),
             gravity=scenario.gravity,
         )
-        assert self.world.arm is not None
-        self.controller = PDController(self.world.arm, self.gains, scenario.dt)
+        self.controller = self._controller(self.gains)
         self.reference: PusherReference = push_reference(self.plan)
         self._allocate()
+
+    def set_gains(self, gains: PDGains) -> None:
+        """Use other PD gains from the next :meth:`reset` on (the plan and world are kept:
+        a gain search reruns one episode many times)."""
+        self.gains = gains
+        self.controller = self._controller(gains)
+
+    def _controller(self, gains: PDGains) -> PDController:
+        assert self.world.arm is not None
+        return PDController(self.world.arm, gains, self.scenario.dt)
 
     @property
     def n_steps(self) -> int:

@@ -46,12 +46,12 @@ class PhysicalParameters:
     def __post_init__(self) -> None:
         for name in ("mu_ground", "mu_contact"):
             value = getattr(self, name)
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0.0):
+            if not (_is_number(value) and math.isfinite(value) and value >= 0.0):
                 raise ConfigError(f"{name} must be a finite number >= 0, got {value!r}")
         for name in ("object_mass", "pusher_mass"):
             value = getattr(self, name)
             if value is not None and not (
-                isinstance(value, (int, float)) and math.isfinite(value) and value > 0.0
+                _is_number(value) and math.isfinite(value) and value > 0.0
             ):
                 raise ConfigError(f"{name} must be a positive number of kg, got {value!r}")
 
@@ -83,7 +83,7 @@ class Scenario:
             )
         for name in ("duration", "dt"):
             value = getattr(self, name)
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0.0):
+            if not (_is_number(value) and math.isfinite(value) and value > 0.0):
                 raise ConfigError(f"{name} must be a positive number of seconds, got {value!r}")
 
     def with_plant(self, plant: PhysicalParameters) -> Scenario:
@@ -146,6 +146,11 @@ class TargetRanges:
             start.y + s * forward + c * lateral,
             start.theta + sign * rotation,
         )
+
+
+def _is_number(value: object) -> bool:
+    """A real number, not a bool (which Python counts as an int)."""
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
 def check_range(name: str, values, lowest: float = -math.inf, highest: float = math.inf) -> None:

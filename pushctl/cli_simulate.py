@@ -1,0 +1,184 @@
+"""``pushctl simulate`` and ``pushctl tune-pd``: scenario from options, tables for the
+terminal. Registered on the app in :mod:`pushctl.cli`."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+from rich.table import Table
+
+from pushctl.control.gains import gains_toml
+from pushctl.episode.draw import draw_scenario
+from pushctl.episode.metrics import METRIC_UNITS, EpisodeMetrics
+from pushctl.episode.scenario import PhysicalParameters, Scenario
+from pushctl.errors import ConfigError
+from pushctl.evaluation.tune_pd import BOUNDS, GRID, Candidate
+from pushctl.objects import resolve_object
+from pushctl.planning.profiles import PROFILE_NAMES
+from pushctl.provenance import provenance_line
+from pushctl.types import PlanarPose
+
+CONTROLLERS = ("pd",)
+"""Controllers ``pushctl simulate`` can run (the residual policy adds ``rl``)."""
+
+
+def check_controller(name: str) -> None:
+    if name not in CONTROLLERS:
+        raise ConfigError(f"unknown controller {name!r}; accepted: {', '.join(CONTROLLERS)}")
+
+
+def check_profile(name: str) -> None:
+    if name not in PROFILE_NAMES:
+        raise ConfigError(f"unknown profile {name!r}; accepted: {', '.join(PROFILE_NAMES)}")
+
+
+def simulate_scenario(
+    object_name: str,
+    profile: str,
+    goal: tuple[float, float, float] | None,
+    seed: int | None,
+    randomize: bool,
+    overrides: dict[str, float | None],
+    duration: float,
+    arm: str,
+) -> tuple[Scenario, int]:
+    """The scenario ``pushctl simulate`` runs and the goals redrawn to find it.
+
+    The goal is ``goal`` if given, else drawn from ``seed`` (evaluation stream). With
+    ``randomize`` the plant is drawn from the ``sim`` ranges of ``seed``. ``overrides``
+    (mu_ground, mu_contact, object_mass; None = keep) then set plant values by hand.
+    """
+    check_profile(profile)
+    if goal is None and seed is None:
+        raise ConfigError("give a goal (--goal x,y,theta_deg) or a seed to draw one (--seed N)")
+    if randomize and seed is None:
+        raise ConfigError("--randomize draws the plant's parameters from --seed; give --seed N")
+    redrawn = 0
+    if seed is not None:
+        scenario, redrawn = draw_scenario(
+            seed,
+            "evaluation",
+            object_name,
+            profile,
+            plant="sim" if randomize else None,
+            duration=duration,
+            arm=arm,
+        )
+        if goal is not None:
+            scenario = replace(scenario, goal=PlanarPose.from_array(goal))
+    else:
+        resolve_object(object_name)  # a bad name fails here, before any planning
+        assert goal is not None
+        scenario = Scenario(
+            object=object_name,
+            profile=profile,
+            goal=PlanarPose.from_array(goal),
+            duration=duration,
+            arm=arm,
+        )
+    given = {key: value for key, value in overrides.items() if value is not None}
+    if given:
+        scenario = scenario.with_plant(replace(scenario.plant, **given))
+    return scenario, redrawn
+
+
+def _plant_text(plant: PhysicalParameters, object_name: str) -> str:
+    obj = resolve_object(object_name, mass=plant.object_mass, pusher_mass=plant.pusher_mass)
+    return (
+        f"μ_g {plant.mu_ground:.3f}, μ_c {plant.mu_contact:.3f}, object {obj.mass:.3f} kg, "
+        f"pusher {obj.pusher_mass:.3f} kg"
+    )
+
+
+def scenario_table(scenario: Scenario, start: PlanarPose, redrawn: int) -> Table:
+    """The set-up of one simulated episode."""
+    table = Table(
+        title=f"episode: {scenario.object}, {scenario.profile} profile", show_header=False
+    )
+    goal = scenario.goal
+    table.add_row(
+        "start → goal",
+        f"({start.x:.3f}, {start.y:.3f}) m, {math.degrees(start.theta):.1f} deg → "
+        f"({goal.x:.3f}, {goal.y:.3f}) m, {math.degrees(goal.theta):.1f} deg",
+    )
+    if scenario.seed is not None:
+        table.add_row("seed", f"{scenario.seed} (evaluation stream; {redrawn} goals redrawn)")
+    table.add_row("plant", _plant_text(scenario.plant, scenario.object))
+    table.add_row("planned with", _plant_text(scenario.nominal, scenario.object))
+    table.add_row("push", f"{scenario.duration:g} s in steps of {scenario.dt:g} s")
+    return table
+
+
+_LABELS = {
+    "translation_error_pct": "translation error",
+    "angle_error_pct": "angle error",
+    "force_error": "force error (mean over steps and prongs)",
+    "torque_error": "torque error",
+    "contact_loss_fraction": "contact-loss time fraction",
+    "slip_fraction": "prong-slip time fraction",
+    "max_penetration": "max penetration",
+    "final_position_error": "final position error",
+    "final_angle_error": "final angle error",
+    "angle_error_deg": "mean angle error",
+}
+
+
+def metrics_table(metrics: EpisodeMetrics, title: str = "metrics (push phase)") -> Table:
+    """DESIGN.md §7's metrics and the extra diagnostics, with units."""
+    table = Table(title=title)
+    table.add_column("metric")
+    table.add_column("value", justify="right")
+    table.add_column("unit")
+    for name, value in metrics.as_dict().items():
+        unit = METRIC_UNITS[name]
+        if unit == "m":
+            value, unit = 1e3 * value, "mm"
+        elif unit == "rad":
+            value, unit = math.degrees(value), "deg"
+        text = "n/a (Δθ = 0)" if math.isnan(value) else f"{value:.4g}"
+        table.add_row(_LABELS.get(name, name), text, unit)
+    return table
+
+
+def tuning_record(
+    best: Candidate,
+    candidates: list[Candidate],
+    seed: int,
+    per_case: int,
+    objects: tuple[str, ...],
+    profiles: tuple[str, ...],
+    duration: float,
+    redrawn: int,
+    command: str,
+) -> str:
+    """The gains file ``pushctl tune-pd`` writes: provenance, ``[pd]``, and ``[search]``
+    recording the tuning set, the procedure and every candidate (K_p, K_v, K_x, objective)."""
+    search: dict[str, object] = {
+        "procedure": "grid then coordinate refinement (pushctl.evaluation.tune_pd)",
+        "objective": "mean over the tuning set of translation error % + angle error %",
+        "stream": "tuning",
+        "seed": seed,
+        "per_case": per_case,
+        "objects": list(objects),
+        "profiles": list(profiles),
+        "plant": "sim ranges (experiments/randomisation.toml)",
+        "duration": duration,
+        "goals_redrawn": redrawn,
+        "candidates_evaluated": len(candidates),
+        "best_objective": best.objective,
+        "best_translation_error_pct": best.translation_error_pct,
+        "best_angle_error_pct": best.angle_error_pct,
+        "grid_kp": list(GRID["kp"]),
+        "grid_kv": list(GRID["kv"]),
+        "grid_kx": list(GRID["kx"]),
+        "bounds_kp": list(BOUNDS["kp"]),
+        "bounds_kv": list(BOUNDS["kv"]),
+        "bounds_kx": list(BOUNDS["kx"]),
+        "candidates_kp_kv_kx_objective": [
+            [c.gains.kp, c.gains.kv, c.gains.kx_linear, c.objective] for c in candidates
+        ],
+    }
+    header = provenance_line(command).removeprefix("# ")
+    header += "\nPD gains of the baseline (DESIGN.md §5). Regenerate with the command above."
+    return gains_toml(best.gains, header, search)

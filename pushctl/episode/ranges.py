@@ -1,0 +1,81 @@
+"""The randomisation ranges of ``experiments/randomisation.toml`` (DESIGN.md §7, §9).
+
+Tables ``[sim]`` and ``[proxy]`` hold :class:`~pushctl.episode.scenario.ParameterRanges`
+(``mu_ground``, ``mu_contact``, ``object_mass_scale``, ``pusher_mass_scale``, each
+``[lo, hi]``); ``[targets]`` holds :class:`~pushctl.episode.scenario.TargetRanges`
+(``forward`` [m], ``rotation_deg`` [deg], ``lateral`` [m]).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+from pathlib import Path
+
+from pushctl.episode.scenario import ParameterRanges, TargetRanges
+from pushctl.errors import ConfigError
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # Python 3.10: the same parser is published as tomli
+    import tomli as tomllib  # type: ignore[no-redef]
+
+DEFAULT_RANGES_FILE = Path(__file__).resolve().parents[2] / "experiments" / "randomisation.toml"
+
+PLANTS = ("sim", "proxy")
+"""Plants with parameter ranges: the training simulator and the held-out reality proxy."""
+
+
+@dataclass(frozen=True)
+class Randomisation:
+    """Parameter ranges per plant and the goal ranges."""
+
+    sim: ParameterRanges
+    proxy: ParameterRanges
+    targets: TargetRanges
+
+    def plant(self, name: str) -> ParameterRanges:
+        """The ranges of plant ``name`` (one of :data:`PLANTS`)."""
+        if name not in PLANTS:
+            raise ConfigError(f"unknown plant {name!r}; accepted: {', '.join(PLANTS)}")
+        ranges: ParameterRanges = getattr(self, name)
+        return ranges
+
+
+def load_ranges(path: str | Path | None = None) -> Randomisation:
+    """Read a ranges file (default ``experiments/randomisation.toml``); ConfigError naming
+    the file for a missing, unreadable or corrupt file, a missing table or a bad range."""
+    path = Path(path) if path is not None else DEFAULT_RANGES_FILE
+    try:
+        with path.open("rb") as stream:
+            table = tomllib.load(stream)
+    except FileNotFoundError:
+        raise ConfigError(f"ranges file {path} does not exist") from None
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        reason = " ".join(str(exc).split())
+        raise ConfigError(f"cannot read ranges file {path}: {reason}") from None
+    try:
+        return Randomisation(
+            sim=_table(table, "sim", ParameterRanges),
+            proxy=_table(table, "proxy", ParameterRanges),
+            targets=_table(table, "targets", TargetRanges),
+        )
+    except ConfigError as exc:
+        raise ConfigError(f"ranges file {path}: {exc}") from None
+
+
+def _table(table: dict, name: str, kind):
+    names = [item.name for item in fields(kind)]
+    values = table.get(name)
+    if not isinstance(values, dict):
+        raise ConfigError(f"no [{name}] table with keys {', '.join(names)}")
+    unknown = sorted(set(values) - set(names))
+    missing = [key for key in names if key not in values]
+    if unknown or missing:
+        problem = f"unknown keys {unknown}" if unknown else f"missing keys {missing}"
+        raise ConfigError(f"[{name}] has {problem}; accepted: {', '.join(names)}")
+    return kind(**{key: _pair(value) for key, value in values.items()})
+
+
+def _pair(value):
+    """A TOML array as a tuple; anything else as is, for the range check to reject."""
+    return tuple(value) if isinstance(value, list) else value
