@@ -33,13 +33,16 @@ class StepResult:
 @dataclass
 class WorldStats:
     """Counters over the life of a world: steps, MLCP solves, fallbacks (solves that did not
-    converge), warm-start hits, energy corrections (see ``World._advance_arm``)."""
+    converge), warm-start hits, energy corrections (see ``World._advance_arm``), slip
+    iterations (re-solves for the ground friction's direction, see ``World._substep``)."""
 
     steps: int = 0
     solves: int = 0
     fallbacks: int = 0
     warm_starts: int = 0
     energy_corrections: int = 0
+    slip_iterations: int = 0  # re-solves to align ground friction with the slip
+    slip_unsettled: int = 0  # steps whose friction directions did not settle (first solution kept)
     energy_removed: float = 0.0  # [J] spurious arm kinetic energy removed by the ledger
     max_residual: float = 0.0
 

@@ -131,7 +131,8 @@ def _set_row(A_obj, row, ex, ey, rx, ry):
 @njit(cache=True)
 def assemble(
     contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
-    support_points, friction_limits, slip_directions, h, stabilisation, tie_break, mu_contact,
+    support_points, friction_limits, slip_directions, sliding, h, stabilisation, tie_break,
+    mu_contact,
 ):  # fmt: skip
     """The MLCP of one step (impulses p = h λ) and what is needed to apply its solution.
 
@@ -140,7 +141,10 @@ def assemble(
     (nv,), ``tau`` (nv,), ``joint_damping`` (nv,) [N·m·s/rad] applied implicitly; object
     ``pose`` (3,), ``velocity`` (3,), ``obj_mass_inv`` (3,) = (1/m, 1/m, 1/I_z);
     ``support_points`` (S, 2) object frame, ``friction_limits`` (S,) = μ_g N_j [N],
-    ``slip_directions`` (S, 2) the last slip direction of each point, updated in place.
+    ``slip_directions`` (S, 2) and ``sliding`` (S,) bool: each point's friction box (see
+    :func:`slip_state`): along the slip direction ±μ_g N_j, across it 0 while sliding (the
+    friction is isotropic: only the component against the slip is bounded), ±μ_g N_j while
+    sticking.
 
     Returns ``D (m, m), b (m,), lo, hi, findex, mu, v_arm_free (nv,), Minv_At_arm (nv, 2p),
     Minv_At_obj (3, m), A_arm (2p, nv)`` with ``m = 2p + 2S`` and
@@ -180,16 +184,12 @@ def assemble(
     for j in range(n_support):
         sx, sy = support_points[j, 0], support_points[j, 1]
         rx, ry = c * sx - s * sy, s * sx + c * sy
-        ux, uy = velocity[0] - velocity[2] * ry, velocity[1] + velocity[2] * rx
-        speed = math.hypot(ux, uy)
-        if speed > SLIP_SPEED:
-            slip_directions[j, 0], slip_directions[j, 1] = ux / speed, uy / speed
         dx, dy = slip_directions[j, 0], slip_directions[j, 1]
         row = n_prong + 2 * j
         _set_row(A_obj, row, dx, dy, rx, ry)
         _set_row(A_obj, row + 1, -dy, dx, rx, ry)
         bound = h * friction_limits[j]
-        cross = 0.0 if speed > SLIP_SPEED else bound
+        cross = 0.0 if sliding[j] else bound
         lo[row], hi[row], lo[row + 1], hi[row + 1] = -bound, bound, -cross, cross
     Minv_At_obj = A_obj.T * obj_mass_inv.reshape(3, 1)
     D = A_obj @ Minv_At_obj
@@ -210,6 +210,60 @@ def assemble(
     for i in range(n_prong):
         D[i, i] *= 1.0 + tie_break
     return D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, A_arm
+
+
+@njit(cache=True)
+def _support_velocity(pose, velocity, sx, sy):
+    """World velocity (2,) of the object point at (sx, sy) (object frame)."""
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    rx, ry = c * sx - s * sy, s * sx + c * sy
+    return velocity[0] - velocity[2] * ry, velocity[1] + velocity[2] * rx
+
+
+@njit(cache=True)
+def slip_state(pose, velocity, support_points, slip_directions, sliding):
+    """Each support point's friction box at the start of a step, from the object's
+    ``velocity`` (3,): a point moving faster than ``SLIP_SPEED`` slides along its velocity
+    (``slip_directions[j]`` set to it, ``sliding[j]`` True); a slower one sticks and keeps
+    its last direction. Updates ``slip_directions`` (S, 2) and ``sliding`` (S,) in place."""
+    for j in range(support_points.shape[0]):
+        ux, uy = _support_velocity(pose, velocity, support_points[j, 0], support_points[j, 1])
+        speed = math.hypot(ux, uy)
+        sliding[j] = speed > SLIP_SPEED
+        if sliding[j]:
+            slip_directions[j, 0], slip_directions[j, 1] = ux / speed, uy / speed
+
+
+@njit(cache=True)
+def refine_slip(pose, velocity, support_points, slip_directions, sliding, cos_tolerance):
+    """Compare a step's result with the sliding boxes it was solved with and turn them
+    towards it. Returns True if any box changed (the step should be solved again).
+
+    A sliding point whose new velocity (from ``velocity`` (3,), the step's result) leaves
+    its slip direction by more than acos(``cos_tolerance``) gets the bisector of the two
+    directions (averaging, not replacing: the plain update oscillates between two boxes
+    when the true direction lies between them); if the two are opposite the point sticks.
+    A point that stopped is left alone: its solution already satisfies the sticking box.
+    """
+    changed = False
+    for j in range(support_points.shape[0]):
+        if not sliding[j]:
+            continue
+        ux, uy = _support_velocity(pose, velocity, support_points[j, 0], support_points[j, 1])
+        speed = math.hypot(ux, uy)
+        if speed <= SLIP_SPEED:
+            continue
+        dx, dy = slip_directions[j, 0], slip_directions[j, 1]
+        if (ux * dx + uy * dy) / speed >= cos_tolerance:
+            continue
+        changed = True
+        bx, by = dx + ux / speed, dy + uy / speed
+        norm = math.hypot(bx, by)
+        if norm < 1e-3:
+            sliding[j] = False
+        else:
+            slip_directions[j, 0], slip_directions[j, 1] = bx / norm, by / norm
+    return changed
 
 
 @njit(cache=True)
@@ -238,8 +292,8 @@ def coriolis_energy_error(ledger, v_new, M_old, nle_old, g_old, M_new, h):
 @njit(cache=True)
 def warm_contact_step(
     contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
-    support_points, friction_limits, slip_directions, h, stabilisation, tie_break, mu_contact,
-    guess, tol,
+    support_points, friction_limits, slip_directions, sliding, h, stabilisation, tie_break,
+    mu_contact, guess, tol,
 ):  # fmt: skip
     """:func:`assemble`, the MLCP solved on the active set of ``guess`` (n,) (the previous
     step's impulses), and :func:`apply_impulses`, in one compiled call: the common step.
@@ -251,7 +305,7 @@ def warm_contact_step(
     """
     D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, _ = assemble(
         contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
-        support_points, friction_limits, slip_directions, h, stabilisation, tie_break,
+        support_points, friction_limits, slip_directions, sliding, h, stabilisation, tie_break,
         mu_contact,
     )  # fmt: skip
     threshold = tol * max(1.0, np.max(np.abs(b)))

@@ -34,6 +34,8 @@ from pushctl.contact.kernels import (
     apply_impulses,
     assemble,
     coriolis_energy_error,
+    refine_slip,
+    slip_state,
     warm_contact_step,
 )
 from pushctl.contact.mlcp import DEFAULT_TOL, MLCPResult, solve_box_mlcp
@@ -44,6 +46,14 @@ from pushctl.types import ContactProblem, StepResult, WorldStats
 
 _TIE_BREAK = 1e-6
 """Relative diagonal term added to the prong rows of D [-] (DESIGN.md: 1e-6·diag D)."""
+
+SLIP_COS_TOLERANCE = math.cos(math.radians(5.0))
+"""A sliding support point whose velocity after a step leaves the slip direction its friction
+box was built on by more than 5° gets a corrected box and the step is solved again."""
+
+MAX_SLIP_ITERATIONS = 6
+"""Re-solves of one step for its friction directions. If they have not settled by then, the
+step keeps its first solution (the boxes aligned with the velocity before the step)."""
 
 _NO_CONTACTS = np.zeros((0, 5))
 _NO_JACOBIANS = np.zeros((0, 3, 0))
@@ -103,6 +113,7 @@ class World:
         # Support loads are computed at GRAVITY; the friction bounds follow the world's.
         self._friction_limits = config.mu_ground * obj.support_loads * (config.gravity / GRAVITY)
         self._slip_directions = np.zeros_like(self._support_points)
+        self._sliding = np.zeros(len(self._support_points), dtype=np.bool_)
         self._n_prongs = 0 if arm is None else arm.pusher.n_prongs
         self._nv = 0 if arm is None else arm.nv
         self._damping = np.zeros(self._nv) if arm is None else np.asarray(arm.damping, float)
@@ -137,6 +148,7 @@ class World:
         # At rest the ground boxes align with e_n until a slip direction is seen.
         theta = self.object_pose[2]
         self._slip_directions[:] = (math.cos(theta), math.sin(theta))
+        self._sliding[:] = False
         self._last_prongs: tuple[int, ...] | None = None
         self._last_p: np.ndarray | None = None
         self._energy_ledger = 0.0  # spurious arm kinetic energy not yet removed [J]
@@ -192,11 +204,22 @@ class World:
         """The MLCP the next (sub)step would solve, without stepping: for inspection and
         benchmarks. Arguments as in :meth:`step`."""
         tau_arm, kv = self._check_command(tau, implicit_kv)
-        directions = self._slip_directions.copy()  # assembling updates them; keep the state
+        directions, sliding = self._slip_directions.copy(), self._sliding.copy()
         h = self.config.dt / self.config.substeps
+        self._start_slip_state()
         problem = self._build_problem(h, tau_arm, self._damping + kv)
-        self._slip_directions = directions
+        self._slip_directions, self._sliding = directions, sliding  # keep the state
         return problem
+
+    def _start_slip_state(self) -> None:
+        """Friction boxes for the next step, from the object's velocity (see :meth:`_substep`)."""
+        slip_state(
+            self.object_pose,
+            self.object_velocity,
+            self._support_points,
+            self._slip_directions,
+            self._sliding,
+        )
 
     def _step_inputs(self, h: float, tau: np.ndarray, damping: np.ndarray) -> tuple:
         """Arguments of :func:`assemble` for one time step of length h, and the prongs.
@@ -216,7 +239,8 @@ class World:
         inputs = (
             contacts, jacobians, M, nle, self.v, tau, damping, self.object_pose,
             self.object_velocity, self._M_obj_inv, self._support_points, self._friction_limits,
-            self._slip_directions, h, cfg.stabilisation, _TIE_BREAK, cfg.mu_contact,
+            self._slip_directions, self._sliding, h, cfg.stabilisation, _TIE_BREAK,
+            cfg.mu_contact,
         )  # fmt: skip
         return prongs, inputs
 
@@ -229,34 +253,41 @@ class World:
         )
 
     def _substep(self, h: float, tau: np.ndarray, damping: np.ndarray):
-        """One MLCP time step of length h. Returns (prong forces (k, 2) [N], MLCP result)."""
-        prongs, inputs = self._step_inputs(h, tau, damping)
-        result = None
-        # While the same prongs touch, the previous impulses' active set usually still holds:
-        # the whole step is then one compiled call.
-        if prongs == self._last_prongs:
-            verified, p, w, residual, v_arm, v_obj, contact_forces = warm_contact_step(
-                *inputs, self._last_p, DEFAULT_TOL
-            )  # type: ignore[call-arg]  # numba's Dispatcher hides the signature
-            if verified:
-                result = MLCPResult(p, w, residual, 0, True, "warm-start")
-        if result is None:
-            problem = self._build_problem(h, tau, damping)
-            result = solve_box_mlcp(
-                problem.D,
-                problem.b,
-                problem.lo,
-                problem.hi,
-                problem.findex,
-                problem.mu,
-                warm_start=self._last_p if prongs == self._last_prongs else None,
-                validate=False,  # built here, valid by construction
-            )
-            v_arm, v_obj, contact_forces = apply_impulses(
-                result.p, problem.v_arm_free, problem.Minv_At_arm, self.object_velocity,
-                problem.Minv_At_obj, h,
-            )  # fmt: skip
-        self._record(result, prongs)
+        """One MLCP time step of length h. Returns (prong forces (k, 2) [N], MLCP result).
+
+        Ground friction is Coulomb's, against each support point's slip velocity *after*
+        the step. The step is first solved with each point's box aligned with its velocity
+        before the step (:func:`slip_state`): a sliding box bounds friction along that
+        direction only. Where the solved velocity leaves a box's direction by more than
+        5°, the box is turned half-way towards it (:func:`refine_slip`) and the step solved
+        again, until the directions agree. Without this a turning object's rotation rate
+        alternated step by step between stuck and twice its true value (a lagging box is
+        frictionless across the motion). Near stick–slip transitions the iteration may
+        not settle within ``MAX_SLIP_ITERATIONS``: the step then keeps its first solution,
+        the one-step-lag model, whose friction is dissipative whatever the directions.
+        """
+        self._start_slip_state()
+        prongs, _ = self._step_inputs(h, tau, damping)
+        guess = self._last_p if prongs == self._last_prongs else None
+        first = self._solve_step(h, tau, damping, guess)
+        self._record(first[0], prongs)
+        solution = first
+        directions, sliding = self._slip_directions.copy(), self._sliding.copy()
+        for attempt in range(MAX_SLIP_ITERATIONS + 1):
+            if not refine_slip(
+                self.object_pose, solution[2], self._support_points, self._slip_directions,
+                self._sliding, SLIP_COS_TOLERANCE,
+            ):  # fmt: skip
+                break
+            if attempt == MAX_SLIP_ITERATIONS:  # not settled: keep the first solution
+                solution = first
+                self._slip_directions, self._sliding = directions, sliding
+                self.stats.slip_unsettled += 1
+                break
+            self.stats.slip_iterations += 1
+            solution = self._solve_step(h, tau, damping, solution[0].p)
+            self._record(solution[0], prongs)
+        result, v_arm, v_obj, contact_forces = solution
         if len(prongs) == self._n_prongs:
             forces = contact_forces
         else:
@@ -267,6 +298,40 @@ class World:
             self._advance_arm(v_arm, h)
         self._find_contacts()
         return forces, result
+
+    def _solve_step(self, h: float, tau: np.ndarray, damping: np.ndarray, guess):
+        """The step's MLCP with the current friction boxes: (MLCPResult, v_arm (nv,), v_obj (3,),
+        forces (p, 2) of the prongs in contact). While the same prongs touch, the previous
+        impulses' active set (``guess``) usually still holds: the whole step is then one
+        compiled call; otherwise ProxQP and pivoting (:func:`solve_box_mlcp`)."""
+        prongs, inputs = self._step_inputs(h, tau, damping)
+        if guess is not None:
+            verified, p, w, residual, v_arm, v_obj, contact_forces = warm_contact_step(
+                *inputs, guess, DEFAULT_TOL
+            )  # type: ignore[call-arg]  # numba's Dispatcher hides the signature
+            if verified:
+                return (
+                    MLCPResult(p, w, residual, 0, True, "warm-start"),
+                    v_arm,
+                    v_obj,
+                    contact_forces,
+                )
+        problem = self._build_problem(h, tau, damping)
+        result = solve_box_mlcp(
+            problem.D,
+            problem.b,
+            problem.lo,
+            problem.hi,
+            problem.findex,
+            problem.mu,
+            warm_start=guess,
+            validate=False,  # built here, valid by construction
+        )
+        v_arm, v_obj, contact_forces = apply_impulses(
+            result.p, problem.v_arm_free, problem.Minv_At_arm, self.object_velocity,
+            problem.Minv_At_obj, h,
+        )  # fmt: skip
+        return result, v_arm, v_obj, contact_forces
 
     def _advance_object(self, v_obj: np.ndarray, h: float) -> None:
         """Semi-implicit Euler: the pose moves with the new velocity. θ is not wrapped: the
