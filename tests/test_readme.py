@@ -24,3 +24,14 @@ def test_readme_planning_example_runs():
     plan = namespace["plan"]
     assert plan.feasible and plan.problems == ()
     assert plan.forces.forces.shape == (2001, 2, 2)
+
+
+def test_readme_episode_example_runs():
+    blocks = re.findall(r"```python\n(.*?)```", README.read_text(), flags=re.S)
+    episodes = [block for block in blocks if "Episode(" in block]
+    assert episodes, "the README has no episode example"
+    namespace: dict = {}
+    exec(compile(episodes[0], str(README), "exec"), namespace)  # noqa: S102 - our own README
+    metrics = namespace["metrics"]
+    assert namespace["trace"].n_steps == 2000
+    assert metrics.translation_error_pct < 1.0 and metrics.max_penetration < 1e-3
