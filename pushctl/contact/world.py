@@ -267,12 +267,11 @@ class World:
         the one-step-lag model, whose friction is dissipative whatever the directions.
         """
         self._start_slip_state()
-        prongs, _ = self._step_inputs(h, tau, damping)
+        prongs, inputs = self._step_inputs(h, tau, damping)
         guess = self._last_p if prongs == self._last_prongs else None
-        first = self._solve_step(h, tau, damping, guess)
+        first = self._solve_step(h, tau, damping, inputs, guess)
         self._record(first[0], prongs)
         solution = first
-        directions, sliding = self._slip_directions.copy(), self._sliding.copy()
         for attempt in range(MAX_SLIP_ITERATIONS + 1):
             if not refine_slip(
                 self.object_pose, solution[2], self._support_points, self._slip_directions,
@@ -281,11 +280,11 @@ class World:
                 break
             if attempt == MAX_SLIP_ITERATIONS:  # not settled: keep the first solution
                 solution = first
-                self._slip_directions, self._sliding = directions, sliding
+                self._start_slip_state()  # and its boxes (the velocity is still the old one)
                 self.stats.slip_unsettled += 1
                 break
             self.stats.slip_iterations += 1
-            solution = self._solve_step(h, tau, damping, solution[0].p)
+            solution = self._solve_step(h, tau, damping, inputs, solution[0].p)
             self._record(solution[0], prongs)
         result, v_arm, v_obj, contact_forces = solution
         if len(prongs) == self._n_prongs:
@@ -299,12 +298,13 @@ class World:
         self._find_contacts()
         return forces, result
 
-    def _solve_step(self, h: float, tau: np.ndarray, damping: np.ndarray, guess):
+    def _solve_step(self, h: float, tau: np.ndarray, damping: np.ndarray, inputs, guess):
         """The step's MLCP with the current friction boxes: (MLCPResult, v_arm (nv,), v_obj (3,),
-        forces (p, 2) of the prongs in contact). While the same prongs touch, the previous
-        impulses' active set (``guess``) usually still holds: the whole step is then one
-        compiled call; otherwise ProxQP and pivoting (:func:`solve_box_mlcp`)."""
-        prongs, inputs = self._step_inputs(h, tau, damping)
+        forces (p, 2) of the prongs in contact). ``inputs``: :meth:`_step_inputs`' (they hold
+        the box arrays, which :func:`refine_slip` changes in place). While the same prongs
+        touch, the previous impulses' active set (``guess``) usually still holds: the whole
+        step is then one compiled call; otherwise ProxQP and pivoting
+        (:func:`solve_box_mlcp`)."""
         if guess is not None:
             verified, p, w, residual, v_arm, v_obj, contact_forces = warm_contact_step(
                 *inputs, guess, DEFAULT_TOL
