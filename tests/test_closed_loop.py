@@ -223,6 +223,13 @@ def short_episode():
     return Episode(Scenario(object="cube", profile="constant", goal=goal, duration=1.0), GAINS)
 
 
+def test_step_before_reset_raises_state_error():
+    scenario = Scenario(object="cube", profile="constant", goal=PlanarPose(0.55, 0.0, 0.0))
+    episode = Episode(scenario, gains=GAINS)
+    with pytest.raises(StateError, match="reset"):
+        episode.step()
+
+
 def test_step_after_the_last_raises_state_error(short_episode):
     episode = short_episode
     episode.reset()

@@ -148,12 +148,15 @@ class Episode:
         world.reset(object_pose=trajectory.pose[0])
         result = self._approach()
         self._n = 0
+        self._started = True
         self._record(0, result, self._tau[0])
         return result
 
     def step(self, residual: np.ndarray | None = None) -> StepResult:
         """One push step from t_n to t_{n+1}; ``residual`` (3,) is added to the commanded
         pusher twist (Algorithm 1). StateError after the last step."""
+        if not self._started:
+            raise StateError("call reset() before step(): the approach has not run")
         if self._n >= self.n_steps:
             raise StateError(f"the push is over: all {self.n_steps} steps have been taken")
         n, world, ref = self._n, self.world, self.reference
@@ -243,6 +246,7 @@ class Episode:
         self._v = np.zeros((rows, arm.nv))
         self._tau = np.zeros((rows, arm.nv))
         self._n = 0
+        self._started = False
 
     def _record(self, row: int, result: StepResult, tau: np.ndarray) -> None:
         terms = self.world.arm_terms
