@@ -11,9 +11,10 @@ The procedure (DESIGN.md §5: never on the evaluation set):
    infinity.
 3. Search over (K_p, K_v, K_x) with K_x shared by the position and orientation feedback:
    a coarse grid (:data:`GRID`), then coordinate refinement from the best point — each gain
-   in turn multiplied by 2 and by 0.5 (K_p also tried at 0), moves accepted when they lower
-   the objective, factors halved towards 1 once a sweep gains nothing — until the factor
-   falls below ``1.1`` or ``max_rounds`` sweeps. Bounds (:data:`BOUNDS`): K_x ≤ 0.5/h keeps
+   multiplied and divided by a factor starting at 2 (K_p also tried at 0, or from 0 at
+   :data:`KP_FROM_ZERO`), the best move kept when it lowers the objective, the factor
+   square-rooted whenever a sweep gains nothing — until the factor falls below 1.1 or after
+   ``max_rounds`` sweeps. Bounds (:data:`BOUNDS`): K_x ≤ 0.5/h keeps
    the discrete task loop well inside its stability limit (K_x h < 1); K_v ≤ 300 N·m·s/rad
    stays in the range the implicit damping was validated on; K_p ≤ 3000 N·m/rad.
 
