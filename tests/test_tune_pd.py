@@ -54,3 +54,19 @@ def test_base_gains_other_than_the_searched_ones_are_kept():
     gains = search._gains(1.0, 2.0, 3.0, base)
     assert (gains.ik_damping, gains.posture_gain) == (0.01, 0.5)
     assert (gains.kp, gains.kv, gains.kx_linear, gains.kx_angular) == (1.0, 2.0, 3.0, 3.0)
+
+
+def test_pd_sweep_rows_and_summary():
+    from pushctl.evaluation.pd_sweep import run_sweep, summary
+
+    gains = PDGains(kp=30.0, kv=300.0, kx_linear=42.0, kx_angular=42.0)
+    frame = run_sweep(2, "training", "sim", gains, ("cube",), ("chirp",), duration=1.0)
+    assert list(frame["seed"]) == [0, 1]
+    assert frame["mu_contact"].between(0.30, 0.50).all()  # the sim ranges
+    assert (frame["goal_theta_deg"].abs() >= 10.0).all()
+    table = summary(frame)
+    assert (
+        table.loc[("cube", "chirp"), "translation_error_pct"]
+        == frame["translation_error_pct"].mean()
+    )
+    assert 0.0 <= table.loc[("cube", "chirp"), "episodes_slip_over_1pct"] <= 1.0
