@@ -14,8 +14,9 @@ import pytest
 from typer.testing import CliRunner
 
 from pushctl.cli import app
-from pushctl.control.gains import PDGains, gains_toml, load_gains, tomllib
+from pushctl.control.gains import PDGains, gains_toml, load_gains
 from pushctl.evaluation.tune_pd import GRID
+from pushctl.toml_files import tomllib
 
 runner = CliRunner()
 

@@ -21,11 +21,7 @@ from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 
 from pushctl.errors import ConfigError
-
-try:
-    import tomllib
-except ModuleNotFoundError:  # Python 3.10: the same parser is published as tomli
-    import tomli as tomllib  # type: ignore[no-redef]
+from pushctl.toml_files import check_keys, read_toml
 
 DEFAULT_GAINS_FILE = Path(__file__).resolve().parents[2] / "experiments" / "pd_gains.toml"
 """The tuned gains shipped with the project (a source checkout's ``experiments/``)."""
@@ -72,23 +68,12 @@ def load_gains(path: str | Path | None = None) -> PDGains:
     key, or a bad value; the message names the file.
     """
     path = Path(path) if path is not None else DEFAULT_GAINS_FILE
-    try:
-        with path.open("rb") as stream:
-            table = tomllib.load(stream)
-    except FileNotFoundError:
-        raise ConfigError(f"gains file {path} does not exist") from None
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
-        reason = " ".join(str(exc).split())
-        raise ConfigError(f"cannot read gains file {path}: {reason}") from None
+    table = read_toml(path, "gains file")
     pd_table = table.get("pd")
     names = [item.name for item in fields(PDGains)]
     if not isinstance(pd_table, dict):
         raise ConfigError(f"gains file {path} has no [pd] table with keys {', '.join(names)}")
-    unknown = sorted(set(pd_table) - set(names))
-    missing = [name for name in names if name not in pd_table]
-    if unknown or missing:
-        problem = f"unknown keys {unknown}" if unknown else f"missing keys {missing}"
-        raise ConfigError(f"gains file {path}: [pd] has {problem}; accepted: {', '.join(names)}")
+    check_keys(pd_table, names, f"gains file {path}: [pd]")
     try:
         return PDGains(**pd_table)
     except ConfigError as exc:

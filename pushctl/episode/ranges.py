@@ -13,11 +13,7 @@ from pathlib import Path
 
 from pushctl.episode.scenario import ParameterRanges, TargetRanges
 from pushctl.errors import ConfigError
-
-try:
-    import tomllib
-except ModuleNotFoundError:  # Python 3.10: the same parser is published as tomli
-    import tomli as tomllib  # type: ignore[no-redef]
+from pushctl.toml_files import check_keys, read_toml
 
 DEFAULT_RANGES_FILE = Path(__file__).resolve().parents[2] / "experiments" / "randomisation.toml"
 
@@ -45,14 +41,7 @@ def load_ranges(path: str | Path | None = None) -> Randomisation:
     """Read a ranges file (default ``experiments/randomisation.toml``); ConfigError naming
     the file for a missing, unreadable or corrupt file, a missing table or a bad range."""
     path = Path(path) if path is not None else DEFAULT_RANGES_FILE
-    try:
-        with path.open("rb") as stream:
-            table = tomllib.load(stream)
-    except FileNotFoundError:
-        raise ConfigError(f"ranges file {path} does not exist") from None
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
-        reason = " ".join(str(exc).split())
-        raise ConfigError(f"cannot read ranges file {path}: {reason}") from None
+    table = read_toml(path, "ranges file")
     try:
         return Randomisation(
             sim=_table(table, "sim", ParameterRanges),
@@ -68,11 +57,7 @@ def _table(table: dict, name: str, kind):
     values = table.get(name)
     if not isinstance(values, dict):
         raise ConfigError(f"no [{name}] table with keys {', '.join(names)}")
-    unknown = sorted(set(values) - set(names))
-    missing = [key for key in names if key not in values]
-    if unknown or missing:
-        problem = f"unknown keys {unknown}" if unknown else f"missing keys {missing}"
-        raise ConfigError(f"[{name}] has {problem}; accepted: {', '.join(names)}")
+    check_keys(values, names, f"[{name}]")
     return kind(**{key: _pair(value) for key, value in values.items()})
 
 

@@ -20,11 +20,7 @@ from typing import Any
 
 from pushctl.errors import ConfigError
 from pushctl.objects.spec import DEFAULT_PUSHER_MASS, ObjectSpec, object_from_footprint
-
-try:
-    import tomllib
-except ModuleNotFoundError:  # Python 3.10: the same parser is published as tomli
-    import tomli as tomllib  # type: ignore[no-redef]
+from pushctl.toml_files import read_toml
 
 _KEYS = (
     "name",
@@ -47,14 +43,7 @@ def load_object(path: str | Path) -> ObjectSpec:
             invalid geometry or mass; the message names the file.
     """
     path = Path(path)
-    try:
-        with path.open("rb") as stream:
-            table = tomllib.load(stream)
-    except FileNotFoundError:
-        raise ConfigError(f"object file {path} does not exist") from None
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
-        reason = " ".join(str(exc).split())
-        raise ConfigError(f"cannot read object file {path}: {reason}") from None
+    table = read_toml(path, "object file")
     try:
         return _from_table(table, default_name=path.stem)
     except ConfigError as exc:
