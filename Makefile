@@ -29,7 +29,7 @@ bench: $(STAMP)
 	$(PY) -m pushctl.bench --profile --out results/bench.csv
 
 reproduce-tables: $(STAMP)
-	@echo "reproduce-tables: training, evaluation and the report are not built yet (issues 3-6)." >&2
+	@echo "reproduce-tables: training, evaluation and the report are not built yet (issues 5-6)." >&2
 	@exit 2
 
 clean:
