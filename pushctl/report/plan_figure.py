@@ -37,7 +37,7 @@ FAR_ICR = 3.0
 """An ICR farther than this many plot extents from the path is only named in the legend."""
 RATE_COLOUR = "#1f77b4"
 """Colour of the rotation rate (and its axis)."""
-_FONT = {"title": 12, "label": 10, "tick": 9, "legend": 8}
+FONT = {"title": 12, "label": 10, "tick": 9, "legend": 8}
 
 
 def _plate_outline(plan: Plan) -> np.ndarray:
@@ -100,7 +100,7 @@ def _draw_push_arrow(ax: Axes, plan: Plan, size: float) -> np.ndarray:
     ax.annotate("", xy=tuple(head * MM), xytext=tuple(tail * MM), arrowprops=arrow, zorder=6)
     ax.annotate(
         "push", xy=tuple(0.5 * (head + tail) * MM), xytext=(0, 4), textcoords="offset points",
-        ha="center", va="bottom", fontsize=_FONT["legend"], color="0.2",
+        ha="center", va="bottom", fontsize=FONT["legend"], color="0.2",
     )  # fmt: skip
     return tail
 
@@ -123,7 +123,7 @@ def _map_panel(ax: Axes, plan: Plan, outlines: int) -> None:
     handles += [_prong_handle(i) for i in range(len(plan.forces.prong_points))]
     if note:
         handles.append(Line2D([], [], ls="none", label=note))
-    ax.legend(handles=handles, fontsize=_FONT["legend"], loc="best", framealpha=0.85)
+    ax.legend(handles=handles, fontsize=FONT["legend"], loc="best", framealpha=0.85)
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("y [mm]")
 
@@ -148,8 +148,8 @@ def _rotation_panel(ax: Axes, plan: Plan) -> None:
     else:
         rate, label = np.degrees(tr.velocity[:, 2]), "ω [deg/s]"
     twin.plot(tr.t, rate, color=RATE_COLOUR, lw=1.3)
-    twin.set_ylabel(label, color=RATE_COLOUR, fontsize=_FONT["label"])
-    twin.tick_params(axis="y", colors=RATE_COLOUR, labelsize=_FONT["tick"])
+    twin.set_ylabel(label, color=RATE_COLOUR, fontsize=FONT["label"])
+    twin.tick_params(axis="y", colors=RATE_COLOUR, labelsize=FONT["tick"])
     low, high = min(0.0, float(rate.min())), max(0.0, float(rate.max()))
     pad = 0.08 * (high - low) if high > low else 1.0
     twin.set_ylim(low - pad, high + pad)
@@ -161,7 +161,7 @@ def _force_panel(ax: Axes, plan: Plan) -> None:
     t, forces = plan.trajectory.t, plan.forces.forces
     mu_contact = plan.settings.mu_contact
     for i in range(forces.shape[1]):
-        colour, width = PRONG_COLOURS[i % len(PRONG_COLOURS)], _width(i)
+        colour, width = prong_colour(i), prong_line_width(i)
         normal, tangential = forces[:, i, 0], forces[:, i, 1]
         ax.plot(t, normal, color=colour, lw=width, label=f"$F_{{n,{i + 1}}}$")
         ax.plot(t, tangential, color=colour, lw=width, ls="--", label=f"$F_{{t,{i + 1}}}$")
@@ -170,11 +170,16 @@ def _force_panel(ax: Axes, plan: Plan) -> None:
     ax.fill_between([], [], [], color="0.5", alpha=0.25, lw=0, label=f"±{mu_contact:g} $F_n$")
     ax.axhline(0.0, color="0.4", lw=0.6)
     ax.set_ylabel("force [N]")
-    ax.legend(loc="upper left", ncol=5, fontsize=_FONT["legend"])
+    ax.legend(loc="upper left", ncol=5, fontsize=FONT["legend"])
     _headroom(ax)
 
 
-def _width(prong: int) -> float:
+def prong_colour(prong: int) -> str:
+    """Colour of prong ``prong`` (0-based), cycling through :data:`PRONG_COLOURS`."""
+    return PRONG_COLOURS[prong % len(PRONG_COLOURS)]
+
+
+def prong_line_width(prong: int) -> float:
     """Line width [pt] of prong ``prong``: later prongs thinner, so equal curves all show."""
     return max(2.4 - 0.7 * prong, 0.8)
 
@@ -184,12 +189,12 @@ def _torque_panel(ax: Axes, plan: Plan) -> None:
     t, torques = plan.trajectory.t, plan.forces.torques
     for i in range(torques.shape[1]):
         colour = PRONG_COLOURS[i % len(PRONG_COLOURS)]
-        ax.plot(t, torques[:, i], color=colour, lw=_width(i), label=f"$τ_{{z,{i + 1}}}$")
+        ax.plot(t, torques[:, i], color=colour, lw=prong_line_width(i), label=f"$τ_{{z,{i + 1}}}$")
     ax.plot(t, plan.forces.total_torque, color="k", lw=1.8, label="$τ_{z,des}$")
     ax.axhline(0.0, color="0.4", lw=0.6)
     ax.set_ylabel("torque [N·m]")
     ax.set_xlabel("t [s]")
-    ax.legend(loc="upper left", ncol=4, fontsize=_FONT["legend"])
+    ax.legend(loc="upper left", ncol=4, fontsize=FONT["legend"])
     _headroom(ax)
 
 
@@ -225,14 +230,14 @@ def plan_figure(plan: Plan, outlines: int = 6) -> Figure:
     _torque_panel(torques, plan)
     for ax in (top, rotation, forces, torques):
         ax.grid(True, color="0.88", lw=0.6)
-        ax.tick_params(labelsize=_FONT["tick"])
-        ax.xaxis.label.set_fontsize(_FONT["label"])
-        ax.yaxis.label.set_fontsize(_FONT["label"])
+        ax.tick_params(labelsize=FONT["tick"])
+        ax.xaxis.label.set_fontsize(FONT["label"])
+        ax.yaxis.label.set_fontsize(FONT["label"])
     for ax in (rotation, forces):
         ax.tick_params(labelbottom=False)
     rotation.set_xlim(plan.trajectory.t[0], plan.trajectory.t[-1])
-    fig.suptitle(_title(plan), fontsize=_FONT["title"])
+    fig.suptitle(_title(plan), fontsize=FONT["title"])
     if plan.problems:
         caption = textwrap.fill(plan.problems[0], 190)
-        fig.supxlabel(caption, fontsize=_FONT["legend"], color="#b00000")
+        fig.supxlabel(caption, fontsize=FONT["legend"], color="#b00000")
     return fig

@@ -27,7 +27,13 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
-from pushctl.report.plan_figure import _FONT, MM, PRONG_COLOURS, RATE_COLOUR, _width
+from pushctl.report.plan_figure import (
+    FONT,
+    MM,
+    RATE_COLOUR,
+    prong_colour,
+    prong_line_width,
+)
 
 if TYPE_CHECKING:
     from pushctl.episode import Trace
@@ -41,10 +47,6 @@ PUSHER_COLOUR = "#1f77b4"
 CLIP_SPAN = 3.0
 """A transient that stretches a time panel's y span more than this many fold is clipped."""
 _FORCE_NAMES = {0: ("normal", "n"), 1: ("tangential", "t")}
-
-
-def _prong_colour(i: int) -> str:
-    return PRONG_COLOURS[i % len(PRONG_COLOURS)]
 
 
 def _style_handles() -> list[Line2D]:
@@ -73,10 +75,10 @@ def _path_panel(ax: Axes, trace: Trace) -> None:
     ax.margins(0.08)
     ax.autoscale_view()
     handles, _ = ax.get_legend_handles_labels()
-    ax.legend(handles=handles + _style_handles(), fontsize=_FONT["legend"], loc="best", ncol=2)
+    ax.legend(handles=handles + _style_handles(), fontsize=FONT["legend"], loc="best", ncol=2)
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("y [mm]")
-    ax.set_title("top view (pusher frame faint)", fontsize=_FONT["label"])
+    ax.set_title("top view (pusher frame faint)", fontsize=FONT["label"])
 
 
 def _theta_panel(ax: Axes, trace: Trace) -> None:
@@ -89,8 +91,8 @@ def _theta_panel(ax: Axes, trace: Trace) -> None:
         mid = 0.5 * (theta.mean() + theta_des.mean())
         ax.set_ylim(mid - 1.0, mid + 1.0)
     ax.set_ylabel("θ [deg]")
-    ax.legend(fontsize=_FONT["legend"], loc="best")
-    ax.set_title("rotation", fontsize=_FONT["label"])
+    ax.legend(fontsize=FONT["legend"], loc="best")
+    ax.set_title("rotation", fontsize=FONT["label"])
 
 
 def _error_panel(ax: Axes, trace: Trace) -> Axes:
@@ -109,11 +111,11 @@ def _error_panel(ax: Axes, trace: Trace) -> Axes:
     twin.axhline(0.0, color=RATE_COLOUR, lw=0.6, alpha=0.5)
     bound = max(float(np.abs(angle).max()), 0.05) * 1.1
     twin.set_ylim(-bound, bound)
-    twin.set_ylabel("angle error θ − θ_des [deg]", color=RATE_COLOUR, fontsize=_FONT["label"])
-    twin.tick_params(axis="y", colors=RATE_COLOUR, labelsize=_FONT["tick"])
+    twin.set_ylabel("angle error θ − θ_des [deg]", color=RATE_COLOUR, fontsize=FONT["label"])
+    twin.tick_params(axis="y", colors=RATE_COLOUR, labelsize=FONT["tick"])
     handles = ax.get_lines() + twin.get_lines()[:1]
-    ax.legend(handles=handles, fontsize=_FONT["legend"], loc="upper left")
-    ax.set_title("tracking error", fontsize=_FONT["label"])
+    ax.legend(handles=handles, fontsize=FONT["legend"], loc="upper left")
+    ax.set_title("tracking error", fontsize=FONT["label"])
     return twin
 
 
@@ -125,7 +127,7 @@ def _force_panel(ax: Axes, trace: Trace, component: int) -> None:
     t = trace.t[1:]
     actual, desired = trace.contact_forces[1:], trace.desired_forces[1:]
     for i in range(trace.n_prongs):
-        colour, width = _prong_colour(i), _width(i)
+        colour, width = prong_colour(i), prong_line_width(i)
         (line,) = ax.plot(t, actual[:, i, component], color=colour, lw=0.75 * width, alpha=0.8)
         line.set_gid(f"{name}_actual_{i + 1}")
         line.set_label(f"$λ_{{{sub},{i + 1}}}$")
@@ -138,7 +140,7 @@ def _force_panel(ax: Axes, trace: Trace, component: int) -> None:
         cone = trace.mu_contact * actual[:, :, 0]
         for i in range(trace.n_prongs):
             for sign in (-1.0, 1.0):
-                ax.plot(t, sign * cone[:, i], color=_prong_colour(i), lw=0.8, ls=":", alpha=0.6)
+                ax.plot(t, sign * cone[:, i], color=prong_colour(i), lw=0.8, ls=":", alpha=0.6)
         # the cone's usual reach, not its spikes, sets the limits
         steady.append(np.percentile(cone, 90.0, axis=0) * np.array([[-1.0], [1.0]]))
         label = rf"$\pm\mu_c \lambda_n$ ($\mu_c$ = {trace.mu_contact:g})"
@@ -147,8 +149,8 @@ def _force_panel(ax: Axes, trace: Trace, component: int) -> None:
     ax.set_ylabel(f"{name} force [N]")
     ax.set_xlabel("t [s]")
     notes = _fit_ylim(ax, t, actual[:, :, component], steady, "N", (len(handles), 3))
-    ax.legend(handles=handles + notes, fontsize=_FONT["legend"], loc="upper left", ncol=3)
-    ax.set_title(f"{name} prong forces", fontsize=_FONT["label"])
+    ax.legend(handles=handles + notes, fontsize=FONT["legend"], loc="upper left", ncol=3)
+    ax.set_title(f"{name} prong forces", fontsize=FONT["label"])
 
 
 def _fit_ylim(
@@ -186,7 +188,7 @@ def _fit_ylim(
 
 
 def _prong_handle(i: int) -> Line2D:
-    return Line2D([], [], color=_prong_colour(i), lw=2.0, label=f"prong {i + 1}")
+    return Line2D([], [], color=prong_colour(i), lw=2.0, label=f"prong {i + 1}")
 
 
 def _torque_panel(ax: Axes, trace: Trace) -> None:
@@ -201,8 +203,8 @@ def _torque_panel(ax: Axes, trace: Trace) -> None:
     ax.set_xlabel("t [s]")
     handles, _ = ax.get_legend_handles_labels()
     handles += _fit_ylim(ax, t, actual, [desired], "N·m", (len(handles), 1))
-    ax.legend(handles=handles, fontsize=_FONT["legend"], loc="upper left")
-    ax.set_title("total torque about the CoM", fontsize=_FONT["label"])
+    ax.legend(handles=handles, fontsize=FONT["legend"], loc="upper left")
+    ax.set_title("total torque about the CoM", fontsize=FONT["label"])
 
 
 def _title(trace: Trace) -> str:
@@ -237,11 +239,11 @@ def trace_figure(trace: Trace, title: str | None = None) -> Figure:
     _torque_panel(torque, trace)
     for ax in (path, theta, error, normal, tangential, torque):
         ax.grid(True, color="0.88", lw=0.6)
-        ax.tick_params(labelsize=_FONT["tick"])
-        ax.xaxis.label.set_fontsize(_FONT["label"])
-        ax.yaxis.label.set_fontsize(_FONT["label"])
+        ax.tick_params(labelsize=FONT["tick"])
+        ax.xaxis.label.set_fontsize(FONT["label"])
+        ax.yaxis.label.set_fontsize(FONT["label"])
     for ax in (theta, error):
-        ax.set_xlabel("t [s]", fontsize=_FONT["label"])
+        ax.set_xlabel("t [s]", fontsize=FONT["label"])
     theta.set_xlim(trace.t[0], trace.t[-1])
-    fig.suptitle(_title(trace) if title is None else title, fontsize=_FONT["title"])
+    fig.suptitle(_title(trace) if title is None else title, fontsize=FONT["title"])
     return fig
