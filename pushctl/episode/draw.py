@@ -9,7 +9,7 @@ from pushctl.episode.ranges import Randomisation, load_ranges
 from pushctl.episode.scenario import PhysicalParameters, Scenario, stream_rng
 from pushctl.errors import PlanError
 from pushctl.objects import resolve_object
-from pushctl.planning import ForceSettings, make_plan
+from pushctl.planning import ForceSettings, Plan, make_plan
 from pushctl.planning.workspace import default_start
 
 MAX_DRAWS = 100
@@ -22,6 +22,19 @@ def draw_scenario(
     stream: str,
     object_name: str,
     profile: str,
+    **options,
+) -> tuple[Scenario, int]:
+    """The scenario of ``seed`` in ``stream`` and how many goals were redrawn (the options
+    and the draw as in :func:`draw_planned_scenario`)."""
+    scenario, redrawn, _ = draw_planned_scenario(seed, stream, object_name, profile, **options)
+    return scenario, redrawn
+
+
+def draw_planned_scenario(
+    seed: int,
+    stream: str,
+    object_name: str,
+    profile: str,
     *,
     plant: str | None = None,
     ranges: Randomisation | None = None,
@@ -30,8 +43,9 @@ def draw_scenario(
     duration: float = 20.0,
     dt: float = 0.01,
     gravity: float = GRAVITY,
-) -> tuple[Scenario, int]:
-    """The scenario of ``seed`` in ``stream`` and how many goals were redrawn.
+) -> tuple[Scenario, int, Plan]:
+    """The scenario of ``seed`` in ``stream``, how many goals were redrawn, and its plan
+    (made with the nominal parameters, as :class:`~pushctl.episode.runner.Episode` makes it).
 
     Each attempt draws, in this order, a goal (4 uniforms) and a plant (4 uniforms), so the
     goals of one seed are the same whether or not, and from whichever ranges, the plant is
@@ -78,7 +92,7 @@ def draw_scenario(
                 arm=arm,
                 gravity=gravity,
             )
-            return scenario, attempt
+            return scenario, attempt, plan
         reason = plan.problems[0]
     raise PlanError(
         f"no feasible goal in {MAX_DRAWS} draws of seed {seed} ({object_name}, {profile}); "

@@ -123,3 +123,12 @@ def compute_metrics(trace: Trace, contact_threshold: float = 1e-3) -> EpisodeMet
         final_angle_error=float(angle_error[-1]),
         angle_error_deg=math.degrees(mean_angle_error),
     )
+
+
+def force_component_errors(trace: Trace) -> tuple[float, float]:
+    """Mean |F_n,des,i − λ_n,i| and mean |F_t,des,i − λ_t,i| [N] over the push steps (rows
+    1 … N) and prongs: the normal and tangential curves of the paper's Fig. 5."""
+    if trace.n_steps < 1:
+        raise StateError(f"a trace needs at least 1 push step for metrics, got {trace.n_steps}")
+    error = np.abs(np.asarray(trace.desired_forces)[1:] - np.asarray(trace.contact_forces)[1:])
+    return float(error[:, :, 0].mean()), float(error[:, :, 1].mean())

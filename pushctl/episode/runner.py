@@ -61,7 +61,9 @@ class Episode:
     """One scenario on a fresh world with the PD baseline.
 
     Construction plans (raising PlanError if the plan cannot be executed) and builds the
-    world; :meth:`reset` runs the approach; :meth:`step` advances one push step with an
+    world (``plan``: one already made for this scenario with its nominal parameters, e.g. by
+    :func:`~pushctl.episode.draw.draw_planned_scenario`, to save planning it twice);
+    :meth:`reset` runs the approach; :meth:`step` advances one push step with an
     optional residual planar twist (3,) (vx [m/s], vy [m/s], ω_z [rad/s]); :meth:`trace`
     returns what has been recorded.
     """
@@ -71,6 +73,7 @@ class Episode:
         scenario: Scenario,
         gains: PDGains | None = None,
         approach: ApproachSettings | None = None,
+        plan: Plan | None = None,
     ) -> None:
         self.scenario = scenario
         self.gains = gains if gains is not None else load_gains()
@@ -85,7 +88,7 @@ class Episode:
         planning_arm = load_arm(
             ArmConfig(name=scenario.arm, pusher=PusherConfig(mass=nominal_obj.pusher_mass))
         )
-        self.plan: Plan = make_plan(
+        self.plan: Plan = plan if plan is not None else make_plan(
             nominal_obj,
             scenario.goal.as_array(),
             start=None if scenario.start is None else scenario.start.as_array(),

@@ -84,7 +84,14 @@ class Trace:
 def contact_torques(
     object_pose: np.ndarray, prong_positions: np.ndarray, forces: np.ndarray
 ) -> np.ndarray:
-    """Σ_i τ_z,i [N·m], (B,), of prong forces ``forces`` (B, k, 2) (normal along the object's
+    """Σ_i τ_z,i [N·m], (B,): :func:`prong_torques` summed over the prongs."""
+    return prong_torques(object_pose, prong_positions, forces).sum(axis=1)
+
+
+def prong_torques(
+    object_pose: np.ndarray, prong_positions: np.ndarray, forces: np.ndarray
+) -> np.ndarray:
+    """τ_z,i [N·m], (B, k), of prong forces ``forces`` (B, k, 2) (normal along the object's
     e_n, tangential along e_t) applied at ``prong_positions`` (B, k, ≥2) [m] world, about the
     centre of mass of the object at ``object_pose`` (B, 3). The lever is the prong's position
     in the object frame: on the pushed face that is (−face offset, t_i), as in the plan."""
@@ -94,4 +101,4 @@ def contact_torques(
     dy = prong_positions[:, :, 1] - object_pose[:, 1:2]
     local_n = c * dx + s * dy
     local_t = -s * dx + c * dy
-    return np.sum(local_n * forces[:, :, 1] - local_t * forces[:, :, 0], axis=1)
+    return local_n * forces[:, :, 1] - local_t * forces[:, :, 0]

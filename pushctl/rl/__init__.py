@@ -1,0 +1,1 @@
+"""Residual reinforcement learning: the gymnasium environment, DDPG, and the training loop."""

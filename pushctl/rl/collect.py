@@ -1,0 +1,206 @@
+"""One training episode: the residual policy (or warm-up noise) on a drawn scenario, its
+transitions, and its errors beside PD-only on the same scenario.
+
+Everything random in episode e of a run with seed s (the scenario and the exploration noise)
+comes from ``SeedSequence(s, spawn_key=(e,))``, so an episode is a pure function of (s, e,
+the actor's weights): it can run in another process, and a resumed run redraws exactly what
+a killed run would have drawn.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import torch
+
+from pushctl.control.gains import PDGains
+from pushctl.episode.metrics import compute_metrics, force_component_errors
+from pushctl.episode.runner import Episode
+from pushctl.episode.trace import Trace
+from pushctl.rl.env import PushEnv
+from pushctl.rl.env_config import EnvConfig
+from pushctl.rl.networks import ActorPolicy
+from pushctl.rl.noise import OrnsteinUhlenbeckNoise
+
+CURVE_METRICS = (
+    "force_n_error",
+    "force_t_error",
+    "torque_error",
+    "force_error",
+    "translation_error_pct",
+    "angle_error_pct",
+    "slip_fraction",
+    "contact_loss_fraction",
+)
+"""Per-episode errors recorded for the training curves (Fig. 5): mean |ΔF_n|, |ΔF_t| [N]
+per prong and step, mean |Δτ_z| [N·m], then DESIGN.md §7's force error [N], translation and
+angle error [%], and the shares of steps with a slipping prong and with a prong out of
+contact (DESIGN.md §6 asks for them: where PD-only never slips, the residual has little to
+fix)."""
+
+
+@dataclass(frozen=True)
+class Behaviour:
+    """How episode e acts: uniform random actions while ``warmup``, else the actor of
+    ``actor_state`` (None only in warm-up) plus OU noise (θ, σ, dt) per step."""
+
+    warmup: bool
+    actor_state: dict[str, Any] | None
+    ou_theta: float
+    ou_sigma: float
+    ou_dt: float
+
+
+@dataclass(frozen=True)
+class EpisodeRecord:
+    """What episode ``episode`` left: its scenario's description, transitions (T rows:
+    ``obs`` (T, d), ``action`` (T, 3) the residual actually applied (0 while the gate was
+    shut), ``reward`` (T,), ``next_obs`` (T, d), ``done`` (T,)), its RL errors and, when
+    run, PD-only's (keys :data:`CURVE_METRICS`), and the seconds it took."""
+
+    episode: int
+    scenario: dict[str, Any]
+    transitions: dict[str, np.ndarray]
+    rl: dict[str, float]
+    pd: dict[str, float] | None
+    gate_open_fraction: float
+    episode_return: float
+    seconds: float
+
+
+def episode_rngs(seed: int, episode: int) -> tuple[int, np.random.Generator]:
+    """The environment's reset seed and the exploration generator of ``episode``."""
+    reset_seq, explore_seq = np.random.SeedSequence(seed, spawn_key=(episode,)).spawn(2)
+    return int(reset_seq.generate_state(1)[0]), np.random.default_rng(explore_seq)
+
+
+def collect_episode(
+    env_config: EnvConfig,
+    gains: PDGains,
+    seed: int,
+    episode: int,
+    behaviour: Behaviour,
+    run_pd: bool,
+    env: PushEnv | None = None,
+) -> EpisodeRecord:
+    """Run episode ``episode`` of the run with ``seed`` (see the module docstring); with
+    ``run_pd`` also PD-only on the same scenario and plan. ``env``: one to reuse (its
+    config must be ``env_config``)."""
+    started = time.perf_counter()
+    env = env if env is not None else PushEnv(env_config, gains)
+    reset_seed, rng = episode_rngs(seed, episode)
+    obs, _ = env.reset(seed=reset_seed)
+    act = _acting(behaviour, rng)
+    steps = env.episode.n_steps if env.episode is not None else 0
+    rows = _allocate(steps, obs.shape[0])
+    gate_open = 0
+    for n in range(steps):
+        action = act(obs)
+        next_obs, reward, terminated, _, info = env.step(action)
+        rows["obs"][n] = obs
+        rows["action"][n] = _applied_action(action, info["residual_active"])
+        rows["reward"][n] = reward
+        rows["next_obs"][n] = next_obs
+        rows["done"][n] = terminated
+        gate_open += info["residual_active"]
+        obs = next_obs
+    assert env.episode is not None
+    rl = _curve_metrics(env.episode.trace())
+    pd = None
+    if run_pd:
+        baseline = Episode(env.scenario, gains, plan=env.plan)
+        pd = _curve_metrics(baseline.run())
+    return EpisodeRecord(
+        episode=episode,
+        scenario=_describe(env),
+        transitions=rows,
+        rl=rl,
+        pd=pd,
+        gate_open_fraction=gate_open / max(steps, 1),
+        episode_return=float(rows["reward"].sum()),
+        seconds=time.perf_counter() - started,
+    )
+
+
+def _acting(behaviour: Behaviour, rng: np.random.Generator):
+    """obs (d,) → action (3,) in [−1, 1]."""
+    if behaviour.warmup or behaviour.actor_state is None:
+        return lambda obs: rng.uniform(-1.0, 1.0, size=3)
+    policy = ActorPolicy.from_state(_tensors(behaviour.actor_state))
+    noise = OrnsteinUhlenbeckNoise(
+        3, behaviour.ou_theta, behaviour.ou_sigma, behaviour.ou_dt, rng
+    )
+
+    def act(obs: np.ndarray) -> np.ndarray:
+        return np.clip(policy(obs) + noise.sample(), -1.0, 1.0)
+
+    return act
+
+
+def portable(state: Any) -> Any:
+    """Tensors → numpy arrays (nested dicts), so an actor state crosses to the collector
+    process by plain pickling."""
+    if isinstance(state, torch.Tensor):
+        return state.numpy()
+    if isinstance(state, dict):
+        return {key: portable(value) for key, value in state.items()}
+    return state
+
+
+def _tensors(state: Any) -> Any:
+    """The inverse of :func:`portable`."""
+    if isinstance(state, np.ndarray):
+        return torch.from_numpy(state)
+    if isinstance(state, dict):
+        return {key: _tensors(value) for key, value in state.items()}
+    return state
+
+
+def _applied_action(action: np.ndarray, active: bool) -> np.ndarray:
+    """What the world got: the (clipped) action while the gate was open, else zeros."""
+    return np.clip(action, -1.0, 1.0) if active else np.zeros(3)
+
+
+def _allocate(steps: int, obs_dim: int) -> dict[str, np.ndarray]:
+    return {
+        "obs": np.zeros((steps, obs_dim), dtype=np.float32),
+        "action": np.zeros((steps, 3), dtype=np.float32),
+        "reward": np.zeros(steps, dtype=np.float32),
+        "next_obs": np.zeros((steps, obs_dim), dtype=np.float32),
+        "done": np.zeros(steps, dtype=np.float32),
+    }
+
+
+def _curve_metrics(trace: Trace) -> dict[str, float]:
+    metrics = compute_metrics(trace)
+    normal, tangential = force_component_errors(trace)
+    return {
+        "force_n_error": normal,
+        "force_t_error": tangential,
+        "torque_error": metrics.torque_error,
+        "force_error": metrics.force_error,
+        "translation_error_pct": metrics.translation_error_pct,
+        "angle_error_pct": metrics.angle_error_pct,
+        "slip_fraction": metrics.slip_fraction,
+        "contact_loss_fraction": metrics.contact_loss_fraction,
+    }
+
+
+def _describe(env: PushEnv) -> dict[str, Any]:
+    scenario = env.scenario
+    plant = scenario.plant
+    return {
+        "object": scenario.object,
+        "profile": scenario.profile,
+        "scenario_seed": scenario.seed,
+        "goal_x": scenario.goal.x,
+        "goal_y": scenario.goal.y,
+        "goal_theta_deg": float(np.degrees(scenario.goal.theta)),
+        "mu_ground": plant.mu_ground,
+        "mu_contact": plant.mu_contact,
+        "object_mass": plant.object_mass,
+        "pusher_mass": plant.pusher_mass,
+    }

@@ -1,0 +1,141 @@
+"""The DDPG hyper-parameters: one frozen, validated dataclass."""
+
+from __future__ import annotations
+
+import math
+import numbers
+from collections.abc import Mapping
+from dataclasses import asdict, dataclass, fields
+from typing import Any
+
+from pushctl.errors import ConfigError
+
+_POSITIVE_FLOATS = ("actor_lr", "critic_lr", "updates_per_step", "ou_dt", "reward_scale")
+_NON_NEGATIVE_FLOATS = ("ou_theta", "ou_sigma", "critic_grad_clip")
+_UNIT_FLOATS = ("gamma", "tau")
+_POSITIVE_INTS = ("batch_size", "buffer_size", "torch_threads")
+
+
+@dataclass(frozen=True)
+class DDPGConfig:
+    """Hyper-parameters of :class:`pushctl.rl.ddpg.DDPGAgent` (Lillicrap et al., 2016).
+
+    Fields (default in brackets):
+
+    - ``hidden`` [(256, 256)]: widths of the hidden ReLU layers of actor and critic [units].
+    - ``actor_lr`` [1e-4]: Adam learning rate of the actor [1/update].
+    - ``critic_lr`` [1e-3]: Adam learning rate of the critic [1/update].
+    - ``gamma`` [0.99]: discount factor per environment step, in [0, 1] [-].
+    - ``tau`` [0.005]: Polyak factor of the target networks per update, in (0, 1]:
+      ``target ← (1 − tau)·target + tau·online`` [-].
+    - ``batch_size`` [256]: transitions per gradient update [transitions].
+    - ``buffer_size`` [1_000_000]: replay capacity, >= ``batch_size`` [transitions].
+    - ``warmup_steps`` [10_000]: environment steps with uniform random actions before the actor
+      acts and before any update [env steps].
+    - ``updates_per_step`` [1.0]: gradient updates per environment step, may be fractional
+      (0.1 = one update every 10 env steps) [updates/env step].
+    - ``ou_theta`` [0.15]: mean-reversion rate of the Ornstein–Uhlenbeck exploration noise,
+      with ``ou_theta * ou_dt <= 1`` [1/time unit].
+    - ``ou_sigma`` [0.2]: diffusion of the OU noise, in normalised action units [1/√time unit].
+    - ``ou_dt`` [1.0]: OU time step per environment step [time unit].
+    - ``reward_scale`` [1.0]: factor applied to rewards in the critic target [-].
+    - ``critic_grad_clip`` [0.0]: maximum global gradient norm of the critic, 0 = no clipping [-].
+    - ``torch_threads`` [1]: intra-op torch threads, applied by the caller through
+      :func:`pushctl.rl.ddpg.configure_torch` (process-wide, so not by the agent) [threads].
+    """
+
+    hidden: tuple[int, ...] = (256, 256)
+    actor_lr: float = 1e-4
+    critic_lr: float = 1e-3
+    gamma: float = 0.99
+    tau: float = 0.005
+    batch_size: int = 256
+    buffer_size: int = 1_000_000
+    warmup_steps: int = 10_000
+    updates_per_step: float = 1.0
+    ou_theta: float = 0.15
+    ou_sigma: float = 0.2
+    ou_dt: float = 1.0
+    reward_scale: float = 1.0
+    critic_grad_clip: float = 0.0
+    torch_threads: int = 1
+
+    def __post_init__(self) -> None:
+        hidden = self.hidden
+        if not (
+            isinstance(hidden, tuple)
+            and len(hidden) > 0
+            and all(_is_int(h) and h > 0 for h in hidden)
+        ):
+            raise ConfigError(
+                f"ddpg hidden must be a non-empty tuple of positive integers, got {hidden!r}"
+            )
+        object.__setattr__(self, "hidden", tuple(int(h) for h in hidden))
+        for name in _POSITIVE_INTS:
+            value = getattr(self, name)
+            _check(name, value, _is_int(value) and value > 0, "a positive integer")
+            object.__setattr__(self, name, int(value))
+        warmup = self.warmup_steps
+        _check("warmup_steps", warmup, _is_int(warmup) and warmup >= 0, "an integer >= 0")
+        object.__setattr__(self, "warmup_steps", int(warmup))
+        for name in _POSITIVE_FLOATS + _NON_NEGATIVE_FLOATS + _UNIT_FLOATS:
+            value = getattr(self, name)
+            _check(name, value, _is_real(value), "a finite number")
+            object.__setattr__(self, name, float(value))
+        for name in _POSITIVE_FLOATS:
+            _check(name, getattr(self, name), getattr(self, name) > 0.0, "a number > 0")
+        for name in _NON_NEGATIVE_FLOATS:
+            _check(name, getattr(self, name), getattr(self, name) >= 0.0, "a number >= 0")
+        _check("gamma", self.gamma, 0.0 <= self.gamma <= 1.0, "a number in [0, 1]")
+        _check("tau", self.tau, 0.0 < self.tau <= 1.0, "a number in (0, 1]")
+        if self.buffer_size < self.batch_size:
+            raise ConfigError(
+                f"ddpg buffer_size must be >= batch_size ({self.batch_size}), "
+                f"got {self.buffer_size}"
+            )
+        if self.ou_theta * self.ou_dt > 1.0:
+            raise ConfigError(
+                f"ddpg ou_theta * ou_dt must be <= 1 (else the noise oscillates), "
+                f"got {self.ou_theta} * {self.ou_dt}"
+            )
+
+    @classmethod
+    def from_mapping(cls, data: Mapping[str, Any]) -> DDPGConfig:
+        """A config from a mapping (e.g. a TOML table); missing keys keep their defaults.
+
+        Unknown keys raise a :class:`ConfigError` listing the accepted ones; a list for
+        ``hidden`` becomes a tuple.
+        """
+        accepted = [f.name for f in fields(cls)]
+        unknown = sorted(str(key) for key in data if key not in accepted)
+        if unknown:
+            raise ConfigError(
+                f"unknown ddpg config key(s) {', '.join(unknown)}; accepted: {', '.join(accepted)}"
+            )
+        values = dict(data)
+        if isinstance(values.get("hidden"), list):
+            values["hidden"] = tuple(values["hidden"])
+        return cls(**values)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain Python values (``hidden`` a list); ``from_mapping(to_dict())`` round-trips."""
+        values = asdict(self)
+        values["hidden"] = list(self.hidden)
+        return values
+
+
+def _is_int(value: object) -> bool:
+    return isinstance(value, numbers.Integral) and not isinstance(value, bool)
+
+
+def _is_real(value: object) -> bool:
+    return (
+        isinstance(value, numbers.Real)
+        and not isinstance(value, bool)
+        and math.isfinite(float(value))
+    )
+
+
+def _check(name: str, value: object, ok: bool, accepted: str) -> None:
+    if not ok:
+        raise ConfigError(f"ddpg {name} must be {accepted}, got {value!r}")

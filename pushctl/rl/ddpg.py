@@ -1,0 +1,289 @@
+"""DDPG (Lillicrap et al., 2016): the agent that acts, stores transitions, updates and resumes.
+
+Determinism: every random draw comes from ``seed`` via ``np.random.SeedSequence(seed)``,
+spawned into three numpy generators (replay sampling, warm-up actions, OU noise) and the seed
+of one ``torch.Generator`` (weight initialisation). The global numpy, torch and ``random``
+RNGs are never used, and :meth:`DDPGAgent.state_dict` holds every generator's state, so a
+resumed run continues bit-identically (on the same machine and torch thread count).
+"""
+
+from __future__ import annotations
+
+import copy
+from collections.abc import Iterable
+from fractions import Fraction
+from typing import Any
+
+import numpy as np
+import torch
+from torch import nn
+
+from pushctl.errors import ConfigError, StateError
+from pushctl.rl.config import DDPGConfig
+from pushctl.rl.networks import Actor, ActorPolicy, Critic, initialise
+from pushctl.rl.noise import OrnsteinUhlenbeckNoise
+from pushctl.rl.replay import ReplayBuffer
+
+_NETWORKS = ("actor", "critic", "actor_target", "critic_target")
+
+
+def configure_torch(threads: int) -> None:
+    """Set torch's intra-op thread count for the whole process (e.g. ``config.torch_threads``)."""
+    if not isinstance(threads, int) or isinstance(threads, bool) or threads < 1:
+        raise ConfigError(f"torch threads must be a positive integer, got {threads!r}")
+    torch.set_num_threads(threads)
+
+
+@torch.no_grad()
+def soft_update(target: nn.Module, source: nn.Module, tau: float) -> None:
+    """Polyak update in place: ``target ← (1 − tau)·target + tau·source``, tau in [0, 1].
+
+    tau = 1 copies ``source`` exactly, tau = 0 leaves ``target`` unchanged.
+    """
+    if not 0.0 <= tau <= 1.0:
+        raise ConfigError(f"soft_update tau must be in [0, 1], got {tau!r}")
+    for t, s in zip(target.parameters(), source.parameters(), strict=True):
+        t.lerp_(s, tau)
+
+
+class DDPGAgent:
+    """DDPG with a replay buffer, OU exploration noise and Polyak-averaged target networks.
+
+    Observations are raw (obs_dim,) or (B, obs_dim) vectors; they are stored raw and divided
+    by ``obs_scale`` (obs_dim,) [obs units] before entering any network. Actions are
+    normalised to [-1, 1], float64, (act_dim,) or (B, act_dim).
+
+    Training loop, one environment step at a time (or B rows of a vectorised env)::
+
+        action = agent.act(obs, explore=True)
+        agent.observe(obs, action, reward, next_obs, done)   # done: true terminal only
+        for _ in range(agent.updates_due(1)):
+            agent.update()
+
+    Call :meth:`reset_noise` at the start of each episode.
+    """
+
+    def __init__(
+        self,
+        obs_dim: int,
+        act_dim: int,
+        config: DDPGConfig,
+        seed: int,
+        obs_scale: np.ndarray | None = None,
+    ) -> None:
+        for name, value in (("obs_dim", obs_dim), ("act_dim", act_dim)):
+            if not isinstance(value, int) or isinstance(value, bool) or value < 1:
+                raise ConfigError(f"ddpg {name} must be a positive integer, got {value!r}")
+        if not isinstance(seed, int) or isinstance(seed, bool) or seed < 0:
+            raise ConfigError(f"ddpg seed must be an integer >= 0, got {seed!r}")
+        self.obs_dim, self.act_dim, self.config = obs_dim, act_dim, config
+        replay_seq, explore_seq, noise_seq, torch_seq = np.random.SeedSequence(seed).spawn(4)
+        self._replay_rng = np.random.default_rng(replay_seq)
+        self._explore_rng = np.random.default_rng(explore_seq)
+        self._noise_rng = np.random.default_rng(noise_seq)
+        self._torch_gen = torch.Generator().manual_seed(int(torch_seq.generate_state(1)[0]))
+        self.actor = Actor(obs_dim, act_dim, config.hidden)
+        self.critic = Critic(obs_dim, act_dim, config.hidden)
+        initialise(self.actor, self._torch_gen)
+        initialise(self.critic, self._torch_gen)
+        self.actor_target = copy.deepcopy(self.actor).requires_grad_(False)
+        self.critic_target = copy.deepcopy(self.critic).requires_grad_(False)
+        self.actor_optim = torch.optim.Adam(self.actor.parameters(), lr=config.actor_lr)
+        self.critic_optim = torch.optim.Adam(self.critic.parameters(), lr=config.critic_lr)
+        self.replay = ReplayBuffer(config.buffer_size, obs_dim, act_dim)
+        self._noise = self._new_noise((act_dim,))
+        ratio = Fraction(config.updates_per_step).limit_denominator(1_000_000)
+        self._credit_per_step, self._credit_per_update = ratio.numerator, ratio.denominator
+        self._env_steps = 0
+        self._updates = 0
+        self._credit = 0
+        self._set_policy(obs_scale)
+
+    @property
+    def env_steps(self) -> int:
+        """Environment steps observed so far (rows passed to :meth:`observe`)."""
+        return self._env_steps
+
+    @property
+    def n_updates(self) -> int:
+        """Gradient updates done so far."""
+        return self._updates
+
+    @property
+    def obs_scale(self) -> np.ndarray:
+        """Divisor of observations before the networks, (obs_dim,) [obs units] (a copy)."""
+        return self._policy.obs_scale.astype(np.float64)
+
+    def act(self, obs: np.ndarray, explore: bool) -> np.ndarray:
+        """Action for obs (obs_dim,) → (act_dim,), or (B, obs_dim) → (B, act_dim), in [-1, 1].
+
+        ``explore=False``: the actor's output. ``explore=True``: uniform random actions while
+        :attr:`env_steps` < ``warmup_steps``; afterwards actor + OU noise, clipped to [-1, 1].
+        A batch keeps one OU process per row: the noise has shape (B, act_dim), and a new
+        batch shape starts a fresh process at 0.
+        """
+        if not explore:
+            return self._policy(obs)
+        if self._env_steps < self.config.warmup_steps:
+            shape = self._policy.scaled(obs).shape[:-1] + (self.act_dim,)
+            return self._explore_rng.uniform(-1.0, 1.0, size=shape)
+        action = self._policy(obs)
+        if self._noise.shape != action.shape:
+            self._noise = self._new_noise(action.shape)
+        action += self._noise.step()
+        return np.clip(action, -1.0, 1.0, out=action)
+
+    def policy_action(self, obs: np.ndarray) -> np.ndarray:
+        """The deterministic actor's action (no noise, no warm-up), for evaluation."""
+        return self._policy(obs)
+
+    def reset_noise(self, rows: Iterable[int] | None = None) -> None:
+        """Restart the OU noise at 0 (episode start); ``rows`` only those batch rows."""
+        self._noise.reset(None if rows is None else np.fromiter(rows, dtype=np.intp))
+
+    def observe(self, obs, action, reward, next_obs, done) -> None:
+        """Store one transition (obs (obs_dim,), ...) or B of them (obs (B, obs_dim), ...).
+
+        ``done`` is True only at a true terminal state (no bootstrap from next_obs); store a
+        time-limit truncation with done=False and its real next_obs. Advances
+        :attr:`env_steps` by the number of rows.
+        """
+        if np.ndim(obs) == 1:
+            self.replay.add(obs, action, reward, next_obs, done)
+            self._env_steps += 1
+        else:
+            self.replay.add_batch(obs, action, reward, next_obs, done)
+            self._env_steps += int(np.shape(obs)[0])
+
+    def updates_due(self, n_new_steps: int) -> int:
+        """Gradient updates to run after ``n_new_steps`` new env steps were observed.
+
+        Credits ``updates_per_step`` (as an exact fraction p/q) per new step past warm-up and
+        returns the whole updates accumulated, keeping the remainder: 0.1 gives one update
+        every 10 steps, 2.0 two per step. Nothing is credited during warm-up or while the
+        buffer holds fewer than ``batch_size`` transitions.
+        """
+        eligible = min(int(n_new_steps), self._env_steps - self.config.warmup_steps)
+        if eligible <= 0 or len(self.replay) < self.config.batch_size:
+            return 0
+        self._credit += eligible * self._credit_per_step
+        due, self._credit = divmod(self._credit, self._credit_per_update)
+        return due
+
+    def update(self) -> dict[str, float]:
+        """One gradient step of critic and actor on a sampled batch, then the target updates.
+
+        Critic: MSE to ``reward_scale·r + gamma·(1 − done)·Q'(s', mu'(s'))``. Actor: maximise
+        Q(s, mu(s)). Targets: :func:`soft_update` with ``tau``. Returns the critic loss, actor
+        loss (−mean Q) and mean Q of the batch.
+        """
+        cfg = self.config
+        if len(self.replay) < cfg.batch_size:
+            raise StateError(
+                f"update needs {cfg.batch_size} transitions in the buffer, has {len(self.replay)}"
+            )
+        batch = self.replay.sample(cfg.batch_size, self._replay_rng)
+        t = {name: torch.from_numpy(value) for name, value in batch.items()}
+        obs, next_obs = t["obs"] / self._scale_t, t["next_obs"] / self._scale_t
+        with torch.no_grad():
+            next_q = self.critic_target(next_obs, self.actor_target(next_obs))
+            target = cfg.reward_scale * t["reward"] + cfg.gamma * (1.0 - t["done"]) * next_q
+        q = self.critic(obs, t["action"])
+        critic_loss = nn.functional.mse_loss(q, target)
+        self.critic_optim.zero_grad(set_to_none=True)
+        critic_loss.backward()
+        if cfg.critic_grad_clip > 0.0:
+            nn.utils.clip_grad_norm_(self.critic.parameters(), cfg.critic_grad_clip)
+        self.critic_optim.step()
+
+        actor_loss = -self.critic(obs, self.actor(obs)).mean()
+        self.actor_optim.zero_grad(set_to_none=True)
+        actor_loss.backward()
+        self.actor_optim.step()
+
+        soft_update(self.critic_target, self.critic, cfg.tau)
+        soft_update(self.actor_target, self.actor, cfg.tau)
+        self._updates += 1
+        return {
+            "critic_loss": float(critic_loss),
+            "actor_loss": float(actor_loss),
+            "q_mean": float(q.detach().mean()),
+        }
+
+    def actor_state(self) -> dict[str, Any]:
+        """The actor alone with its obs_scale, for :meth:`ActorPolicy.from_state` (a snapshot)."""
+        return self._policy.state()
+
+    def state_dict(self) -> dict[str, Any]:
+        """A snapshot of everything a bit-identical resume needs, as tensors and plain values.
+
+        Holds the four networks, both Adam states, the replay buffer (filled rows), the three
+        numpy generator states, the torch generator state, the OU state, the counters,
+        obs_scale, the config and the dims. Loadable by ``torch.load`` with
+        ``weights_only=True``.
+        """
+        state: dict[str, Any] = {
+            name: {k: v.clone() for k, v in getattr(self, name).state_dict().items()}
+            for name in _NETWORKS
+        }
+        state.update(
+            obs_dim=self.obs_dim,
+            act_dim=self.act_dim,
+            config=self.config.to_dict(),
+            actor_optim=copy.deepcopy(self.actor_optim.state_dict()),
+            critic_optim=copy.deepcopy(self.critic_optim.state_dict()),
+            replay=_as_tensors(self.replay.state_dict()),
+            rng={name: rng.bit_generator.state for name, rng in self._numpy_rngs().items()},
+            torch_generator=self._torch_gen.get_state(),
+            noise=_as_tensors(self._noise.state_dict()),
+            counters={
+                "env_steps": self._env_steps,
+                "updates": self._updates,
+                "credit": self._credit,
+            },
+            obs_scale=torch.tensor(self._policy.obs_scale),
+        )
+        return state
+
+    def load_state_dict(self, state: dict[str, Any]) -> None:
+        """Restore a :meth:`state_dict`; ConfigError if its dims or config differ from ours."""
+        dims = (state["obs_dim"], state["act_dim"])
+        if dims != (self.obs_dim, self.act_dim):
+            raise ConfigError(
+                f"checkpoint has (obs_dim, act_dim) = {dims}, "
+                f"the agent {(self.obs_dim, self.act_dim)}"
+            )
+        ours, theirs = self.config.to_dict(), dict(state["config"])
+        diff = [k for k in sorted(set(ours) | set(theirs)) if ours.get(k) != theirs.get(k)]
+        if diff:
+            pairs = ", ".join(f"{k}={theirs.get(k)!r} (agent: {ours.get(k)!r})" for k in diff)
+            raise ConfigError(f"checkpoint config differs from the agent's: {pairs}")
+        for name in _NETWORKS:
+            getattr(self, name).load_state_dict(state[name])
+        self.actor_optim.load_state_dict(state["actor_optim"])
+        self.critic_optim.load_state_dict(state["critic_optim"])
+        self.replay.load_state_dict(state["replay"])
+        for name, rng in self._numpy_rngs().items():
+            rng.bit_generator.state = state["rng"][name]
+        self._torch_gen.set_state(state["torch_generator"])
+        self._noise.load_state_dict(state["noise"])
+        counters = state["counters"]
+        self._env_steps, self._updates = int(counters["env_steps"]), int(counters["updates"])
+        self._credit = int(counters["credit"])
+        self._set_policy(np.asarray(state["obs_scale"], dtype=np.float64))
+
+    def _numpy_rngs(self) -> dict[str, np.random.Generator]:
+        return {"replay": self._replay_rng, "explore": self._explore_rng, "noise": self._noise_rng}
+
+    def _new_noise(self, shape: tuple[int, ...]) -> OrnsteinUhlenbeckNoise:
+        cfg = self.config
+        return OrnsteinUhlenbeckNoise(shape, cfg.ou_theta, cfg.ou_sigma, cfg.ou_dt, self._noise_rng)
+
+    def _set_policy(self, obs_scale: np.ndarray | None) -> None:
+        self._policy = ActorPolicy(self.actor, obs_scale)
+        self._scale_t = torch.tensor(self._policy.obs_scale)
+
+
+def _as_tensors(state: dict[str, Any]) -> dict[str, Any]:
+    """numpy arrays → tensors, so that ``torch.load(weights_only=True)`` accepts the state."""
+    return {k: torch.from_numpy(v) if isinstance(v, np.ndarray) else v for k, v in state.items()}

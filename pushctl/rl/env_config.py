@@ -1,0 +1,101 @@
+"""The push environment's settings: what an episode draws, the residual's scale and gate
+(Algorithm 1), and the weights of the force-level reward (eq. 17)."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import asdict, dataclass, fields
+from typing import Any
+
+from pushctl.episode.ranges import PLANTS
+from pushctl.episode.scenario import STREAMS
+from pushctl.errors import ConfigError
+from pushctl.objects import OBJECT_NAMES
+from pushctl.planning import PROFILE_NAMES
+
+
+@dataclass(frozen=True)
+class EnvConfig:
+    """Settings of :class:`pushctl.rl.env.PushEnv`.
+
+    Episodes
+        ``objects``, ``profiles``: what a reset chooses from (uniformly). ``plant``: the
+        randomisation ranges of the world's parameters (``sim`` for training). ``stream``:
+        the random stream the scenarios are drawn from (``training``; evaluation draws from
+        its own). ``duration`` [s] and ``dt`` [s] of the push.
+    Residual (Algorithm 1)
+        ``action_scale_linear`` [m/s] and ``action_scale_angular`` [rad/s]: the residual
+        twist at an action of ±1. ``gate_threshold`` [m]: the residual acts only while the
+        object's pose deviation from the plan, √(e_x² + e_y² + (gate_length·e_θ)²), exceeds
+        it; ``gate_length`` [m] turns the angle error into a distance.
+    Reward (eq. 17)
+        ``w_normal`` [1/N], ``w_tangential`` [1/N], ``w_torque`` [1/(N·m)]: per-step reward
+        −Σ_i (w1 |ΔF_n,i| + w2 |ΔF_t,i| + w3 |Δτ_z,i|), dimensionless. The default w3 of
+        25 /m weighs a torque error like a force error at a 40 mm lever (the prongs sit
+        about that far from the centre of mass).
+    """
+
+    objects: tuple[str, ...] = OBJECT_NAMES
+    profiles: tuple[str, ...] = PROFILE_NAMES
+    plant: str = "sim"
+    stream: str = "training"
+    duration: float = 20.0
+    dt: float = 0.01
+    action_scale_linear: float = 0.005
+    action_scale_angular: float = 0.02
+    gate_threshold: float = 1e-5
+    gate_length: float = 0.05
+    w_normal: float = 1.0
+    w_tangential: float = 1.0
+    w_torque: float = 25.0
+
+    def __post_init__(self) -> None:
+        _check_choice("objects", self.objects, OBJECT_NAMES)
+        _check_choice("profiles", self.profiles, PROFILE_NAMES)
+        if self.plant not in PLANTS:
+            raise ConfigError(f"env plant must be one of {', '.join(PLANTS)}, got {self.plant!r}")
+        if self.stream not in STREAMS:
+            raise ConfigError(
+                f"env stream must be one of {', '.join(STREAMS)}, got {self.stream!r}"
+            )
+        for name in ("duration", "dt", "action_scale_linear", "action_scale_angular"):
+            _check_number(name, getattr(self, name), positive=True)
+        for name in ("gate_threshold", "gate_length", "w_normal", "w_tangential", "w_torque"):
+            _check_number(name, getattr(self, name), positive=False)
+
+    @classmethod
+    def from_mapping(cls, values: Mapping[str, Any]) -> EnvConfig:
+        """From a TOML table; ConfigError naming an unknown key and the accepted ones."""
+        names = [item.name for item in fields(cls)]
+        unknown = sorted(set(values) - set(names))
+        if unknown:
+            raise ConfigError(f"unknown env key {unknown[0]!r}; accepted: {', '.join(names)}")
+        converted = {
+            key: tuple(value) if isinstance(value, list) else value for key, value in values.items()
+        }
+        return cls(**converted)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            key: list(value) if isinstance(value, tuple) else value
+            for key, value in asdict(self).items()
+        }
+
+
+def _check_choice(name: str, chosen: object, accepted: tuple[str, ...]) -> None:
+    ok = isinstance(chosen, tuple) and len(chosen) > 0
+    if not ok or any(item not in accepted for item in chosen):  # type: ignore[union-attr]
+        raise ConfigError(
+            f"env {name} must be a non-empty list of {', '.join(accepted)}, got {chosen!r}"
+        )
+
+
+def _check_number(name: str, value: object, *, positive: bool) -> None:
+    ok = isinstance(value, int | float) and not isinstance(value, bool)
+    if ok:
+        number = float(value)  # type: ignore[arg-type]
+        ok = math.isfinite(number) and (number > 0.0 if positive else number >= 0.0)
+    if not ok:
+        bound = "> 0" if positive else ">= 0"
+        raise ConfigError(f"env {name} must be a finite number {bound}, got {value!r}")

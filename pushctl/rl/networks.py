@@ -1,0 +1,149 @@
+"""Actor and critic MLPs of DDPG, initialised from an explicit torch generator."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+import torch
+from torch import nn
+
+from pushctl.errors import ConfigError, StateError
+
+FINAL_LAYER_BOUND = 3e-3
+"""Half-width of the uniform initialisation of each network's output layer (DDPG paper)."""
+
+
+def _mlp(n_in: int, hidden: Sequence[int], n_out: int) -> nn.Sequential:
+    layers: list[nn.Module] = []
+    for width in hidden:
+        layers += [nn.Linear(n_in, int(width)), nn.ReLU()]
+        n_in = int(width)
+    layers.append(nn.Linear(n_in, n_out))
+    return nn.Sequential(*layers)
+
+
+class Actor(nn.Module):
+    """Deterministic policy mu(s): ReLU MLP with a tanh output.
+
+    ``forward(obs)``: obs (B, obs_dim) [scaled units] → action (B, act_dim) in [-1, 1].
+    Weights are left at torch's defaults until :func:`initialise` is called.
+    """
+
+    def __init__(self, obs_dim: int, act_dim: int, hidden: Sequence[int]) -> None:
+        super().__init__()
+        self.obs_dim, self.act_dim = int(obs_dim), int(act_dim)
+        self.hidden = tuple(int(h) for h in hidden)
+        self.net = _mlp(self.obs_dim, hidden, self.act_dim)
+
+    def forward(self, obs: torch.Tensor) -> torch.Tensor:
+        return torch.tanh(self.net(obs))
+
+
+class Critic(nn.Module):
+    """Action value Q(s, a): ReLU MLP on the concatenation [obs, action].
+
+    ``forward(obs, action)``: obs (B, obs_dim) [scaled units], action (B, act_dim) → Q (B,).
+    """
+
+    def __init__(self, obs_dim: int, act_dim: int, hidden: Sequence[int]) -> None:
+        super().__init__()
+        self.obs_dim, self.act_dim = int(obs_dim), int(act_dim)
+        self.net = _mlp(self.obs_dim + self.act_dim, hidden, 1)
+
+    def forward(self, obs: torch.Tensor, action: torch.Tensor) -> torch.Tensor:
+        return self.net(torch.cat((obs, action), dim=-1)).squeeze(-1)
+
+
+@torch.no_grad()
+def initialise(module: nn.Module, generator: torch.Generator) -> None:
+    """Initialise every ``nn.Linear`` of ``module`` from ``generator`` (never the global RNG).
+
+    Hidden layers: weights and biases ~ U(−1/√fan_in, 1/√fan_in). The last ``nn.Linear`` in
+    registration order (the output layer): ~ U(−3e-3, 3e-3), so initial actions and Q values
+    are near zero, as in Lillicrap et al. (2016). Layers are drawn in registration order.
+    """
+    linears = [m for m in module.modules() if isinstance(m, nn.Linear)]
+    for i, layer in enumerate(linears):
+        last = i == len(linears) - 1
+        bound = FINAL_LAYER_BOUND if last else 1.0 / math.sqrt(layer.in_features)
+        nn.init.uniform_(layer.weight, -bound, bound, generator=generator)
+        if layer.bias is not None:
+            nn.init.uniform_(layer.bias, -bound, bound, generator=generator)
+
+
+class ActorPolicy:
+    """The deterministic policy: raw observation → ``actor(obs / obs_scale)``.
+
+    ``policy(obs)``: obs (obs_dim,) or (B, obs_dim) [obs units] → float64 action (act_dim,)
+    or (B, act_dim) in [-1, 1]. ``obs_scale`` (obs_dim,) [obs units] defaults to ones.
+    Rebuild one for evaluation with ``ActorPolicy.from_state(agent.actor_state())``.
+
+    A single float64 observation takes a fast path (it runs millions of times): the layers
+    are evaluated with ``torch.addmv`` into preallocated buffers, on detached views of the
+    actor's parameters (so optimiser steps and ``load_state_dict`` show through). It equals
+    ``actor.forward`` up to float32 rounding. Not thread-safe.
+    """
+
+    def __init__(self, actor: Actor, obs_scale: np.ndarray | None = None) -> None:
+        n = actor.obs_dim
+        scale = np.ones(n) if obs_scale is None else np.asarray(obs_scale, dtype=np.float64)
+        if scale.shape != (n,) or not (np.isfinite(scale).all() and (scale > 0.0).all()):
+            raise ConfigError(f"obs_scale must be {n} finite positive numbers, got {scale!r:.80}")
+        self.actor = actor
+        self.obs_scale = scale.astype(np.float32)
+        self.obs_scale.flags.writeable = False
+        self._obs = np.empty(n, dtype=np.float32)
+        linears = [m for m in actor.net if isinstance(m, nn.Linear)]
+        self._layers = [(lin.weight.detach(), lin.bias.detach()) for lin in linears]
+        self._hidden = [torch.empty(lin.out_features) for lin in linears]
+        self._inputs = [torch.from_numpy(self._obs)] + self._hidden[:-1]
+        self._action = self._hidden[-1].numpy()
+
+    def scaled(self, obs: np.ndarray) -> np.ndarray:
+        """``obs / obs_scale`` as float32, after checking the shape and that values are finite.
+
+        A float64 (obs_dim,) array lands in an internal buffer that the next call overwrites.
+        """
+        n = self.actor.obs_dim
+        if type(obs) is np.ndarray and obs.shape == (n,) and obs.dtype == np.float64:
+            x = np.divide(obs, self.obs_scale, out=self._obs, casting="same_kind")
+            if math.isfinite(x.dot(x)):  # 0.5 us; overflows only for |x| > 1e19
+                return x
+        else:
+            array = np.asarray(obs, dtype=np.float32)
+            if array.ndim not in (1, 2) or array.shape[-1] != n:
+                raise StateError(f"obs must have shape ({n},) or (B, {n}), got {array.shape}")
+            x = array / self.obs_scale
+        if not np.isfinite(x).all():
+            raise StateError(f"obs must be finite, got {obs!r:.80}")
+        return x
+
+    def __call__(self, obs: np.ndarray) -> np.ndarray:
+        x = self.scaled(obs)
+        if x is not self._obs:
+            with torch.inference_mode():
+                return self.actor(torch.from_numpy(x)).numpy().astype(np.float64)
+        layers = zip(self._layers, self._inputs, self._hidden, strict=True)
+        for i, ((weight, bias), h_in, h_out) in enumerate(layers):
+            torch.addmv(bias, weight, h_in, out=h_out)
+            h_out.relu_() if i < len(self._layers) - 1 else h_out.tanh_()
+        return self._action.astype(np.float64)
+    def state(self) -> dict[str, Any]:
+        """A snapshot (tensors and plain values) that :meth:`from_state` rebuilds."""
+        return {
+            "obs_dim": self.actor.obs_dim,
+            "act_dim": self.actor.act_dim,
+            "hidden": list(self.actor.hidden),
+            "obs_scale": torch.from_numpy(self.obs_scale.copy()),
+            "actor": {k: v.clone() for k, v in self.actor.state_dict().items()},
+        }
+
+    @classmethod
+    def from_state(cls, state: dict[str, Any]) -> ActorPolicy:
+        """The policy saved by :meth:`state`, in eval mode."""
+        actor = Actor(state["obs_dim"], state["act_dim"], state["hidden"])
+        actor.load_state_dict(state["actor"])
+        return cls(actor.eval(), np.asarray(state["obs_scale"], dtype=np.float64))

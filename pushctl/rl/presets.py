@@ -1,0 +1,119 @@
+"""Training presets: ``experiments/train_<name>.toml`` (or any TOML file with the same
+tables), each holding ``[train]`` (:class:`TrainConfig`), ``[env]``
+(:class:`~pushctl.rl.env_config.EnvConfig`) and ``[ddpg]``
+(:class:`~pushctl.rl.config.DDPGConfig`)."""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, fields
+from pathlib import Path
+from typing import Any
+
+from pushctl.errors import ConfigError
+from pushctl.rl.config import DDPGConfig
+from pushctl.rl.env_config import EnvConfig
+from pushctl.toml_files import check_keys, read_toml
+
+EXPERIMENTS = Path(__file__).resolve().parents[2] / "experiments"
+PRESET_NAMES = ("quick", "paper")
+"""The presets shipped in ``experiments/`` (``train_quick.toml``, ``train_paper.toml``)."""
+
+
+@dataclass(frozen=True)
+class TrainConfig:
+    """The training loop's settings.
+
+    ``episodes``: episodes to run (each one push of ``EnvConfig.duration``).
+    ``checkpoint_every``: episodes between checkpoints. ``pd_every``: run PD-only on the
+    episode's scenario every n-th episode for the training curves (1: every episode).
+    ``workers``: 0 runs the episodes in the learner's process; 1 runs them in one collector
+    process beside the learner (the learner updates on episode e − 1 while episode e runs,
+    so the results are identical either way).
+    """
+
+    episodes: int = 40
+    checkpoint_every: int = 10
+    pd_every: int = 1
+    workers: int = 1
+
+    def __post_init__(self) -> None:
+        for name, low in (("episodes", 1), ("checkpoint_every", 1), ("pd_every", 1)):
+            _check_int(name, getattr(self, name), low)
+        if self.workers not in (0, 1) or isinstance(self.workers, bool):
+            raise ConfigError(f"train workers must be 0 or 1, got {self.workers!r}")
+
+
+@dataclass(frozen=True)
+class Preset:
+    """A whole training set-up; ``name`` is the preset's name or its file's path."""
+
+    name: str
+    train: TrainConfig
+    env: EnvConfig
+    ddpg: DDPGConfig
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "name": self.name,
+            "train": asdict(self.train),
+            "env": self.env.to_dict(),
+            "ddpg": self.ddpg.to_dict(),
+        }
+
+    @classmethod
+    def from_dict(cls, values: dict[str, Any]) -> Preset:
+        """From :meth:`to_dict` (a checkpoint's copy)."""
+        return cls(
+            name=str(values["name"]),
+            train=_train_config(values["train"]),
+            env=EnvConfig.from_mapping(values["env"]),
+            ddpg=DDPGConfig.from_mapping(values["ddpg"]),
+        )
+
+
+def preset_path(name_or_path: str) -> Path:
+    """``quick``/``paper`` → ``experiments/train_<name>.toml``; a path ending in .toml as
+    is; anything else is a ConfigError naming the accepted values."""
+    if name_or_path in PRESET_NAMES:
+        return EXPERIMENTS / f"train_{name_or_path}.toml"
+    if name_or_path.endswith(".toml"):
+        return Path(name_or_path)
+    raise ConfigError(
+        f"unknown preset {name_or_path!r}; accepted: {', '.join(PRESET_NAMES)} or a .toml file"
+    )
+
+
+def load_preset(name_or_path: str) -> Preset:
+    """Read a preset; ConfigError naming the file for a missing, corrupt or invalid one."""
+    path = preset_path(name_or_path)
+    table = read_toml(path, "preset file")
+    try:
+        check_keys(table, ["train", "env", "ddpg"], "preset")
+        return Preset(
+            name=name_or_path,
+            train=_train_config(_table(table, "train")),
+            env=EnvConfig.from_mapping(_table(table, "env")),
+            ddpg=DDPGConfig.from_mapping(_table(table, "ddpg")),
+        )
+    except ConfigError as exc:
+        raise ConfigError(f"preset file {path}: {exc}") from None
+
+
+def _table(table: dict[str, Any], name: str) -> dict[str, Any]:
+    values = table.get(name, {})
+    if not isinstance(values, dict):
+        raise ConfigError(f"[{name}] must be a table")
+    return values
+
+
+def _train_config(values: dict[str, Any]) -> TrainConfig:
+    names = [item.name for item in fields(TrainConfig)]
+    unknown = sorted(set(values) - set(names))
+    if unknown:
+        raise ConfigError(f"[train] has unknown key {unknown[0]!r}; accepted: {', '.join(names)}")
+    return TrainConfig(**values)
+
+
+def _check_int(name: str, value: object, low: int) -> None:
+    if not isinstance(value, int) or isinstance(value, bool) or value < low:
+        raise ConfigError(f"train {name} must be an integer >= {low}, got {value!r}")

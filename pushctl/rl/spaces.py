@@ -1,0 +1,95 @@
+"""The push environment's observation and action, as tables of index, name, meaning, unit and
+scale. The environment builds its vectors in this order and the README's tables are printed
+from here (``python -m pushctl.rl.spaces``), so the documentation cannot drift from the code.
+
+Frames: "plan frame" is the planned object frame at the current step (x along the push into
+the object, the pushed face's normal at θ = 0; y to its left), so the same correction means
+the same thing whatever the goal's heading. ``scale`` is a typical magnitude: the learner
+divides by it (``obs_scale``), and it is what a value of 1 means to the networks.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Entry:
+    """One row: ``name`` (snake case, the index key), ``meaning``, ``unit``, ``scale``."""
+
+    name: str
+    meaning: str
+    unit: str
+    scale: float
+
+
+def observation_entries(n_prongs: int) -> tuple[Entry, ...]:
+    """The observation's rows for a pusher with ``n_prongs`` prongs (all deployable: the
+    planned forces come from the nominal plan, the measured ones from the contact model, or a
+    force estimate on a real arm)."""
+    prongs = range(1, n_prongs + 1)
+    rows: list[Entry] = []
+    rows += [
+        Entry(f"force_n_des_{i}", f"planned normal force, prong {i}, next step", "N", 0.5)
+        for i in prongs
+    ]
+    rows += [
+        Entry(f"force_t_des_{i}", f"planned tangential force, prong {i}, next step", "N", 0.5)
+        for i in prongs
+    ]
+    rows += [
+        Entry(f"force_n_{i}", f"measured normal force, prong {i}, last step", "N", 0.5)
+        for i in prongs
+    ]
+    rows += [
+        Entry(f"force_t_{i}", f"measured tangential force, prong {i}, last step", "N", 0.5)
+        for i in prongs
+    ]
+    rows += [
+        Entry("pusher_vx", "pusher velocity along the push (plan frame x)", "m/s", 0.01),
+        Entry("pusher_vy", "pusher velocity across the push (plan frame y)", "m/s", 0.01),
+        Entry("pusher_wz", "pusher yaw rate", "rad/s", 0.05),
+        Entry("error_x", "planned minus actual object position, plan frame x", "m", 1e-4),
+        Entry("error_y", "planned minus actual object position, plan frame y", "m", 1e-4),
+        Entry("error_theta", "planned minus actual object heading", "rad", 2e-3),
+        Entry("phase", "push steps taken / push steps (0 … 1)", "1", 1.0),
+    ]
+    return tuple(rows)
+
+
+ACTION_ENTRIES: tuple[Entry, ...] = (
+    Entry("residual_x", "residual pusher velocity along the push (plan frame x)", "× scale", 1.0),
+    Entry("residual_y", "residual pusher velocity across the push (plan frame y)", "× scale", 1.0),
+    Entry("residual_wz", "residual pusher yaw rate", "× scale", 1.0),
+)
+"""The action, each in [−1, 1]: × ``action_scale_linear`` [m/s] (x, y) or
+``action_scale_angular`` [rad/s] (ω_z), rotated from the plan frame to the world and added
+to the PD's commanded pusher twist while the gate is open (Algorithm 1)."""
+
+
+def index(entries: tuple[Entry, ...]) -> dict[str, int]:
+    """Name → position."""
+    return {entry.name: i for i, entry in enumerate(entries)}
+
+
+def scales(entries: tuple[Entry, ...]) -> np.ndarray:
+    """The ``scale`` column (d,)."""
+    return np.array([entry.scale for entry in entries])
+
+
+def markdown_table(entries: tuple[Entry, ...]) -> str:
+    """The rows as a Markdown table: index, name, meaning, unit, scale."""
+    lines = ["| index | name | meaning | unit | scale |", "|---|---|---|---|---|"]
+    lines += [
+        f"| {i} | `{e.name}` | {e.meaning} | {e.unit} | {e.scale:g} |"
+        for i, e in enumerate(entries)
+    ]
+    return "\n".join(lines)
+
+
+if __name__ == "__main__":
+    print(markdown_table(observation_entries(2)))
+    print()
+    print(markdown_table(ACTION_ENTRIES))

@@ -1,0 +1,306 @@
+"""The training loop: episodes from :mod:`pushctl.rl.collect`, DDPG updates, checkpoints,
+and the per-episode training curves (the paper's Fig. 5).
+
+Schedule (the same with or without a collector process): episode e runs with the actor as it
+was after the updates credited to episodes ≤ e − 2; while it runs, the learner does the
+updates credited to episode e − 1. A checkpoint after episode e holds everything that
+schedule needs, so a resumed run continues bit for bit.
+
+Files in a run directory: ``checkpoint.pt`` (atomic, every ``checkpoint_every`` episodes and
+at the end), ``curve.csv`` (one row per episode, rewritten atomically with each checkpoint),
+``policy.pt`` (the final actor, for evaluation).
+"""
+
+from __future__ import annotations
+
+import io
+import math
+import time
+from collections.abc import Callable
+from concurrent.futures import Future, ProcessPoolExecutor
+from dataclasses import dataclass
+from multiprocessing import get_context
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+import torch
+
+from pushctl.control.gains import PDGains, load_gains
+from pushctl.errors import ConfigError
+from pushctl.provenance import write_atomic, write_csv
+from pushctl.rl.collect import (
+    CURVE_METRICS,
+    Behaviour,
+    EpisodeRecord,
+    collect_episode,
+    portable,
+)
+from pushctl.rl.ddpg import DDPGAgent, configure_torch
+from pushctl.rl.env import PushEnv
+from pushctl.rl.presets import Preset
+from pushctl.rl.spaces import observation_entries, scales
+
+CHECKPOINT = "checkpoint.pt"
+CURVE = "curve.csv"
+POLICY = "policy.pt"
+CHECKPOINT_FORMAT = 1
+"""Bumped when a checkpoint's layout changes; an older one is refused, not misread."""
+
+
+@dataclass(frozen=True)
+class Progress:
+    """What the loop reports after each episode: the record, the episodes done, the target,
+    env steps and updates so far and their rates [1/s] over this session."""
+
+    record: EpisodeRecord
+    episodes_done: int
+    episodes_total: int
+    env_steps: int
+    updates: int
+    env_steps_per_s: float
+    updates_per_s: float
+    elapsed: float
+
+
+class Trainer:
+    """A training run of ``preset`` with ``seed``, writing to ``out``. Build a new one with
+    :meth:`start` or continue a stopped one with :meth:`resume`."""
+
+    def __init__(self, preset: Preset, seed: int, out: Path, gains: PDGains) -> None:
+        self.preset, self.seed, self.out, self.gains = preset, seed, out, gains
+        entries = observation_entries(n_prongs=2)
+        self.agent = DDPGAgent(len(entries), 3, preset.ddpg, seed, obs_scale=scales(entries))
+        self.next_episode = 0
+        self.pending_updates = 0
+        self.rows: list[dict[str, Any]] = []
+        self.made_by = ""
+
+    @classmethod
+    def start(cls, preset: Preset, seed: int, out: Path, gains: PDGains | None = None) -> Trainer:
+        return cls(preset, seed, out, gains if gains is not None else load_gains())
+
+    @classmethod
+    def resume(cls, out: Path, gains: PDGains | None = None) -> Trainer:
+        """The run stopped in ``out``; ConfigError (one line) if there is no checkpoint or it
+        is corrupt or of another format."""
+        state = read_checkpoint(out / CHECKPOINT)
+        try:
+            preset = Preset.from_dict(state["preset"])
+            trainer = cls(preset, int(state["seed"]), out, gains or load_gains())
+            trainer.agent.load_state_dict(state["agent"])
+            trainer.next_episode = int(state["next_episode"])
+            trainer.pending_updates = int(state["pending_updates"])
+            trainer.rows = [dict(row) for row in state["rows"]]
+        except ConfigError as exc:
+            raise ConfigError(f"checkpoint {out / CHECKPOINT} is incompatible: {exc}") from None
+        except (KeyError, TypeError, ValueError, RuntimeError) as exc:
+            raise ConfigError(
+                f"checkpoint {out / CHECKPOINT} is incompatible: missing or bad {exc}"
+            ) from None
+        return trainer
+
+    def run(
+        self,
+        episodes: int,
+        on_episode: Callable[[Progress], None] | None = None,
+        made_by: str = "",
+    ) -> None:
+        """Run episodes until ``episodes`` are done in all (counting those before a resume),
+        checkpointing on the way and at the end; ``made_by`` heads the curve CSV."""
+        self.made_by = made_by or self.made_by
+        self.out.mkdir(parents=True, exist_ok=True)
+        configure_torch(self.preset.ddpg.torch_threads)
+        clock = _Rates(self.agent)
+        with _Collector(self.preset, self.gains, self.seed) as collector:
+            while self.next_episode < episodes:
+                e = self.next_episode
+                future = collector.submit(e, self._behaviour(e), self._run_pd(e))
+                self._do_pending_updates()
+                record = future.result()
+                self._absorb(record)
+                if on_episode is not None:
+                    on_episode(clock.progress(record, self.next_episode, episodes))
+                if self.next_episode % self.preset.train.checkpoint_every == 0:
+                    self.save()
+        self.save()
+        write_policy(self.out / POLICY, self.agent, self.preset, self.made_by)
+
+    # ------------------------------------------------------------------ checkpoints
+
+    def state_dict(self) -> dict[str, Any]:
+        return {
+            "format": CHECKPOINT_FORMAT,
+            "preset": self.preset.to_dict(),
+            "seed": self.seed,
+            "next_episode": self.next_episode,
+            "pending_updates": self.pending_updates,
+            "rows": self.rows,
+            "agent": self.agent.state_dict(),
+        }
+
+    def save(self) -> None:
+        """The checkpoint, then the curve CSV, each written to a temporary file and renamed."""
+        buffer = io.BytesIO()
+        torch.save(self.state_dict(), buffer)
+        _write_bytes(self.out / CHECKPOINT, buffer.getvalue())
+        write_csv(self.out / CURVE, self.curve(), self.made_by)
+
+    def curve(self) -> pd.DataFrame:
+        """One row per episode: its scenario, RL errors ``rl_*``, PD-only errors ``pd_*``
+        (empty where PD-only was not run), the gate's open share and the return."""
+        return pd.DataFrame(self.rows)
+
+    # ------------------------------------------------------------------ internals
+
+    def _behaviour(self, episode: int) -> Behaviour:
+        config = self.preset.ddpg
+        steps_before = episode * self._steps_per_episode
+        warmup = steps_before < config.warmup_steps
+        return Behaviour(
+            warmup=warmup,
+            actor_state=None if warmup else portable(self.agent.actor_state()),
+            ou_theta=config.ou_theta,
+            ou_sigma=config.ou_sigma,
+            ou_dt=config.ou_dt,
+        )
+
+    @property
+    def _steps_per_episode(self) -> int:
+        env = self.preset.env
+        return round(env.duration / env.dt)
+
+    def _run_pd(self, episode: int) -> bool:
+        return episode % self.preset.train.pd_every == 0
+
+    def _do_pending_updates(self) -> None:
+        for _ in range(self.pending_updates):
+            self.agent.update()
+        self.pending_updates = 0
+
+    def _absorb(self, record: EpisodeRecord) -> None:
+        rows = record.transitions
+        self.agent.observe(rows["obs"], rows["action"], rows["reward"], rows["next_obs"], rows["done"])
+        self.pending_updates = self.agent.updates_due(len(rows["reward"]))
+        self.rows.append(_curve_row(record))
+        self.next_episode = record.episode + 1
+
+
+def _curve_row(record: EpisodeRecord) -> dict[str, Any]:
+    row: dict[str, Any] = {"episode": record.episode, **record.scenario}
+    row.update({f"rl_{name}": record.rl[name] for name in CURVE_METRICS})
+    pd_metrics = record.pd or {}
+    row.update({f"pd_{name}": pd_metrics.get(name, math.nan) for name in CURVE_METRICS})
+    row["gate_open_fraction"] = record.gate_open_fraction
+    row["episode_return"] = record.episode_return
+    return row
+
+
+def _write_bytes(path: Path, data: bytes) -> None:
+    write_atomic(path, lambda tmp: tmp.write_bytes(data))
+
+
+def read_checkpoint(path: Path) -> dict[str, Any]:
+    """A checkpoint's contents; ConfigError if missing, unreadable or of another format."""
+    if not path.is_file():
+        raise ConfigError(f"no checkpoint at {path}: start a run without --resume")
+    try:
+        state = torch.load(path, weights_only=True)
+    except Exception as exc:  # torch raises many types for a damaged file
+        reason = " ".join(str(exc).split())[:120]
+        raise ConfigError(f"checkpoint {path} is corrupt or not a checkpoint: {reason}") from None
+    if not isinstance(state, dict) or state.get("format") != CHECKPOINT_FORMAT:
+        found = state.get("format") if isinstance(state, dict) else type(state).__name__
+        raise ConfigError(
+            f"checkpoint {path} has format {found!r}; this pushctl reads {CHECKPOINT_FORMAT}"
+        )
+    return state
+
+
+def write_policy(path: Path, agent: DDPGAgent, preset: Preset, made_by: str) -> None:
+    """The trained actor with what evaluation needs to run it: the env settings and gains."""
+    buffer = io.BytesIO()
+    torch.save(
+        {
+            "format": CHECKPOINT_FORMAT,
+            "actor": agent.actor_state(),
+            "env": preset.env.to_dict(),
+            "made_by": made_by,
+        },
+        buffer,
+    )
+    _write_bytes(path, buffer.getvalue())
+
+
+class _Rates:
+    """Env steps and updates per second since the session started."""
+
+    def __init__(self, agent: DDPGAgent) -> None:
+        self.agent = agent
+        self.started = time.perf_counter()
+        self.steps0, self.updates0 = agent.env_steps, agent.n_updates
+
+    def progress(self, record: EpisodeRecord, done: int, total: int) -> Progress:
+        elapsed = max(time.perf_counter() - self.started, 1e-9)
+        steps, updates = self.agent.env_steps, self.agent.n_updates
+        return Progress(
+            record=record,
+            episodes_done=done,
+            episodes_total=total,
+            env_steps=steps,
+            updates=updates,
+            env_steps_per_s=(steps - self.steps0) / elapsed,
+            updates_per_s=(updates - self.updates0) / elapsed,
+            elapsed=elapsed,
+        )
+
+
+_WORKER_ENV: PushEnv | None = None
+
+
+def _worker_init(preset: Preset, gains: PDGains) -> None:
+    global _WORKER_ENV
+    torch.set_num_threads(1)
+    _WORKER_ENV = PushEnv(preset.env, gains)
+
+
+def _worker_collect(seed: int, episode: int, behaviour: Behaviour, run_pd: bool) -> EpisodeRecord:
+    assert _WORKER_ENV is not None
+    env = _WORKER_ENV
+    return collect_episode(env.config, env.gains, seed, episode, behaviour, run_pd, env=env)
+
+
+class _Collector:
+    """Runs episodes in this process (``workers`` 0) or in one spawned process (1)."""
+
+    def __init__(self, preset: Preset, gains: PDGains, seed: int) -> None:
+        self.preset, self.gains, self.seed = preset, gains, seed
+        self._pool: ProcessPoolExecutor | None = None
+        self._env: PushEnv | None = None
+
+    def __enter__(self) -> _Collector:
+        if self.preset.train.workers == 1:
+            self._pool = ProcessPoolExecutor(
+                max_workers=1,
+                mp_context=get_context("spawn"),
+                initializer=_worker_init,
+                initargs=(self.preset, self.gains),
+            )
+        else:
+            self._env = PushEnv(self.preset.env, self.gains)
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if self._pool is not None:
+            self._pool.shutdown(wait=True, cancel_futures=True)
+
+    def submit(self, episode: int, behaviour: Behaviour, run_pd: bool) -> Future[EpisodeRecord]:
+        if self._pool is not None:
+            return self._pool.submit(_worker_collect, self.seed, episode, behaviour, run_pd)
+        future: Future[EpisodeRecord] = Future()
+        env = self._env
+        assert env is not None
+        future.set_result(
+            collect_episode(env.config, env.gains, self.seed, episode, behaviour, run_pd, env=env)
+        )
+        return future
