@@ -1,7 +1,7 @@
 """The ``pushctl`` command line. Each command parses, validates, calls the core, renders.
 
-Built so far: ``pushctl info``, ``plan``, ``simulate`` and ``tune-pd``. ``train``,
-``evaluate`` and ``report`` come with the issues that build them.
+Built so far: ``pushctl info``, ``plan``, ``simulate``, ``tune-pd`` and ``train``
+(:mod:`pushctl.cli_train`). ``evaluate`` and ``report`` come with the issue that builds them.
 """
 
 from __future__ import annotations
@@ -298,6 +298,52 @@ def tune_pd_command(
         _invocation(ctx),
     )  # fmt: skip
     _write_text(target, text)
+
+
+@app.command()
+def train(
+    ctx: typer.Context,
+    preset: Annotated[
+        str | None, typer.Option(help="quick, paper, or a preset .toml file (default: quick)")
+    ] = None,
+    episodes: Annotated[
+        int | None,
+        typer.Option(help="episodes in all, counting resumed ones (default: the preset's)"),
+    ] = None,
+    seed: Annotated[int | None, typer.Option(help="seed of every random draw (default: 0)")] = None,
+    out: Annotated[
+        Path | None, typer.Option(help="run directory (default: runs/PRESET-seedS)")
+    ] = None,
+    resume: Annotated[bool, typer.Option("--resume", help="continue the run in --out")] = False,
+    force: Annotated[bool, typer.Option("--force", help="start over in an occupied --out")] = False,
+) -> None:
+    """Train the residual policy (DDPG, eq. 17 reward) on randomised pushes; write the
+    checkpoint, the training curves (Fig. 5) and the policy to the run directory."""
+    from pushctl.cli_train import prepare_trainer, run_with_progress, summary_table
+    from pushctl.rl.train import CURVE, POLICY
+
+    try:
+        trainer = prepare_trainer(preset, seed, out, resume, force)
+        total = episodes if episodes is not None else trainer.preset.train.episodes
+        if total < 1:
+            raise PushctlError(f"--episodes must be an integer >= 1, got {total}")
+    except PushctlError as error:
+        _fail(error)
+    if trainer.next_episode >= total:
+        console.print(f"{trainer.out} already has {trainer.next_episode} episodes; nothing to do")
+        return
+    try:
+        run_with_progress(trainer, total, _invocation(ctx), console)
+    except KeyboardInterrupt:
+        error_console.print(
+            f"interrupted: `pushctl train --resume --out {trainer.out}` continues "
+            "from the last checkpoint"
+        )
+        raise typer.Exit(code=130) from None
+    except OSError as error:
+        _fail(PushctlError(f"cannot write {error.filename}: {error.strerror}"))
+    console.print(summary_table(trainer))
+    console.print(f"wrote {trainer.out / CURVE} and {trainer.out / POLICY}")
 
 
 def _write_text(path: Path, text: str) -> None:

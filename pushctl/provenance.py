@@ -39,7 +39,7 @@ def provenance_line(command: str | None = None, extra: str = "") -> str:
     return f"# made by: {command}; pushctl {pushctl.__version__}; commit {git_commit()}{tail}"
 
 
-def write_atomic(path: Path, write: Callable[[Path], None]) -> None:
+def write_atomic(path: Path, write: Callable[[Path], object]) -> None:
     """Call ``write(tmp)`` on a temporary file beside ``path``, then rename it over ``path``:
     readers see the old file or the new one, never a partial one. The temporary file is
     removed if ``write`` fails."""

@@ -88,16 +88,20 @@ class Episode:
         planning_arm = load_arm(
             ArmConfig(name=scenario.arm, pusher=PusherConfig(mass=nominal_obj.pusher_mass))
         )
-        self.plan: Plan = plan if plan is not None else make_plan(
-            nominal_obj,
-            scenario.goal.as_array(),
-            start=None if scenario.start is None else scenario.start.as_array(),
-            profile=scenario.profile,
-            duration=scenario.duration,
-            dt=scenario.dt,
-            forces=ForceSettings(mu_contact=nominal.mu_contact, mu_ground=nominal.mu_ground),
-            arm=planning_arm,
-            gravity=scenario.gravity,
+        self.plan: Plan = (
+            plan
+            if plan is not None
+            else make_plan(
+                nominal_obj,
+                scenario.goal.as_array(),
+                start=None if scenario.start is None else scenario.start.as_array(),
+                profile=scenario.profile,
+                duration=scenario.duration,
+                dt=scenario.dt,
+                forces=ForceSettings(mu_contact=nominal.mu_contact, mu_ground=nominal.mu_ground),
+                arm=planning_arm,
+                gravity=scenario.gravity,
+            )
         )
         self.plan.raise_if_infeasible()
         self.plant_forces: ForcePlan = distribute_forces(

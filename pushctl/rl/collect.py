@@ -44,8 +44,8 @@ fix)."""
 
 @dataclass(frozen=True)
 class Behaviour:
-    """How episode e acts: uniform random actions while ``warmup``, else the actor of
-    ``actor_state`` (None only in warm-up) plus OU noise (θ, σ, dt) per step."""
+    """How episode e acts: OU noise (θ, σ, dt) alone while ``warmup``, else the actor of
+    ``actor_state`` (None only in warm-up) plus that noise."""
 
     warmup: bool
     actor_state: dict[str, Any] | None
@@ -126,16 +126,19 @@ def collect_episode(
 
 
 def _acting(behaviour: Behaviour, rng: np.random.Generator):
-    """obs (d,) → action (3,) in [−1, 1]."""
+    """obs (d,) → action (3,) in [−1, 1]: the OU noise alone in warm-up, else actor + noise.
+
+    Warm-up explores with the (temporally correlated) noise rather than uniform draws: a
+    uniform action every 10 ms is a velocity step every step, whose force spikes are 100
+    times the baseline's errors and teach the critic about a regime the actor never visits.
+    """
+    noise = OrnsteinUhlenbeckNoise(3, behaviour.ou_theta, behaviour.ou_sigma, behaviour.ou_dt, rng)
     if behaviour.warmup or behaviour.actor_state is None:
-        return lambda obs: rng.uniform(-1.0, 1.0, size=3)
+        return lambda obs: np.clip(noise.sample(), -1.0, 1.0)
     policy = ActorPolicy.from_state(_tensors(behaviour.actor_state))
-    noise = OrnsteinUhlenbeckNoise(
-        3, behaviour.ou_theta, behaviour.ou_sigma, behaviour.ou_dt, rng
-    )
 
     def act(obs: np.ndarray) -> np.ndarray:
-        return np.clip(policy(obs) + noise.sample(), -1.0, 1.0)
+        return np.clip(policy(obs.astype(np.float64)) + noise.sample(), -1.0, 1.0)
 
     return act
 

@@ -25,7 +25,6 @@ from pushctl.errors import ConfigError, StateError
 from pushctl.planning import Plan
 from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.spaces import ACTION_ENTRIES, observation_entries
-from pushctl.types import StepResult
 
 RESET_OPTIONS = ("object", "profile", "scenario_seed")
 """Keys of ``reset(options=…)`` that fix a draw: the object, the profile, and the integer seed
@@ -37,7 +36,8 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
     baseline's (default ``experiments/pd_gains.toml``).
 
     ``info`` of a step: ``reward_normal``, ``reward_tangential``, ``reward_torque`` (the
-    three weighted terms of eq. 17, each ≤ 0, summing to the reward), ``residual_active``
+    three weighted terms of eq. 17) and ``reward_pose`` (the optional pose term, 0 unless
+    ``w_pose`` > 0), each ≤ 0, summing to the reward; ``residual_active``
     (the gate), ``residual`` (3,) the world-frame twist applied [m/s, m/s, rad/s],
     ``pose_deviation`` [m] that the gate compared with its threshold.
     """
@@ -86,12 +86,13 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         active = deviation > self.config.gate_threshold
         residual = self._world_twist(np.clip(action, -1.0, 1.0), n) if active else None
         self._last = episode.step(residual)
-        terms = self._reward_terms(n + 1)
+        terms = (*self._reward_terms(n + 1), -self.config.w_pose * self._deviation(n + 1))
         terminated = episode.done
         info = {
             "reward_normal": terms[0],
             "reward_tangential": terms[1],
             "reward_torque": terms[2],
+            "reward_pose": terms[3],
             "residual_active": bool(active),
             "residual": np.zeros(3) if residual is None else residual,
             "pose_deviation": deviation,

@@ -33,7 +33,10 @@ class EnvConfig:
         ``w_normal`` [1/N], ``w_tangential`` [1/N], ``w_torque`` [1/(N·m)]: per-step reward
         −Σ_i (w1 |ΔF_n,i| + w2 |ΔF_t,i| + w3 |Δτ_z,i|), dimensionless. The default w3 of
         25 /m weighs a torque error like a force error at a 40 mm lever (the prongs sit
-        about that far from the centre of mass).
+        about that far from the centre of mass). ``w_pose`` [1/m]: an optional pose term,
+        −w_pose × (the gate's pose deviation), not in eq. 17 (0 leaves the paper's reward):
+        a force-level reward cannot see an object that was pushed off its path and is then
+        pushed correctly beside it.
     """
 
     objects: tuple[str, ...] = OBJECT_NAMES
@@ -42,13 +45,14 @@ class EnvConfig:
     stream: str = "training"
     duration: float = 20.0
     dt: float = 0.01
-    action_scale_linear: float = 0.005
-    action_scale_angular: float = 0.02
-    gate_threshold: float = 1e-5
+    action_scale_linear: float = 0.002
+    action_scale_angular: float = 0.01
+    gate_threshold: float = 5e-5
     gate_length: float = 0.05
     w_normal: float = 1.0
     w_tangential: float = 1.0
     w_torque: float = 25.0
+    w_pose: float = 0.0
 
     def __post_init__(self) -> None:
         _check_choice("objects", self.objects, OBJECT_NAMES)
@@ -61,7 +65,14 @@ class EnvConfig:
             )
         for name in ("duration", "dt", "action_scale_linear", "action_scale_angular"):
             _check_number(name, getattr(self, name), positive=True)
-        for name in ("gate_threshold", "gate_length", "w_normal", "w_tangential", "w_torque"):
+        for name in (
+            "gate_threshold",
+            "gate_length",
+            "w_normal",
+            "w_tangential",
+            "w_torque",
+            "w_pose",
+        ):
             _check_number(name, getattr(self, name), positive=False)
 
     @classmethod
@@ -71,7 +82,7 @@ class EnvConfig:
         unknown = sorted(set(values) - set(names))
         if unknown:
             raise ConfigError(f"unknown env key {unknown[0]!r}; accepted: {', '.join(names)}")
-        converted = {
+        converted: dict[str, Any] = {
             key: tuple(value) if isinstance(value, list) else value for key, value in values.items()
         }
         return cls(**converted)
@@ -85,7 +96,7 @@ class EnvConfig:
 
 def _check_choice(name: str, chosen: object, accepted: tuple[str, ...]) -> None:
     ok = isinstance(chosen, tuple) and len(chosen) > 0
-    if not ok or any(item not in accepted for item in chosen):  # type: ignore[union-attr]
+    if not ok or any(item not in accepted for item in chosen):  # type: ignore[attr-defined]
         raise ConfigError(
             f"env {name} must be a non-empty list of {', '.join(accepted)}, got {chosen!r}"
         )

@@ -16,12 +16,21 @@ FINAL_LAYER_BOUND = 3e-3
 """Half-width of the uniform initialisation of each network's output layer (DDPG paper)."""
 
 
+def _linear(n_in: int, n_out: int) -> nn.Linear:
+    """A zero ``nn.Linear``: ``skip_init`` avoids the default init and its global-RNG draws."""
+    layer = nn.utils.skip_init(nn.Linear, n_in, n_out)
+    with torch.no_grad():
+        layer.weight.zero_()
+        layer.bias.zero_()
+    return layer
+
+
 def _mlp(n_in: int, hidden: Sequence[int], n_out: int) -> nn.Sequential:
     layers: list[nn.Module] = []
     for width in hidden:
-        layers += [nn.Linear(n_in, int(width)), nn.ReLU()]
+        layers += [_linear(n_in, int(width)), nn.ReLU()]
         n_in = int(width)
-    layers.append(nn.Linear(n_in, n_out))
+    layers.append(_linear(n_in, n_out))
     return nn.Sequential(*layers)
 
 
@@ -29,7 +38,7 @@ class Actor(nn.Module):
     """Deterministic policy mu(s): ReLU MLP with a tanh output.
 
     ``forward(obs)``: obs (B, obs_dim) [scaled units] → action (B, act_dim) in [-1, 1].
-    Weights are left at torch's defaults until :func:`initialise` is called.
+    Weights are zero (no global-RNG draws) until :func:`initialise` or ``load_state_dict``.
     """
 
     def __init__(self, obs_dim: int, act_dim: int, hidden: Sequence[int]) -> None:
@@ -46,6 +55,7 @@ class Critic(nn.Module):
     """Action value Q(s, a): ReLU MLP on the concatenation [obs, action].
 
     ``forward(obs, action)``: obs (B, obs_dim) [scaled units], action (B, act_dim) → Q (B,).
+    Weights are zero until :func:`initialise` or ``load_state_dict``.
     """
 
     def __init__(self, obs_dim: int, act_dim: int, hidden: Sequence[int]) -> None:
@@ -81,10 +91,11 @@ class ActorPolicy:
     or (B, act_dim) in [-1, 1]. ``obs_scale`` (obs_dim,) [obs units] defaults to ones.
     Rebuild one for evaluation with ``ActorPolicy.from_state(agent.actor_state())``.
 
-    A single float64 observation takes a fast path (it runs millions of times): the layers
-    are evaluated with ``torch.addmv`` into preallocated buffers, on detached views of the
-    actor's parameters (so optimiser steps and ``load_state_dict`` show through). It equals
-    ``actor.forward`` up to float32 rounding. Not thread-safe.
+    A single observation (a float numpy array) takes a fast path, as it runs millions of
+    times: ~20 µs instead of ~90 µs through ``nn.Module`` calls. The layers are evaluated with
+    ``torch.addmv`` into preallocated buffers, on detached views of the actor's parameters
+    (so optimiser steps and ``load_state_dict`` show through); it equals ``actor.forward`` up
+    to float32 rounding. Not thread-safe: use one policy per thread.
     """
 
     def __init__(self, actor: Actor, obs_scale: np.ndarray | None = None) -> None:
@@ -105,10 +116,10 @@ class ActorPolicy:
     def scaled(self, obs: np.ndarray) -> np.ndarray:
         """``obs / obs_scale`` as float32, after checking the shape and that values are finite.
 
-        A float64 (obs_dim,) array lands in an internal buffer that the next call overwrites.
+        A float (obs_dim,) array lands in an internal buffer that the next call overwrites.
         """
         n = self.actor.obs_dim
-        if type(obs) is np.ndarray and obs.shape == (n,) and obs.dtype == np.float64:
+        if type(obs) is np.ndarray and obs.shape == (n,) and obs.dtype.kind == "f":
             x = np.divide(obs, self.obs_scale, out=self._obs, casting="same_kind")
             if math.isfinite(x.dot(x)):  # 0.5 us; overflows only for |x| > 1e19
                 return x
@@ -131,6 +142,7 @@ class ActorPolicy:
             torch.addmv(bias, weight, h_in, out=h_out)
             h_out.relu_() if i < len(self._layers) - 1 else h_out.tanh_()
         return self._action.astype(np.float64)
+
     def state(self) -> dict[str, Any]:
         """A snapshot (tensors and plain values) that :meth:`from_state` rebuilds."""
         return {

@@ -87,7 +87,7 @@ class OrnsteinUhlenbeckNoise:
 
     def load_state_dict(self, state: dict[str, Any]) -> None:
         """Restore x, which may have a different shape (the agent resizes for batches)."""
-        x = np.array(state["x"], dtype=np.float64)
+        x = np.asarray(state["x"], dtype=np.float64).copy()
         if not np.isfinite(x).all():
             raise StateError("OU noise state must be finite")
         self._x = x

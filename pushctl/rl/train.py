@@ -38,6 +38,7 @@ from pushctl.rl.collect import (
 )
 from pushctl.rl.ddpg import DDPGAgent, configure_torch
 from pushctl.rl.env import PushEnv
+from pushctl.rl.policy import write_policy
 from pushctl.rl.presets import Preset
 from pushctl.rl.spaces import observation_entries, scales
 
@@ -124,7 +125,7 @@ class Trainer:
                 if self.next_episode % self.preset.train.checkpoint_every == 0:
                     self.save()
         self.save()
-        write_policy(self.out / POLICY, self.agent, self.preset, self.made_by)
+        write_policy(self.out / POLICY, self.agent.actor_state(), self.preset.env, self.made_by)
 
     # ------------------------------------------------------------------ checkpoints
 
@@ -180,7 +181,9 @@ class Trainer:
 
     def _absorb(self, record: EpisodeRecord) -> None:
         rows = record.transitions
-        self.agent.observe(rows["obs"], rows["action"], rows["reward"], rows["next_obs"], rows["done"])
+        self.agent.observe(
+            rows["obs"], rows["action"], rows["reward"], rows["next_obs"], rows["done"]
+        )
         self.pending_updates = self.agent.updates_due(len(rows["reward"]))
         self.rows.append(_curve_row(record))
         self.next_episode = record.episode + 1
@@ -215,21 +218,6 @@ def read_checkpoint(path: Path) -> dict[str, Any]:
             f"checkpoint {path} has format {found!r}; this pushctl reads {CHECKPOINT_FORMAT}"
         )
     return state
-
-
-def write_policy(path: Path, agent: DDPGAgent, preset: Preset, made_by: str) -> None:
-    """The trained actor with what evaluation needs to run it: the env settings and gains."""
-    buffer = io.BytesIO()
-    torch.save(
-        {
-            "format": CHECKPOINT_FORMAT,
-            "actor": agent.actor_state(),
-            "env": preset.env.to_dict(),
-            "made_by": made_by,
-        },
-        buffer,
-    )
-    _write_bytes(path, buffer.getvalue())
 
 
 class _Rates:

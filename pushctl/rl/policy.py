@@ -1,0 +1,86 @@
+"""A trained residual policy on disk (``policy.pt``) and running it on one scenario.
+
+The file holds the actor (weights, widths, observation scale), the environment settings it
+was trained with (action scale, gate, the reward weights) and the provenance line of the run
+that made it.
+"""
+
+from __future__ import annotations
+
+import io
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import torch
+
+from pushctl.control.gains import PDGains
+from pushctl.episode.trace import Trace
+from pushctl.errors import ConfigError
+from pushctl.provenance import write_atomic
+from pushctl.rl.env import PushEnv
+from pushctl.rl.env_config import EnvConfig
+from pushctl.rl.networks import ActorPolicy
+
+POLICY_FORMAT = 1
+
+
+@dataclass(frozen=True)
+class TrainedPolicy:
+    """``actor``: the deterministic residual policy; ``env``: the settings it was trained
+    with; ``made_by``: the training run's provenance line."""
+
+    actor: ActorPolicy
+    env: EnvConfig
+    made_by: str
+
+
+def write_policy(path: Path, actor_state: dict[str, Any], env: EnvConfig, made_by: str) -> None:
+    """Save an actor (``DDPGAgent.actor_state()``) with its env settings, atomically."""
+    buffer = io.BytesIO()
+    state = {
+        "format": POLICY_FORMAT,
+        "actor": actor_state,
+        "env": env.to_dict(),
+        "made_by": made_by,
+    }
+    torch.save(state, buffer)
+    data = buffer.getvalue()
+    write_atomic(Path(path), lambda tmp: tmp.write_bytes(data))
+
+
+def load_policy(path: str | Path) -> TrainedPolicy:
+    """Read ``policy.pt``; ConfigError (one line) if it is missing, corrupt or not a policy."""
+    path = Path(path)
+    if not path.is_file():
+        raise ConfigError(f"no policy file at {path}: train one with `pushctl train`")
+    try:
+        state = torch.load(path, weights_only=True)
+        if not isinstance(state, dict) or state.get("format") != POLICY_FORMAT:
+            raise ValueError(f"format {state.get('format') if isinstance(state, dict) else None}")
+        return TrainedPolicy(
+            actor=ActorPolicy.from_state(state["actor"]),
+            env=EnvConfig.from_mapping(state["env"]),
+            made_by=str(state["made_by"]),
+        )
+    except ConfigError as exc:
+        raise ConfigError(f"policy file {path}: {exc}") from None
+    except Exception as exc:  # torch raises many types for a damaged file
+        reason = " ".join(str(exc).split())[:120]
+        raise ConfigError(f"policy file {path} is corrupt or not a policy: {reason}") from None
+
+
+def evaluation_env(policy: TrainedPolicy, gains: PDGains, plant: str = "sim") -> PushEnv:
+    """The policy's environment drawing from the evaluation stream with ``plant``'s ranges."""
+    return PushEnv(replace(policy.env, stream="evaluation", plant=plant), gains)
+
+
+def run_policy(env: PushEnv, actor: ActorPolicy, options: dict[str, Any]) -> Trace:
+    """Reset ``env`` with ``options`` (see :data:`pushctl.rl.env.RESET_OPTIONS`), push with
+    the deterministic ``actor`` (no exploration), and return the trace."""
+    obs, _ = env.reset(options=options)
+    assert env.episode is not None
+    for _ in range(env.episode.n_steps):
+        obs, _, _, _, _ = env.step(actor(np.asarray(obs, dtype=np.float64)))
+    return env.episode.trace()
