@@ -320,6 +320,7 @@ def train(
     """Train the residual policy (DDPG, eq. 17 reward) on randomised pushes; write the
     checkpoint, the training curves (Fig. 5) and the policy to the run directory."""
     from pushctl.cli_train import prepare_trainer, run_with_progress, summary_table
+    from pushctl.provenance import provenance_line
     from pushctl.rl.train import CURVE, POLICY
 
     try:
@@ -333,7 +334,8 @@ def train(
         console.print(f"{trainer.out} already has {trainer.next_episode} episodes; nothing to do")
         return
     try:
-        run_with_progress(trainer, total, _invocation(ctx), console)
+        made_by = provenance_line(_invocation(ctx), f"seed {trainer.seed} (training stream)")
+        run_with_progress(trainer, total, made_by, console)
     except KeyboardInterrupt:
         error_console.print(
             f"interrupted: `pushctl train --resume --out {trainer.out}` continues "

@@ -93,6 +93,7 @@ class Trainer:
             trainer.next_episode = int(state["next_episode"])
             trainer.pending_updates = int(state["pending_updates"])
             trainer.rows = [dict(row) for row in state["rows"]]
+            trainer.made_by = str(state["made_by"])
         except ConfigError as exc:
             raise ConfigError(f"checkpoint {out / CHECKPOINT} is incompatible: {exc}") from None
         except (KeyError, TypeError, ValueError, RuntimeError) as exc:
@@ -108,8 +109,13 @@ class Trainer:
         made_by: str = "",
     ) -> None:
         """Run episodes until ``episodes`` are done in all (counting those before a resume),
-        checkpointing on the way and at the end; ``made_by`` heads the curve CSV."""
-        self.made_by = made_by or self.made_by
+        checkpointing on the way and at the end. ``made_by`` (a provenance line) heads the
+        curve CSV; a resumed run keeps the first run's line and adds its own command."""
+        if made_by and self.made_by and made_by != self.made_by:
+            command = made_by.removeprefix("# made by: ").split("; ")[0]
+            self.made_by = f"{self.made_by}; resumed: {command}"
+        else:
+            self.made_by = made_by or self.made_by
         self.out.mkdir(parents=True, exist_ok=True)
         configure_torch(self.preset.ddpg.torch_threads)
         clock = _Rates(self.agent)
@@ -137,6 +143,7 @@ class Trainer:
             "next_episode": self.next_episode,
             "pending_updates": self.pending_updates,
             "rows": self.rows,
+            "made_by": self.made_by,
             "agent": self.agent.state_dict(),
         }
 

@@ -1,0 +1,226 @@
+"""The push environment: gymnasium's checker, the observation and action tables against the
+code, the reward against the trace, the gate, seeding and bad input."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from pathlib import Path
+
+import gymnasium
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+
+import pushctl.rl
+from pushctl.episode.runner import Episode
+from pushctl.episode.trace import prong_torques
+from pushctl.errors import ConfigError, StateError
+from pushctl.rl.env import PushEnv
+from pushctl.rl.env_config import EnvConfig
+from pushctl.rl.spaces import ACTION_ENTRIES, index, markdown_table, observation_entries
+
+README = Path(__file__).resolve().parents[2] / "README.md"
+SHORT = EnvConfig(duration=2.0)  # 200 push steps (shorter chirps can need a pull)
+OPTIONS = {"object": "wedge", "profile": "trapezoid", "scenario_seed": 3}
+
+
+@pytest.fixture(scope="module")
+def env() -> PushEnv:
+    return PushEnv(SHORT)
+
+
+def _rotate_to(yaw: float, x: float, y: float) -> tuple[float, float]:
+    c, s = math.cos(yaw), math.sin(yaw)
+    return c * x + s * y, -s * x + c * y
+
+
+@pytest.mark.filterwarnings("ignore:.*Box observation space m")  # unbounded on purpose
+def test_gymnasium_env_checker_passes(env: PushEnv) -> None:
+    check_env(env, skip_render_check=True)
+
+
+def test_the_registered_id_makes_the_environment() -> None:
+    made = gymnasium.make(pushctl.rl.ENV_ID, config=SHORT)
+    assert isinstance(made.unwrapped, PushEnv)
+    obs, _ = made.reset(seed=1)
+    assert made.observation_space.contains(obs)
+
+
+def test_observation_entries_match_the_state_they_name(env: PushEnv) -> None:
+    env.reset(options=OPTIONS)
+    for _ in range(7):
+        obs, *_ = env.step(np.array([0.3, -0.2, 0.5], dtype=np.float32))
+    episode = env.episode
+    assert episode is not None
+    where = index(env.observation_entries)
+    n = episode.step_index
+    trace = episode.trace()
+    yaw = env.plan.trajectory.pose[n, 2]
+    for i in range(2):
+        planned = env.plan.forces.forces[n + 1, i]
+        assert obs[where[f"force_n_des_{i + 1}"]] == pytest.approx(planned[0], rel=1e-6)
+        assert obs[where[f"force_t_des_{i + 1}"]] == pytest.approx(planned[1], rel=1e-6)
+        measured = trace.contact_forces[n, i]
+        assert obs[where[f"force_n_{i + 1}"]] == pytest.approx(measured[0], rel=1e-6, abs=1e-9)
+        assert obs[where[f"force_t_{i + 1}"]] == pytest.approx(measured[1], rel=1e-6, abs=1e-9)
+    error = trace.desired_pose[n] - trace.object_pose[n]
+    along, across = _rotate_to(yaw, error[0], error[1])
+    assert obs[where["error_x"]] == pytest.approx(along, rel=1e-5, abs=1e-12)
+    assert obs[where["error_y"]] == pytest.approx(across, rel=1e-5, abs=1e-12)
+    assert obs[where["error_theta"]] == pytest.approx(error[2], rel=1e-5, abs=1e-12)
+    # The pusher's velocity from finite differences of its traced position.
+    velocity = (trace.pusher_position[n] - trace.pusher_position[n - 1]) / SHORT.dt
+    vx, vy = _rotate_to(yaw, velocity[0], velocity[1])
+    assert obs[where["pusher_vx"]] == pytest.approx(vx, abs=2e-4)
+    assert obs[where["pusher_vy"]] == pytest.approx(vy, abs=2e-4)
+    assert obs[where["phase"]] == pytest.approx(n / episode.n_steps)
+
+
+def test_the_action_is_a_plan_frame_twist_scaled_and_rotated_to_the_world() -> None:
+    env = PushEnv(replace(SHORT, gate_threshold=0.0))
+    env.reset(options=OPTIONS)
+    yaw = env.plan.trajectory.pose[0, 2]
+    _, _, _, _, info = env.step(np.array([1.0, 0.5, -1.0]))
+    assert info["residual_active"]
+    expected = [
+        SHORT.action_scale_linear * (math.cos(yaw) - 0.5 * math.sin(yaw)),
+        SHORT.action_scale_linear * (math.sin(yaw) + 0.5 * math.cos(yaw)),
+        -SHORT.action_scale_angular,
+    ]
+    np.testing.assert_allclose(info["residual"], expected, rtol=1e-12)
+    assert [entry.name for entry in ACTION_ENTRIES] == ["residual_x", "residual_y", "residual_wz"]
+
+
+def test_the_reward_terms_are_eq_17_against_the_plant_force_plan(env: PushEnv) -> None:
+    env.reset(options=OPTIONS)
+    rewards, terms = [], np.zeros(3)
+    for _ in range(30):
+        _, reward, _, _, info = env.step(env.action_space.sample())
+        parts = [info["reward_normal"], info["reward_tangential"], info["reward_torque"]]
+        assert info["reward_pose"] == 0.0
+        assert all(part <= 0.0 for part in parts)
+        assert reward == pytest.approx(sum(parts))
+        rewards.append(reward)
+        terms += parts
+    episode = env.episode
+    assert episode is not None
+    trace = episode.trace()
+    plant = episode.plant_forces
+    rows = slice(1, 31)
+    force_error = np.abs(plant.forces[rows] - trace.contact_forces[rows])
+    torques = prong_torques(
+        trace.object_pose[rows], episode._prongs[rows], trace.contact_forces[rows]
+    )
+    assert terms[0] == pytest.approx(-SHORT.w_normal * force_error[:, :, 0].sum(), rel=1e-9)
+    assert terms[1] == pytest.approx(-SHORT.w_tangential * force_error[:, :, 1].sum(), rel=1e-9)
+    expected_torque = -SHORT.w_torque * np.abs(plant.torques[rows] - torques).sum()
+    assert terms[2] == pytest.approx(expected_torque, rel=1e-9)
+    # The nominal plan differs: the reward really uses the plant's parameters.
+    nominal = np.abs(env.plan.forces.forces[rows] - trace.contact_forces[rows])[:, :, 0].sum()
+    assert abs(nominal - force_error[:, :, 0].sum()) > 1e-3
+
+
+def test_a_pose_weight_adds_the_gate_deviation_as_a_penalty() -> None:
+    env = PushEnv(replace(SHORT, w_pose=20.0))
+    env.reset(options=OPTIONS)
+    _, reward, _, _, info = env.step(np.zeros(3))
+    assert info["reward_pose"] < 0.0
+    parts = ("reward_normal", "reward_tangential", "reward_torque", "reward_pose")
+    assert reward == pytest.approx(sum(info[name] for name in parts))
+
+
+def test_a_shut_gate_leaves_the_pd_baseline_untouched() -> None:
+    env = PushEnv(replace(SHORT, gate_threshold=1.0))
+    env.reset(options=OPTIONS)
+    for _ in range(200):
+        _, _, terminated, _, info = env.step(np.ones(3))
+        assert not info["residual_active"]
+    assert terminated
+    assert env.episode is not None
+    with_residual = env.episode.trace()
+    baseline = Episode(env.scenario, env.gains, plan=env.plan).run()
+    np.testing.assert_array_equal(with_residual.object_pose, baseline.object_pose)
+    np.testing.assert_array_equal(with_residual.contact_forces, baseline.contact_forces)
+
+
+def test_an_open_gate_shifts_the_pusher_by_the_residual_over_k_x() -> None:
+    """The residual adds to v_e = v_ff + K_x (x_des − x): a constant residual v moves the
+    pusher v / K_x ahead of its reference once the loop settles (time constant 1 / K_x)."""
+    env = PushEnv(replace(SHORT, gate_threshold=0.0))
+    env.reset(options=OPTIONS)
+    for _ in range(30):
+        env.step(np.array([1.0, 0.0, 0.0]))
+    assert env.episode is not None
+    pushed = env.episode.trace()
+    baseline = Episode(env.scenario, env.gains, plan=env.plan)
+    baseline.reset()
+    for _ in range(30):
+        baseline.step()
+    ahead = pushed.pusher_position[30] - baseline.trace().pusher_position[30]
+    along, _ = _rotate_to(env.plan.trajectory.pose[0, 2], ahead[0], ahead[1])
+    expected = SHORT.action_scale_linear / env.gains.kx_linear
+    assert along == pytest.approx(expected, rel=0.1)
+
+
+def test_one_seed_draws_one_episode_and_another_seed_another() -> None:
+    env = PushEnv(SHORT)
+    first, _ = env.reset(seed=11)
+    scenario = env.scenario
+    again, _ = env.reset(seed=11)
+    np.testing.assert_array_equal(first, again)
+    assert env.scenario == scenario
+    env.reset(seed=12)
+    assert env.scenario != scenario
+
+
+def test_reset_options_fix_the_draw(env: PushEnv) -> None:
+    env.reset(seed=5, options=OPTIONS)
+    assert (env.scenario.object, env.scenario.profile, env.scenario.seed) == (
+        "wedge",
+        "trapezoid",
+        3,
+    )
+    assert env.scenario.plant != env.scenario.nominal  # the sim plant is randomised
+
+
+def test_bad_input_is_refused_with_one_line_errors(env: PushEnv) -> None:
+    fresh = PushEnv(SHORT)
+    with pytest.raises(StateError, match="reset"):
+        fresh.step(np.zeros(3))
+    env.reset(options=OPTIONS)
+    with pytest.raises(ConfigError, match="3 finite numbers"):
+        env.step(np.array([0.0, np.nan, 0.0]))
+    with pytest.raises(ConfigError, match="3 finite numbers"):
+        env.step(np.zeros(2))
+    with pytest.raises(ConfigError, match="unknown reset option 'goal'"):
+        env.reset(options={"goal": 1})
+
+
+@pytest.mark.parametrize(
+    ("values", "message"),
+    [
+        ({"objects": ["sphere"]}, "objects must be a non-empty list of cube, wedge"),
+        ({"profiles": []}, "profiles must be a non-empty list"),
+        ({"plant": "real"}, "plant must be one of sim, proxy"),
+        ({"stream": "test"}, "stream must be one of"),
+        ({"action_scale_linear": 0.0}, "action_scale_linear must be a finite number > 0"),
+        ({"gate_threshold": -1e-3}, "gate_threshold must be a finite number >= 0"),
+        ({"w_torque": float("nan")}, "w_torque must be a finite number >= 0"),
+        ({"w_force": 1.0}, "unknown env key 'w_force'"),
+    ],
+)
+def test_env_config_rejects_bad_values(values: dict, message: str) -> None:
+    with pytest.raises(ConfigError, match=message):
+        EnvConfig.from_mapping(values)
+
+
+def test_env_config_round_trips_through_a_mapping() -> None:
+    config = EnvConfig(objects=("cube",), w_pose=3.0)
+    assert EnvConfig.from_mapping(config.to_dict()) == config
+
+
+def test_the_readme_tables_are_the_code_tables() -> None:
+    text = README.read_text()
+    assert markdown_table(observation_entries(2)) in text
+    assert markdown_table(ACTION_ENTRIES) in text

@@ -1,0 +1,258 @@
+"""The training loop and ``pushctl train``: curves, checkpoints, a killed run resumed to the
+same weights, the collector process, the policy file, and bad input."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+import torch
+from typer.testing import CliRunner
+
+from pushctl.cli import app
+from pushctl.errors import ConfigError
+from pushctl.rl.collect import CURVE_METRICS
+from pushctl.rl.policy import load_policy
+from pushctl.rl.presets import PRESET_NAMES, load_preset
+from pushctl.rl.train import CHECKPOINT, CURVE, POLICY, Trainer, read_checkpoint
+
+TINY = """
+[train]
+episodes = 5
+checkpoint_every = 2
+pd_every = 2
+workers = {workers}
+
+[env]
+objects = ["cube"]
+profiles = ["constant", "trapezoid"]
+duration = 2.0
+gate_threshold = 0.0
+
+[ddpg]
+hidden = [16, 16]
+batch_size = 32
+buffer_size = 2000
+warmup_steps = 200
+updates_per_step = 0.05
+reward_scale = 100.0
+"""
+
+runner = CliRunner()
+
+
+def _preset(tmp_path: Path, workers: int = 0) -> str:
+    path = tmp_path / f"tiny{workers}.toml"
+    path.write_text(TINY.format(workers=workers))
+    return str(path)
+
+
+def _weights(trainer: Trainer) -> dict[str, torch.Tensor]:
+    agent = trainer.agent
+    return {
+        f"{name}.{key}": value
+        for name in ("actor", "critic", "actor_target", "critic_target")
+        for key, value in getattr(agent, name).state_dict().items()
+    }
+
+
+def _assert_same_weights(a: dict[str, torch.Tensor], b: dict[str, torch.Tensor]) -> None:
+    assert a.keys() == b.keys()
+    for key in a:
+        assert torch.equal(a[key], b[key]), key
+
+
+@pytest.fixture(scope="module")
+def straight(tmp_path_factory: pytest.TempPathFactory) -> Trainer:
+    """Five episodes straight through, in this process."""
+    tmp = tmp_path_factory.mktemp("straight")
+    preset = load_preset(_preset(tmp))
+    trainer = Trainer.start(preset, 7, tmp / "run")
+    trainer.run(5, made_by="# made by: test")
+    return trainer
+
+
+def test_the_curve_has_one_row_per_episode_with_rl_and_every_nth_pd(straight: Trainer) -> None:
+    curve = pd.read_csv(straight.out / CURVE, comment="#")
+    assert list(curve["episode"]) == [0, 1, 2, 3, 4]
+    for name in CURVE_METRICS:
+        assert curve[f"rl_{name}"].notna().all()
+        assert list(curve[f"pd_{name}"].notna()) == [True, False, True, False, True]
+    assert set(curve["object"]) == {"cube"}
+    assert (straight.out / CURVE).read_text().startswith("# made by: test")
+    # The trained steps pushed: the RL and PD errors of an episode differ.
+    assert (curve["rl_force_error"] != curve["pd_force_error"]).iloc[[0, 2, 4]].all()
+
+
+def test_updates_follow_the_schedule(straight: Trainer) -> None:
+    # 5 × 200 steps; warm-up 200; 0.05 updates per step after it; the last episode's
+    # updates are still pending (they run while the next episode would be collected).
+    assert straight.agent.env_steps == 1000
+    assert straight.agent.n_updates + straight.pending_updates == round(0.05 * 800)
+    assert straight.pending_updates == 10
+
+
+def test_a_stopped_run_resumes_to_the_same_weights(straight: Trainer, tmp_path: Path) -> None:
+    preset = load_preset(_preset(tmp_path))
+    first = Trainer.start(preset, 7, tmp_path / "run")
+
+    def stop_after_third(progress) -> None:
+        if progress.episodes_done == 3:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        first.run(5, on_episode=stop_after_third, made_by="# made by: test")
+    assert read_checkpoint(tmp_path / "run" / CHECKPOINT)["next_episode"] == 2
+    resumed = Trainer.resume(tmp_path / "run")
+    resumed.run(5, made_by="# made by: test")
+    _assert_same_weights(_weights(resumed), _weights(straight))
+    assert (tmp_path / "run" / CURVE).read_bytes() == (straight.out / CURVE).read_bytes()
+
+
+def test_the_collector_process_gives_the_same_run(straight: Trainer, tmp_path: Path) -> None:
+    preset = load_preset(_preset(tmp_path, workers=1))
+    parallel = Trainer.start(preset, 7, tmp_path / "run")
+    parallel.run(5, made_by="# made by: test")
+    _assert_same_weights(_weights(parallel), _weights(straight))
+
+
+def test_the_policy_file_holds_the_trained_actor(straight: Trainer) -> None:
+    policy = load_policy(straight.out / POLICY)
+    obs = np.linspace(-1.0, 1.0, 15)
+    np.testing.assert_array_equal(policy.actor(obs), straight.agent.policy_action(obs))
+    assert policy.env == straight.preset.env
+
+
+def test_a_killed_cli_run_resumes_to_the_weights_of_a_straight_one(tmp_path: Path) -> None:
+    """SIGKILL mid-run (no clean-up at all), then ``--resume``: the same final weights."""
+    preset = _preset(tmp_path, workers=1)
+    straight_out, killed_out = tmp_path / "straight", tmp_path / "killed"
+    command = [sys.executable, "-m", "pushctl.cli", "train", "--preset", preset, "--seed", "3"]
+    subprocess.run([*command, "--out", str(straight_out)], check=True, capture_output=True)
+
+    process = subprocess.Popen(
+        [*command, "--out", str(killed_out), "--episodes", "9"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
+    deadline = time.monotonic() + 120
+    while not (killed_out / CHECKPOINT).exists() and time.monotonic() < deadline:
+        time.sleep(0.05)
+    os.killpg(process.pid, signal.SIGKILL)  # the learner and its collector
+    process.wait()
+    assert read_checkpoint(killed_out / CHECKPOINT)["next_episode"] < 5
+    resumed = subprocess.run(
+        [sys.executable, "-m", "pushctl.cli", "train", "--resume", "--out", str(killed_out),
+         "--episodes", "5"],
+        capture_output=True, text=True,
+    )  # fmt: skip
+    assert resumed.returncode == 0, resumed.stderr
+    a = Trainer.resume(straight_out)
+    b = Trainer.resume(killed_out)
+    _assert_same_weights(_weights(a), _weights(b))
+
+
+def test_cli_train_writes_the_run_and_reports(tmp_path: Path) -> None:
+    out = tmp_path / "run"
+    result = runner.invoke(app, ["train", "--preset", _preset(tmp_path), "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    assert {p.name for p in out.iterdir()} == {CHECKPOINT, CURVE, POLICY}
+    assert "gradient updates" in result.output
+    first_line = (out / CURVE).read_text().splitlines()[0]
+    assert first_line.startswith("# made by: pushctl train --preset")
+    assert "--seed" not in first_line or "--seed 0" in first_line
+
+
+def _one_line_error(result, *fragments: str) -> None:
+    assert result.exit_code == 2, result.output
+    lines = [line for line in result.output.splitlines() if line.strip()]
+    assert len(lines) == 1 and lines[0].startswith("error: "), result.output
+    for fragment in fragments:
+        assert fragment in lines[0]
+    assert "Traceback" not in result.output
+
+
+def test_bad_input_gives_one_line_errors_and_overwrites_nothing(tmp_path: Path) -> None:
+    preset = _preset(tmp_path)
+    _one_line_error(
+        runner.invoke(app, ["train", "--preset", "huge", "--out", str(tmp_path / "x")]),
+        "unknown preset 'huge'",
+        "quick, paper",
+    )
+    _one_line_error(
+        runner.invoke(app, ["train", "--resume", "--out", str(tmp_path / "none")]),
+        "no checkpoint",
+    )
+    occupied = tmp_path / "occupied"
+    occupied.mkdir()
+    (occupied / "notes.txt").write_text("keep me")
+    _one_line_error(
+        runner.invoke(app, ["train", "--preset", preset, "--out", str(occupied)]),
+        "already holds a run",
+        "--resume",
+        "--force",
+    )
+    assert (occupied / "notes.txt").read_text() == "keep me"
+    _one_line_error(
+        runner.invoke(app, ["train", "--resume", "--force", "--out", str(occupied)]),
+        "exclude each other",
+    )
+    corrupt = tmp_path / "corrupt"
+    corrupt.mkdir()
+    (corrupt / CHECKPOINT).write_bytes(b"not a checkpoint")
+    _one_line_error(runner.invoke(app, ["train", "--resume", "--out", str(corrupt)]), "is corrupt")
+    assert (corrupt / CHECKPOINT).read_bytes() == b"not a checkpoint"
+
+
+def test_resume_refuses_another_seed_or_format(tmp_path: Path) -> None:
+    out = tmp_path / "run"
+    result = runner.invoke(app, ["train", "--preset", _preset(tmp_path), "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    before = (out / CHECKPOINT).read_bytes()
+    _one_line_error(
+        runner.invoke(app, ["train", "--resume", "--seed", "9", "--out", str(out)]),
+        "incompatible",
+        "seed 0",
+    )
+    state = torch.load(out / CHECKPOINT, weights_only=True)
+    state["format"] = 99
+    torch.save(state, out / CHECKPOINT)
+    _one_line_error(runner.invoke(app, ["train", "--resume", "--out", str(out)]), "format 99")
+    state["format"] = 1
+    state["agent"]["obs_dim"] = 4
+    torch.save(state, out / CHECKPOINT)
+    _one_line_error(runner.invoke(app, ["train", "--resume", "--out", str(out)]), "incompatible")
+    del before
+
+
+def test_force_starts_over(tmp_path: Path) -> None:
+    out = tmp_path / "run"
+    preset = _preset(tmp_path)
+    assert runner.invoke(app, ["train", "--preset", preset, "--out", str(out)]).exit_code == 0
+    again = runner.invoke(
+        app, ["train", "--preset", preset, "--out", str(out), "--force", "--episodes", "2"]
+    )
+    assert again.exit_code == 0, again.output
+    assert read_checkpoint(out / CHECKPOINT)["next_episode"] == 2
+
+
+@pytest.mark.parametrize("name", PRESET_NAMES)
+def test_the_shipped_presets_load(name: str) -> None:
+    preset = load_preset(name)
+    assert preset.train.episodes >= 1
+    assert preset.env.w_normal > 0.0
+
+
+def test_a_preset_with_an_unknown_key_is_refused(tmp_path: Path) -> None:
+    path = tmp_path / "bad.toml"
+    path.write_text(TINY.format(workers=0).replace("[train]", "[train]\nepochs = 3"))
+    with pytest.raises(ConfigError, match="unknown key 'epochs'"):
+        load_preset(str(path))
