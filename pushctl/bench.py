@@ -4,7 +4,7 @@ Run as ``python -m pushctl.bench [--out results/bench.csv]``. Each figure is the
 many calls of one operation on one core (this is a single-threaded process), in µs (plans:
 seconds); the CSV
 records how it was made (command, version, git commit, date, machine). The closed-loop rows
-come from :mod:`pushctl.bench_episode`.
+come from :mod:`pushctl.bench_episode`, the learning rows from :mod:`pushctl.bench_rl`.
 """
 
 from __future__ import annotations
@@ -28,6 +28,7 @@ from rich.table import Table
 
 import pushctl
 from pushctl.bench_episode import episode_rows, profile_episode
+from pushctl.bench_rl import rl_rows
 from pushctl.contact.world import World
 from pushctl.provenance import provenance_line, write_csv
 
@@ -185,6 +186,7 @@ def run_benchmarks(repeats: int = 2000) -> list[dict[str, Any]]:
     )
     rows.extend(plan_rows())
     rows.extend(episode_rows())
+    rows.extend(rl_rows())
     return rows
 
 

@@ -11,7 +11,13 @@ from typing import Any
 from pushctl.errors import ConfigError
 
 _POSITIVE_FLOATS = ("actor_lr", "critic_lr", "updates_per_step", "ou_dt", "reward_scale")
-_NON_NEGATIVE_FLOATS = ("ou_theta", "ou_sigma", "critic_grad_clip")
+_NON_NEGATIVE_FLOATS = (
+    "ou_theta",
+    "ou_sigma",
+    "critic_grad_clip",
+    "actor_final_init",
+    "action_penalty",
+)
 _UNIT_FLOATS = ("gamma", "tau")
 _POSITIVE_INTS = ("batch_size", "buffer_size", "torch_threads")
 
@@ -40,6 +46,15 @@ class DDPGConfig:
     - ``ou_dt`` [1.0]: OU time step per environment step [time unit].
     - ``reward_scale`` [1.0]: factor applied to rewards in the critic target [-].
     - ``critic_grad_clip`` [0.0]: maximum global gradient norm of the critic, 0 = no clipping [-].
+    - ``actor_final_init`` [3e-3]: half-width of the uniform initialisation of the actor's
+      output layer; 0 starts the residual at exactly zero, so the first policy *is* the base
+      controller (Residual Policy Learning, Silver et al. 2018) [-].
+    - ``critic_burn_in`` [0]: gradient updates of the critic alone before the actor starts
+      learning, so the actor first follows a critic that has seen the base controller's
+      returns (Residual Policy Learning's burn-in) [updates].
+    - ``action_penalty`` [0.0]: weight of the mean squared action in the actor's loss
+      (−Q + action_penalty·‖a‖²): the residual moves away from zero only where the critic's
+      gain outweighs it; in the critic's units (scaled reward) [-].
     - ``torch_threads`` [1]: intra-op torch threads, applied by the caller through
       :func:`pushctl.rl.ddpg.configure_torch` (process-wide, so not by the agent) [threads].
     """
@@ -58,6 +73,9 @@ class DDPGConfig:
     ou_dt: float = 1.0
     reward_scale: float = 1.0
     critic_grad_clip: float = 0.0
+    actor_final_init: float = 3e-3
+    critic_burn_in: int = 0
+    action_penalty: float = 0.0
     torch_threads: int = 1
 
     def __post_init__(self) -> None:
@@ -75,9 +93,10 @@ class DDPGConfig:
             value = getattr(self, name)
             _check(name, value, _is_int(value) and value > 0, "a positive integer")
             object.__setattr__(self, name, int(value))
-        warmup = self.warmup_steps
-        _check("warmup_steps", warmup, _is_int(warmup) and warmup >= 0, "an integer >= 0")
-        object.__setattr__(self, "warmup_steps", int(warmup))
+        for name in ("warmup_steps", "critic_burn_in"):
+            value = getattr(self, name)
+            _check(name, value, _is_int(value) and value >= 0, "an integer >= 0")
+            object.__setattr__(self, name, int(value))
         for name in _POSITIVE_FLOATS + _NON_NEGATIVE_FLOATS + _UNIT_FLOATS:
             value = getattr(self, name)
             _check(name, value, _is_real(value), "a finite number")

@@ -87,7 +87,7 @@ class DDPGAgent:
         self._torch_gen = torch.Generator().manual_seed(int(torch_seq.generate_state(1)[0]))
         self.actor = Actor(self.obs_dim, self.act_dim, config.hidden)
         self.critic = Critic(self.obs_dim, self.act_dim, config.hidden)
-        initialise(self.actor, self._torch_gen)
+        initialise(self.actor, self._torch_gen, config.actor_final_init)
         initialise(self.critic, self._torch_gen)
         self.actor_target = copy.deepcopy(self.actor).requires_grad_(False)
         self.critic_target = copy.deepcopy(self.critic).requires_grad_(False)
@@ -180,8 +180,9 @@ class DDPGAgent:
         """One gradient step of critic and actor on a sampled batch, then the target updates.
 
         Critic: MSE to ``reward_scale·r + gamma·(1 − done)·Q'(s', mu'(s'))``. Actor: maximise
-        Q(s, mu(s)). Targets: :func:`soft_update` with ``tau``. Returns the critic loss, actor
-        loss (−mean Q) and mean Q of the batch.
+        Q(s, mu(s)) − action_penalty·‖mu(s)‖², from the ``critic_burn_in``-th update on (before
+        it the actor stays as it is). Targets: :func:`soft_update` with ``tau``. Returns the
+        critic loss, actor loss and mean Q of the batch.
         """
         cfg = self.config
         if len(self.replay) < cfg.batch_size:
@@ -202,10 +203,17 @@ class DDPGAgent:
             nn.utils.clip_grad_norm_(self.critic.parameters(), cfg.critic_grad_clip)
         self.critic_optim.step()
 
-        actor_loss = -self.critic(obs, self.actor(obs)).mean()
-        self.actor_optim.zero_grad(set_to_none=True)
-        actor_loss.backward()
-        self.actor_optim.step()
+        if self._updates >= cfg.critic_burn_in:
+            action = self.actor(obs)
+            actor_loss = -self.critic(obs, action).mean()
+            if cfg.action_penalty > 0.0:
+                actor_loss = actor_loss + cfg.action_penalty * action.square().sum(dim=1).mean()
+            self.actor_optim.zero_grad(set_to_none=True)
+            actor_loss.backward()
+            self.actor_optim.step()
+        else:
+            with torch.no_grad():
+                actor_loss = -self.critic(obs, self.actor(obs)).mean()
 
         soft_update(self.critic_target, self.critic, cfg.tau)
         soft_update(self.actor_target, self.actor, cfg.tau)

@@ -68,17 +68,20 @@ class Critic(nn.Module):
 
 
 @torch.no_grad()
-def initialise(module: nn.Module, generator: torch.Generator) -> None:
+def initialise(
+    module: nn.Module, generator: torch.Generator, final_bound: float = FINAL_LAYER_BOUND
+) -> None:
     """Initialise every ``nn.Linear`` of ``module`` from ``generator`` (never the global RNG).
 
     Hidden layers: weights and biases ~ U(−1/√fan_in, 1/√fan_in). The last ``nn.Linear`` in
-    registration order (the output layer): ~ U(−3e-3, 3e-3), so initial actions and Q values
-    are near zero, as in Lillicrap et al. (2016). Layers are drawn in registration order.
+    registration order (the output layer): ~ U(−final_bound, final_bound), 3e-3 by default,
+    so initial actions and Q values are near zero, as in Lillicrap et al. (2016); 0 makes
+    them exactly zero. Layers are drawn in registration order.
     """
     linears = [m for m in module.modules() if isinstance(m, nn.Linear)]
     for i, layer in enumerate(linears):
         last = i == len(linears) - 1
-        bound = FINAL_LAYER_BOUND if last else 1.0 / math.sqrt(layer.in_features)
+        bound = final_bound if last else 1.0 / math.sqrt(layer.in_features)
         nn.init.uniform_(layer.weight, -bound, bound, generator=generator)
         if layer.bias is not None:
             nn.init.uniform_(layer.bias, -bound, bound, generator=generator)

@@ -407,3 +407,51 @@ def test_learns_to_stop_a_double_integrator_at_the_origin():
     assert agent.n_updates == 4500
     assert -trained < 0.4 * -random and -trained < 0.7 * -zero, (trained, zero, random)
     assert seconds < 50.0
+
+
+# --- residual-policy options ------------------------------------------------------------------
+
+
+def test_a_zero_final_layer_starts_the_residual_at_exactly_zero():
+    agent = _agent(DDPGConfig(hidden=(16, 16), batch_size=8, buffer_size=64, actor_final_init=0.0))
+    obs = np.random.default_rng(0).normal(size=(10, OBS))
+    assert np.all(agent.policy_action(obs) == 0.0)
+
+
+def test_critic_burn_in_leaves_the_actor_until_it_ends():
+    config = DDPGConfig(
+        hidden=(16, 16), batch_size=8, buffer_size=64, warmup_steps=0, critic_burn_in=5
+    )
+    agent = _agent(config)
+    rng = np.random.default_rng(1)
+    agent.observe(
+        rng.normal(size=(32, OBS)), rng.uniform(-1, 1, (32, ACT)), rng.normal(size=32),
+        rng.normal(size=(32, OBS)), np.zeros(32),
+    )  # fmt: skip
+    actor = [p.clone() for p in agent.actor.parameters()]
+    critic = [p.clone() for p in agent.critic.parameters()]
+    for _ in range(5):
+        agent.update()
+    assert all(torch.equal(a, b) for a, b in zip(actor, agent.actor.parameters(), strict=True))
+    assert not all(
+        torch.equal(a, b) for a, b in zip(critic, agent.critic.parameters(), strict=True)
+    )
+    agent.update()
+    assert not all(torch.equal(a, b) for a, b in zip(actor, agent.actor.parameters(), strict=True))
+
+
+def test_the_action_penalty_pulls_the_actor_towards_zero():
+    """With a critic that ignores the action, only the penalty moves the actor: its actions
+    shrink."""
+    config = DDPGConfig(
+        hidden=(16, 16), batch_size=32, buffer_size=64, warmup_steps=0, action_penalty=10.0,
+        actor_final_init=0.3, critic_lr=1e-12, actor_lr=1e-2,
+    )  # fmt: skip
+    agent = _agent(config)
+    rng = np.random.default_rng(2)
+    obs = rng.normal(size=(64, OBS))
+    agent.observe(obs, rng.uniform(-1, 1, (64, ACT)), np.zeros(64), obs, np.zeros(64))
+    before = np.abs(agent.policy_action(obs)).mean()
+    for _ in range(50):
+        agent.update()
+    assert np.abs(agent.policy_action(obs)).mean() < 0.2 * before
