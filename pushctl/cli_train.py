@@ -57,7 +57,7 @@ def prepare_trainer(
             "or --force to start over"
         )
     if force:
-        for stale in (CHECKPOINT, CURVE, POLICY):
+        for stale in (CHECKPOINT, CURVE, POLICY, LAST_POLICY, VALIDATION):
             (directory / stale).unlink(missing_ok=True)
     return Trainer.start(chosen, seed or 0, directory)
 

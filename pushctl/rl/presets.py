@@ -28,16 +28,27 @@ class TrainConfig:
     episode's scenario every n-th episode for the training curves (1: every episode).
     ``workers``: 0 runs the episodes in the learner's process; 1 runs them in one collector
     process beside the learner (the learner updates on episode e − 1 while episode e runs,
-    so the results are identical either way).
+    so the results are identical either way). ``validate_every``: score the deterministic
+    actor on the validation set every n-th episode and keep the best for ``policy.pt``
+    (0: never; keep the last); ``validation_per_cell``: its scenarios per object × profile
+    (:mod:`pushctl.rl.validate`).
     """
 
     episodes: int = 40
     checkpoint_every: int = 10
     pd_every: int = 1
     workers: int = 1
+    validate_every: int = 0
+    validation_per_cell: int = 2
 
     def __post_init__(self) -> None:
-        for name, low in (("episodes", 1), ("checkpoint_every", 1), ("pd_every", 1)):
+        for name, low in (
+            ("episodes", 1),
+            ("checkpoint_every", 1),
+            ("pd_every", 1),
+            ("validate_every", 0),
+            ("validation_per_cell", 1),
+        ):
             _check_int(name, getattr(self, name), low)
         if self.workers not in (0, 1) or isinstance(self.workers, bool):
             raise ConfigError(f"train workers must be 0 or 1, got {self.workers!r}")

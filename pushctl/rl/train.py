@@ -8,7 +8,8 @@ schedule needs, so a resumed run continues bit for bit.
 
 Files in a run directory: ``checkpoint.pt`` (atomic, every ``checkpoint_every`` episodes and
 at the end), ``curve.csv`` (one row per episode, rewritten atomically with each checkpoint),
-``policy.pt`` (the final actor, for evaluation).
+``policy.pt`` (the actor to evaluate: the best on the validation set when the preset
+validates, else the last), ``policy_last.pt`` (the last actor) and ``validation.csv``.
 """
 
 from __future__ import annotations
@@ -41,10 +42,13 @@ from pushctl.rl.env import PushEnv
 from pushctl.rl.policy import write_policy
 from pushctl.rl.presets import Preset
 from pushctl.rl.spaces import observation_entries, scales
+from pushctl.rl.validate import Validator
 
 CHECKPOINT = "checkpoint.pt"
 CURVE = "curve.csv"
 POLICY = "policy.pt"
+LAST_POLICY = "policy_last.pt"
+VALIDATION = "validation.csv"
 CHECKPOINT_FORMAT = 1
 """Bumped when a checkpoint's layout changes; an older one is refused, not misread."""
 
@@ -75,7 +79,10 @@ class Trainer:
         self.next_episode = 0
         self.pending_updates = 0
         self.rows: list[dict[str, Any]] = []
+        self.validation: list[dict[str, Any]] = []
+        self.best_actor: dict[str, Any] | None = None
         self.made_by = ""
+        self._validator: Validator | None = None
 
     @classmethod
     def start(cls, preset: Preset, seed: int, out: Path, gains: PDGains | None = None) -> Trainer:
@@ -94,6 +101,8 @@ class Trainer:
             trainer.pending_updates = int(state["pending_updates"])
             trainer.rows = [dict(row) for row in state["rows"]]
             trainer.made_by = str(state["made_by"])
+            trainer.validation = [dict(row) for row in state["validation"]]
+            trainer.best_actor = state["best_actor"]
         except ConfigError as exc:
             raise ConfigError(f"checkpoint {out / CHECKPOINT} is incompatible: {exc}") from None
         except (KeyError, TypeError, ValueError, RuntimeError) as exc:
@@ -123,6 +132,8 @@ class Trainer:
             while self.next_episode < episodes:
                 e = self.next_episode
                 future = collector.submit(e, self._behaviour(e), self._run_pd(e))
+                if self._validate_due(e):
+                    self._validate(e)  # the actor episode e runs with, while it runs
                 self._do_pending_updates()
                 record = future.result()
                 self._absorb(record)
@@ -130,8 +141,14 @@ class Trainer:
                     on_episode(clock.progress(record, self.next_episode, episodes))
                 if self.next_episode % self.preset.train.checkpoint_every == 0:
                     self.save()
+        if self.preset.train.validate_every:
+            self._validate(self.next_episode)
         self.save()
-        write_policy(self.out / POLICY, self.agent.actor_state(), self.preset.env, self.made_by)
+        last = self.agent.actor_state()
+        env, made_by = self.preset.env, self.made_by
+        write_policy(self.out / LAST_POLICY, last, env, made_by)
+        chosen = self.best_actor if self.best_actor is not None else last
+        write_policy(self.out / POLICY, chosen, env, made_by)
 
     # ------------------------------------------------------------------ checkpoints
 
@@ -144,6 +161,8 @@ class Trainer:
             "pending_updates": self.pending_updates,
             "rows": self.rows,
             "made_by": self.made_by,
+            "validation": self.validation,
+            "best_actor": self.best_actor,
             "agent": self.agent.state_dict(),
         }
 
@@ -153,6 +172,8 @@ class Trainer:
         torch.save(self.state_dict(), buffer)
         _write_bytes(self.out / CHECKPOINT, buffer.getvalue())
         write_csv(self.out / CURVE, self.curve(), self.made_by)
+        if self.validation:
+            write_csv(self.out / VALIDATION, pd.DataFrame(self.validation), self.made_by)
 
     def curve(self) -> pd.DataFrame:
         """One row per episode: its scenario, RL errors ``rl_*``, PD-only errors ``pd_*``
@@ -177,6 +198,37 @@ class Trainer:
     def _steps_per_episode(self) -> int:
         env = self.preset.env
         return round(env.duration / env.dt)
+
+    def _validate_due(self, episode: int) -> bool:
+        every = self.preset.train.validate_every
+        done = {row["episode"] for row in self.validation}
+        return every > 0 and episode % every == 0 and episode not in done
+
+    def _validate(self, episode: int) -> None:
+        """Score the current actor on the validation set; keep it if it is the best yet
+        (ties keep the earlier one, so a run that never beats PD-only keeps the zero
+        residual it started with)."""
+        if self._validator is None:
+            train = self.preset.train
+            self._validator = Validator(self.preset.env, self.gains, train.validation_per_cell)
+        actor = self.agent.actor_state()
+        result = self._validator.score(actor)
+        best = min((row["score"] for row in self.validation), default=math.inf)
+        kept = result.score < best
+        if kept:
+            self.best_actor = actor
+        self.validation.append(
+            {
+                "episode": episode,
+                "updates": self.agent.n_updates,
+                "force_error": result.force_error,
+                "pd_force_error": result.pd_force_error,
+                "translation_error_pct": result.translation_error_pct,
+                "pd_translation_error_pct": result.pd_translation_error_pct,
+                "score": result.score,
+                "kept": kept,
+            }
+        )
 
     def _run_pd(self, episode: int) -> bool:
         return episode % self.preset.train.pd_every == 0
