@@ -29,7 +29,7 @@ bench: $(STAMP)
 	$(PY) -m pushctl.bench --profile --out results/bench.csv
 
 reproduce-tables: $(STAMP)
-	@echo "reproduce-tables: training, evaluation and the report are not built yet (issues 5-6)." >&2
+	@echo "reproduce-tables: evaluation and the report are not built yet (issue 6); training is: pushctl train --preset paper" >&2
 	@exit 2
 
 clean:

@@ -19,11 +19,14 @@ from rich.table import Table
 
 from pushctl.errors import ConfigError
 from pushctl.rl.presets import load_preset
-from pushctl.rl.train import CHECKPOINT, CURVE, POLICY, Trainer
+from pushctl.rl.train import CHECKPOINT, CURVE, LAST_POLICY, POLICY, VALIDATION, Trainer
 from pushctl.rl.train import Progress as TrainProgress
 
 RECENT = 20
 """Episodes averaged for the progress line's recent errors."""
+LOG_EVERY = 25
+"""Episodes between the plain progress lines printed when the output is not a terminal
+(a log file or a pipe, where a live display would show nothing until the end)."""
 
 
 def prepare_trainer(
@@ -81,12 +84,15 @@ def run_with_progress(trainer: Trainer, episodes: int, made_by: str, console: Co
 
         def show(update: TrainProgress) -> None:
             recent.append(update)
-            progress.update(
-                task,
-                completed=update.episodes_done,
-                rates=f"{update.env_steps_per_s:,.0f} steps/s {update.updates_per_s:,.1f} upd/s",
-                errors=_recent_errors(recent),
-            )
+            rates = f"{update.env_steps_per_s:,.0f} steps/s {update.updates_per_s:,.1f} upd/s"
+            errors = _recent_errors(recent)
+            progress.update(task, completed=update.episodes_done, rates=rates, errors=errors)
+            done = update.episodes_done
+            if not console.is_terminal and (done % LOG_EVERY == 0 or done == episodes):
+                console.print(
+                    f"episode {done}/{episodes}  {update.elapsed:,.0f} s  {rates}  {errors}",
+                    highlight=False,
+                )
 
         trainer.run(episodes, on_episode=show, made_by=made_by)
 

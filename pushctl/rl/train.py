@@ -16,6 +16,8 @@ from __future__ import annotations
 
 import io
 import math
+import os
+import threading
 import time
 from collections.abc import Callable
 from concurrent.futures import Future, ProcessPoolExecutor
@@ -309,6 +311,15 @@ def _worker_init(preset: Preset, gains: PDGains) -> None:
     global _WORKER_ENV
     torch.set_num_threads(1)
     _WORKER_ENV = PushEnv(preset.env, gains)
+    threading.Thread(target=_exit_with_parent, args=(os.getppid(),), daemon=True).start()
+
+
+def _exit_with_parent(parent: int) -> None:
+    """End the collector when the learner is gone: a learner killed outright (SIGKILL,
+    SIGTERM) runs no clean-up, and the pool's worker would otherwise wait for work forever."""
+    while os.getppid() == parent:
+        time.sleep(1.0)
+    os._exit(0)
 
 
 def _worker_collect(seed: int, episode: int, behaviour: Behaviour, run_pd: bool) -> EpisodeRecord:

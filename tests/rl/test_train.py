@@ -21,7 +21,15 @@ from pushctl.errors import ConfigError
 from pushctl.rl.collect import CURVE_METRICS
 from pushctl.rl.policy import load_policy
 from pushctl.rl.presets import PRESET_NAMES, load_preset
-from pushctl.rl.train import CHECKPOINT, CURVE, POLICY, Trainer, read_checkpoint
+from pushctl.rl.train import (
+    CHECKPOINT,
+    CURVE,
+    LAST_POLICY,
+    POLICY,
+    VALIDATION,
+    Trainer,
+    read_checkpoint,
+)
 
 TINY = """
 [train]
@@ -29,6 +37,8 @@ episodes = 5
 checkpoint_every = 2
 pd_every = 2
 workers = {workers}
+validate_every = 2
+validation_per_cell = 1
 
 [env]
 objects = ["cube"]
@@ -123,15 +133,45 @@ def test_the_collector_process_gives_the_same_run(straight: Trainer, tmp_path: P
     _assert_same_weights(_weights(parallel), _weights(straight))
 
 
-def test_the_policy_file_holds_the_trained_actor(straight: Trainer) -> None:
-    policy = load_policy(straight.out / POLICY)
+def test_the_last_policy_file_holds_the_trained_actor(straight: Trainer) -> None:
+    policy = load_policy(straight.out / LAST_POLICY)
     obs = np.linspace(-1.0, 1.0, 15)
     np.testing.assert_array_equal(policy.actor(obs), straight.agent.policy_action(obs))
     assert policy.env == straight.preset.env
 
 
+def test_validation_keeps_the_best_scoring_actor(straight: Trainer) -> None:
+    table = pd.read_csv(straight.out / VALIDATION, comment="#")
+    assert list(table["episode"]) == [0, 2, 4, 5]  # every 2nd episode, and the end
+    running_best = table["score"].cummin()
+    kept = table["score"] < running_best.shift(fill_value=np.inf)
+    assert list(table["kept"]) == list(kept)
+    # PD-only is the same validation set every time.
+    assert table["pd_force_error"].nunique() == 1
+    best = load_policy(straight.out / POLICY)
+    assert straight.best_actor is not None
+    obs = np.linspace(-1.0, 1.0, 15)
+    from pushctl.rl.networks import ActorPolicy
+
+    np.testing.assert_array_equal(best.actor(obs), ActorPolicy.from_state(straight.best_actor)(obs))
+
+
+def _children(pid: int) -> list[int]:
+    """Processes whose parent is ``pid`` (Linux /proc)."""
+    children = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        if int(fields[1]) == pid:
+            children.append(int(stat.parent.name))
+    return children
+
+
 def test_a_killed_cli_run_resumes_to_the_weights_of_a_straight_one(tmp_path: Path) -> None:
-    """SIGKILL mid-run (no clean-up at all), then ``--resume``: the same final weights."""
+    """SIGKILL to the learner mid-run (no clean-up at all): its collector process exits by
+    itself, and ``--resume`` ends with the weights of a run straight through."""
     preset = _preset(tmp_path, workers=1)
     straight_out, killed_out = tmp_path / "straight", tmp_path / "killed"
     command = [sys.executable, "-m", "pushctl.cli", "train", "--preset", preset, "--seed", "3"]
@@ -141,13 +181,18 @@ def test_a_killed_cli_run_resumes_to_the_weights_of_a_straight_one(tmp_path: Pat
         [*command, "--out", str(killed_out), "--episodes", "9"],
         stdout=subprocess.DEVNULL,
         stderr=subprocess.DEVNULL,
-        start_new_session=True,
     )
     deadline = time.monotonic() + 120
     while not (killed_out / CHECKPOINT).exists() and time.monotonic() < deadline:
         time.sleep(0.05)
-    os.killpg(process.pid, signal.SIGKILL)  # the learner and its collector
+    collectors = _children(process.pid)
+    assert collectors, "the preset runs one collector process"
+    os.kill(process.pid, signal.SIGKILL)  # the learner only: no clean-up runs
     process.wait()
+    deadline = time.monotonic() + 10
+    while any(Path(f"/proc/{pid}").exists() for pid in collectors):
+        assert time.monotonic() < deadline, "the collector outlived its learner"
+        time.sleep(0.1)
     assert read_checkpoint(killed_out / CHECKPOINT)["next_episode"] < 5
     resumed = subprocess.run(
         [sys.executable, "-m", "pushctl.cli", "train", "--resume", "--out", str(killed_out),
@@ -164,7 +209,7 @@ def test_cli_train_writes_the_run_and_reports(tmp_path: Path) -> None:
     out = tmp_path / "run"
     result = runner.invoke(app, ["train", "--preset", _preset(tmp_path), "--out", str(out)])
     assert result.exit_code == 0, result.output
-    assert {p.name for p in out.iterdir()} == {CHECKPOINT, CURVE, POLICY}
+    assert {p.name for p in out.iterdir()} == {CHECKPOINT, CURVE, POLICY, LAST_POLICY, VALIDATION}
     assert "gradient updates" in result.output
     first_line = (out / CURVE).read_text().splitlines()[0]
     assert first_line.startswith("# made by: pushctl train --preset")
