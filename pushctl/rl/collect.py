@@ -125,6 +125,15 @@ def collect_episode(
     )
 
 
+def pd_only_metrics(env: PushEnv, seed: int, episode: int) -> dict[str, float]:
+    """PD-only on the scenario and plan episode ``episode`` of the run with ``seed`` draws
+    (``env`` only draws and plans it: the same draw as :func:`collect_episode`'s), as
+    :data:`CURVE_METRICS`. The learner runs it while the collector runs the RL episode."""
+    reset_seed, _ = episode_rngs(seed, episode)
+    env.reset(seed=reset_seed)
+    return _curve_metrics(Episode(env.scenario, env.gains, plan=env.plan).run())
+
+
 def _acting(behaviour: Behaviour, rng: np.random.Generator):
     """obs (d,) → action (3,) in [−1, 1]: the OU noise alone in warm-up, else actor + noise.
 

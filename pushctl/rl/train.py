@@ -21,7 +21,7 @@ import threading
 import time
 from collections.abc import Callable
 from concurrent.futures import Future, ProcessPoolExecutor
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from multiprocessing import get_context
 from pathlib import Path
 from typing import Any
@@ -37,6 +37,7 @@ from pushctl.rl.collect import (
     Behaviour,
     EpisodeRecord,
     collect_episode,
+    pd_only_metrics,
     portable,
 )
 from pushctl.rl.ddpg import DDPGAgent, configure_torch
@@ -85,6 +86,7 @@ class Trainer:
         self.best_actor: dict[str, Any] | None = None
         self.made_by = ""
         self._validator: Validator | None = None
+        self._pd_env: PushEnv | None = None
 
     @classmethod
     def start(cls, preset: Preset, seed: int, out: Path, gains: PDGains | None = None) -> Trainer:
@@ -133,11 +135,14 @@ class Trainer:
         with _Collector(self.preset, self.gains, self.seed) as collector:
             while self.next_episode < episodes:
                 e = self.next_episode
-                future = collector.submit(e, self._behaviour(e), self._run_pd(e))
+                future = collector.submit(e, self._behaviour(e), run_pd=False)
+                # While episode e runs in the collector: validation, the updates due, and
+                # PD-only on episode e's scenario (the learner's core has time to spare).
                 if self._validate_due(e):
-                    self._validate(e)  # the actor episode e runs with, while it runs
+                    self._validate(e)  # the actor episode e runs with
                 self._do_pending_updates()
-                record = future.result()
+                pd_metrics = self._pd_metrics(e) if self._run_pd(e) else None
+                record = replace(future.result(), pd=pd_metrics)
                 self._absorb(record)
                 if on_episode is not None:
                     on_episode(clock.progress(record, self.next_episode, episodes))
@@ -231,6 +236,11 @@ class Trainer:
                 "kept": kept,
             }
         )
+
+    def _pd_metrics(self, episode: int) -> dict[str, float]:
+        if self._pd_env is None:
+            self._pd_env = PushEnv(self.preset.env, self.gains)
+        return pd_only_metrics(self._pd_env, self.seed, episode)
 
     def _run_pd(self, episode: int) -> bool:
         return episode % self.preset.train.pd_every == 0
