@@ -26,9 +26,10 @@ class TrainConfig:
     ``episodes``: episodes to run (each one push of ``EnvConfig.duration``).
     ``checkpoint_every``: episodes between checkpoints. ``pd_every``: run PD-only on the
     episode's scenario every n-th episode for the training curves (1: every episode).
-    ``workers``: 0 runs the episodes in the learner's process; 1 runs them in one collector
-    process beside the learner (the learner updates on episode e − 1 while episode e runs,
-    so the results are identical either way). ``validate_every``: score the deterministic
+    ``episodes_per_round``: episodes run at once with one actor (see
+    :mod:`pushctl.rl.train`); part of the learning schedule. ``workers``: collector processes
+    running them beside the learner (0: in the learner's process); the results do not
+    depend on it. ``validate_every``: score the deterministic
     actor on the validation set every n-th episode and keep the best for ``policy.pt``
     (0: never; keep the last); ``validation_per_cell``: its scenarios per object × profile
     (:mod:`pushctl.rl.validate`).
@@ -37,6 +38,7 @@ class TrainConfig:
     episodes: int = 40
     checkpoint_every: int = 10
     pd_every: int = 1
+    episodes_per_round: int = 1
     workers: int = 1
     validate_every: int = 0
     validation_per_cell: int = 2
@@ -46,12 +48,14 @@ class TrainConfig:
             ("episodes", 1),
             ("checkpoint_every", 1),
             ("pd_every", 1),
+            ("episodes_per_round", 1),
             ("validate_every", 0),
             ("validation_per_cell", 1),
         ):
             _check_int(name, getattr(self, name), low)
-        if self.workers not in (0, 1) or isinstance(self.workers, bool):
-            raise ConfigError(f"train workers must be 0 or 1, got {self.workers!r}")
+        _check_int("workers", self.workers, 0)
+        if self.workers > 8:
+            raise ConfigError(f"train workers must be an integer in 0..8, got {self.workers!r}")
 
 
 @dataclass(frozen=True)

@@ -1,9 +1,10 @@
 """The training loop: episodes from :mod:`pushctl.rl.collect`, DDPG updates, checkpoints,
 and the per-episode training curves (the paper's Fig. 5).
 
-Schedule (the same with or without a collector process): episode e runs with the actor as it
-was after the updates credited to episodes ≤ e − 2; while it runs, the learner does the
-updates credited to episode e − 1. A checkpoint after episode e holds everything that
+Schedule (the same with or without collector processes, and with any number of them): the
+episodes run in rounds of ``episodes_per_round``; the episodes of round r run with the actor
+as it was after the updates credited to rounds ≤ r − 2, and while they run the learner does
+the updates credited to round r − 1. A checkpoint after a round holds everything that
 schedule needs, so a resumed run continues bit for bit.
 
 Files in a run directory: ``checkpoint.pt`` (atomic, every ``checkpoint_every`` episodes and
@@ -132,21 +133,27 @@ class Trainer:
         self.out.mkdir(parents=True, exist_ok=True)
         configure_torch(self.preset.ddpg.torch_threads)
         clock = _Rates(self.agent)
+        train = self.preset.train
         with _Collector(self.preset, self.gains, self.seed) as collector:
             while self.next_episode < episodes:
-                e = self.next_episode
-                future = collector.submit(e, self._behaviour(e), run_pd=False)
-                # While episode e runs in the collector: validation, the updates due, and
-                # PD-only on episode e's scenario (the learner's core has time to spare).
-                if self._validate_due(e):
-                    self._validate(e)  # the actor episode e runs with
+                first = self.next_episode
+                round_ = range(first, min(first + train.episodes_per_round, episodes))
+                behaviour = self._behaviour(first)
+                futures = [collector.submit(e, behaviour, run_pd=False) for e in round_]
+                # While the round's episodes run in the collectors: validation, the updates
+                # due, and PD-only on the round's scenarios.
+                due = [e for e in round_ if self._validate_due(e)]
+                if due:
+                    self._validate(due[0])  # the actor the round runs with
                 self._do_pending_updates()
-                pd_metrics = self._pd_metrics(e) if self._run_pd(e) else None
-                record = replace(future.result(), pd=pd_metrics)
-                self._absorb(record)
-                if on_episode is not None:
-                    on_episode(clock.progress(record, self.next_episode, episodes))
-                if self.next_episode % self.preset.train.checkpoint_every == 0:
+                pd_metrics = [self._pd_metrics(e) if self._run_pd(e) else None for e in round_]
+                for future, metrics in zip(futures, pd_metrics, strict=True):
+                    record = replace(future.result(), pd=metrics)
+                    self._absorb(record)
+                    if on_episode is not None:
+                        on_episode(clock.progress(record, self.next_episode, episodes))
+                every = train.checkpoint_every
+                if self.next_episode // every > first // every:
                     self.save()
         if self.preset.train.validate_every:
             self._validate(self.next_episode)
@@ -207,6 +214,7 @@ class Trainer:
         return round(env.duration / env.dt)
 
     def _validate_due(self, episode: int) -> bool:
+        """A multiple of ``validate_every`` not yet validated."""
         every = self.preset.train.validate_every
         done = {row["episode"] for row in self.validation}
         return every > 0 and episode % every == 0 and episode not in done
@@ -339,7 +347,7 @@ def _worker_collect(seed: int, episode: int, behaviour: Behaviour, run_pd: bool)
 
 
 class _Collector:
-    """Runs episodes in this process (``workers`` 0) or in one spawned process (1)."""
+    """Runs episodes in this process (``workers`` 0) or in ``workers`` spawned processes."""
 
     def __init__(self, preset: Preset, gains: PDGains, seed: int) -> None:
         self.preset, self.gains, self.seed = preset, gains, seed
@@ -347,9 +355,9 @@ class _Collector:
         self._env: PushEnv | None = None
 
     def __enter__(self) -> _Collector:
-        if self.preset.train.workers == 1:
+        if self.preset.train.workers > 0:
             self._pool = ProcessPoolExecutor(
-                max_workers=1,
+                max_workers=self.preset.train.workers,
                 mp_context=get_context("spawn"),
                 initializer=_worker_init,
                 initargs=(self.preset, self.gains),

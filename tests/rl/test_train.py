@@ -37,6 +37,7 @@ episodes = 5
 checkpoint_every = 2
 pd_every = 2
 workers = {workers}
+episodes_per_round = {per_round}
 validate_every = 2
 validation_per_cell = 1
 
@@ -58,9 +59,9 @@ reward_scale = 100.0
 runner = CliRunner()
 
 
-def _preset(tmp_path: Path, workers: int = 0) -> str:
-    path = tmp_path / f"tiny{workers}.toml"
-    path.write_text(TINY.format(workers=workers))
+def _preset(tmp_path: Path, workers: int = 0, per_round: int = 1) -> str:
+    path = tmp_path / f"tiny{workers}-{per_round}.toml"
+    path.write_text(TINY.format(workers=workers, per_round=per_round))
     return str(path)
 
 
@@ -131,6 +132,20 @@ def test_the_collector_process_gives_the_same_run(straight: Trainer, tmp_path: P
     parallel = Trainer.start(preset, 7, tmp_path / "run")
     parallel.run(5, made_by="# made by: test")
     _assert_same_weights(_weights(parallel), _weights(straight))
+
+
+def test_rounds_of_episodes_give_the_same_run_with_any_number_of_collectors(
+    tmp_path: Path,
+) -> None:
+    runs = []
+    for workers in (0, 2):
+        preset = load_preset(_preset(tmp_path, workers=workers, per_round=2))
+        trainer = Trainer.start(preset, 7, tmp_path / f"run{workers}")
+        trainer.run(5, made_by="# made by: test")
+        runs.append(trainer)
+    _assert_same_weights(_weights(runs[0]), _weights(runs[1]))
+    assert (runs[0].out / CURVE).read_bytes() == (runs[1].out / CURVE).read_bytes()
+    assert runs[0].agent.n_updates > 0
 
 
 def test_the_last_policy_file_holds_the_trained_actor(straight: Trainer) -> None:
@@ -298,6 +313,6 @@ def test_the_shipped_presets_load(name: str) -> None:
 
 def test_a_preset_with_an_unknown_key_is_refused(tmp_path: Path) -> None:
     path = tmp_path / "bad.toml"
-    path.write_text(TINY.format(workers=0).replace("[train]", "[train]\nepochs = 3"))
+    path.write_text(TINY.format(workers=0, per_round=1).replace("[train]", "[train]\nepochs = 3"))
     with pytest.raises(ConfigError, match="unknown key 'epochs'"):
         load_preset(str(path))
