@@ -52,9 +52,11 @@ class DDPGConfig:
     - ``critic_burn_in`` [0]: gradient updates of the critic alone before the actor starts
       learning, so the actor first follows a critic that has seen the base controller's
       returns (Residual Policy Learning's burn-in) [updates].
-    - ``action_penalty`` [0.0]: weight of the mean squared action in the actor's loss
-      (−Q + action_penalty·‖a‖²): the residual moves away from zero only where the critic's
-      gain outweighs it; in the critic's units (scaled reward) [-].
+    - ``action_penalty`` [0.0]: weight of ‖z‖², z the actor's output *before* its tanh, in
+      the actor's loss (−Q + action_penalty·‖z‖²): the residual moves away from zero only
+      where the critic's gain outweighs it, and, unlike a penalty on the action itself,
+      whose gradient vanishes where the tanh saturates, it pulls a saturated actor back;
+      in the critic's units (scaled reward) [-].
     - ``torch_threads`` [1]: intra-op torch threads, applied by the caller through
       :func:`pushctl.rl.ddpg.configure_torch` (process-wide, so not by the agent) [threads].
     """

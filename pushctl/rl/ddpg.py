@@ -180,7 +180,7 @@ class DDPGAgent:
         """One gradient step of critic and actor on a sampled batch, then the target updates.
 
         Critic: MSE to ``reward_scale·r + gamma·(1 − done)·Q'(s', mu'(s'))``. Actor: maximise
-        Q(s, mu(s)) − action_penalty·‖mu(s)‖², from the ``critic_burn_in``-th update on (before
+        Q(s, mu(s)) − action_penalty·‖z(s)‖² (z the actor's output before its tanh), from the ``critic_burn_in``-th update on (before
         it the actor stays as it is). Targets: :func:`soft_update` with ``tau``. Returns the
         critic loss, actor loss and mean Q of the batch.
         """
@@ -204,10 +204,11 @@ class DDPGAgent:
         self.critic_optim.step()
 
         if self._updates >= cfg.critic_burn_in:
-            action = self.actor(obs)
-            actor_loss = -self.critic(obs, action).mean()
+            pre_tanh = self.actor.net(obs)
+            actor_loss = -self.critic(obs, torch.tanh(pre_tanh)).mean()
             if cfg.action_penalty > 0.0:
-                actor_loss = actor_loss + cfg.action_penalty * action.square().sum(dim=1).mean()
+                penalty = pre_tanh.square().sum(dim=1).mean()
+                actor_loss = actor_loss + cfg.action_penalty * penalty
             self.actor_optim.zero_grad(set_to_none=True)
             actor_loss.backward()
             self.actor_optim.step()
