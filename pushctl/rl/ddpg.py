@@ -180,8 +180,8 @@ class DDPGAgent:
         """One gradient step of critic and actor on a sampled batch, then the target updates.
 
         Critic: MSE to ``reward_scale·r + gamma·(1 − done)·Q'(s', mu'(s'))``. Actor: maximise
-        Q(s, mu(s)) − action_penalty·‖z(s)‖² (z the actor's output before its tanh), from the ``critic_burn_in``-th update on (before
-        it the actor stays as it is). Targets: :func:`soft_update` with ``tau``. Returns the
+        Q(s, mu(s)) − action_penalty·‖z(s)‖², z the actor's output before its tanh, from the
+        ``critic_burn_in``-th update on (before it the actor stays as it is). Targets: :func:`soft_update` with ``tau``. Returns the
         critic loss, actor loss and mean Q of the batch.
         """
         cfg = self.config
