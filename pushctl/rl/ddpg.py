@@ -181,8 +181,9 @@ class DDPGAgent:
 
         Critic: MSE to ``reward_scale·r + gamma·(1 − done)·Q'(s', mu'(s'))``. Actor: maximise
         Q(s, mu(s)) − action_penalty·‖z(s)‖², z the actor's output before its tanh, from the
-        ``critic_burn_in``-th update on (before it the actor stays as it is). Targets: :func:`soft_update` with ``tau``. Returns the
-        critic loss, actor loss and mean Q of the batch.
+        ``critic_burn_in``-th update on (before it the actor stays as it is). Targets:
+        :func:`soft_update` with ``tau``. Returns the critic loss, actor loss and mean Q of
+        the batch.
         """
         cfg = self.config
         if len(self.replay) < cfg.batch_size:
