@@ -263,7 +263,7 @@ class Trainer:
         self.agent.observe(
             rows["obs"], rows["action"], rows["reward"], rows["next_obs"], rows["done"]
         )
-        self.pending_updates = self.agent.updates_due(len(rows["reward"]))
+        self.pending_updates += self.agent.updates_due(len(rows["reward"]))
         self.rows.append(_curve_row(record))
         self.next_episode = record.episode + 1
 
