@@ -78,7 +78,8 @@ def rl_rows(preset_name: str = "paper", updates: int = 300) -> list[dict[str, An
             "name": "rl env steps/s, gate open, actor acting",
             "value": acting,
             "unit": "1/s",
-            "note": f"as above with the untrained actor's residual every step; {net}",
+            "note": f"as above, gate always open, the untrained actor (zero output) queried "
+            f"every step; {net}",
         },
         {
             "name": "rl actor forward, one observation",

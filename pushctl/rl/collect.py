@@ -94,7 +94,8 @@ def collect_episode(
     reset_seed, rng = episode_rngs(seed, episode)
     obs, _ = env.reset(seed=reset_seed)
     act = _acting(behaviour, rng)
-    steps = env.episode.n_steps if env.episode is not None else 0
+    assert env.episode is not None
+    steps = env.episode.n_steps
     rows = _allocate(steps, obs.shape[0])
     gate_open = 0
     for n in range(steps):
@@ -107,7 +108,6 @@ def collect_episode(
         rows["done"][n] = terminated
         gate_open += info["residual_active"]
         obs = next_obs
-    assert env.episode is not None
     rl = _curve_metrics(env.episode.trace())
     pd = None
     if run_pd:
