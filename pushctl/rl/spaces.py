@@ -29,23 +29,16 @@ def observation_entries(n_prongs: int) -> tuple[Entry, ...]:
     """The observation's rows for a pusher with ``n_prongs`` prongs (all deployable: the
     planned forces come from the nominal plan, the measured ones from the contact model, or a
     force estimate on a real arm)."""
-    prongs = range(1, n_prongs + 1)
-    rows: list[Entry] = []
-    rows += [
-        Entry(f"force_n_des_{i}", f"planned normal force, prong {i}, next step", "N", 0.5)
-        for i in prongs
-    ]
-    rows += [
-        Entry(f"force_t_des_{i}", f"planned tangential force, prong {i}, next step", "N", 0.5)
-        for i in prongs
-    ]
-    rows += [
-        Entry(f"force_n_{i}", f"measured normal force, prong {i}, last step", "N", 0.5)
-        for i in prongs
-    ]
-    rows += [
-        Entry(f"force_t_{i}", f"measured tangential force, prong {i}, last step", "N", 0.5)
-        for i in prongs
+    forces = (
+        ("force_n_des", "planned normal force", "next step"),
+        ("force_t_des", "planned tangential force", "next step"),
+        ("force_n", "measured normal force", "last step"),
+        ("force_t", "measured tangential force", "last step"),
+    )
+    rows = [
+        Entry(f"{name}_{i}", f"{meaning}, prong {i}, {when}", "N", 0.5)
+        for name, meaning, when in forces
+        for i in range(1, n_prongs + 1)
     ]
     rows += [
         Entry("pusher_vx", "pusher velocity along the push (plan frame x)", "m/s", 0.01),
