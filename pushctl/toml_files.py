@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
@@ -26,11 +27,13 @@ def read_toml(path: Path, kind: str) -> dict[str, Any]:
         raise ConfigError(f"cannot read {kind} {path}: {reason}") from None
 
 
-def check_keys(table: dict[str, Any], names: list[str], where: str) -> None:
-    """ConfigError unless ``table`` has exactly the keys ``names``; ``where`` names the
-    table in the message (``"[pd]"``)."""
-    unknown = sorted(set(table) - set(names))
-    missing = [name for name in names if name not in table]
+def check_keys(
+    table: Mapping[str, Any], names: list[str], where: str, *, all_required: bool = True
+) -> None:
+    """ConfigError unless ``table``'s keys are among ``names`` and, with ``all_required``,
+    are all of them; ``where`` names the table in the message (``"[pd]"``)."""
+    unknown = sorted(str(key) for key in set(table) - set(names))
+    missing = [name for name in names if name not in table] if all_required else []
     if unknown or missing:
         problem = f"unknown keys {unknown}" if unknown else f"missing keys {missing}"
         raise ConfigError(f"{where} has {problem}; accepted: {', '.join(names)}")

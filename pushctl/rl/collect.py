@@ -58,8 +58,8 @@ class Behaviour:
 class EpisodeRecord:
     """What episode ``episode`` left: its scenario's description, transitions (T rows:
     ``obs`` (T, d), ``action`` (T, 3) the residual actually applied (0 while the gate was
-    shut), ``reward`` (T,), ``next_obs`` (T, d), ``done`` (T,)), its RL errors and, when
-    run, PD-only's (keys :data:`CURVE_METRICS`), and the seconds it took."""
+    shut), ``reward`` (T,), ``next_obs`` (T, d), ``done`` (T,)), its RL errors and, where
+    the learner ran it, PD-only's (keys :data:`CURVE_METRICS`), and the seconds it took."""
 
     episode: int
     scenario: dict[str, Any]
@@ -83,12 +83,11 @@ def collect_episode(
     seed: int,
     episode: int,
     behaviour: Behaviour,
-    run_pd: bool,
     env: PushEnv | None = None,
 ) -> EpisodeRecord:
-    """Run episode ``episode`` of the run with ``seed`` (see the module docstring); with
-    ``run_pd`` also PD-only on the same scenario and plan. ``env``: one to reuse (its
-    config must be ``env_config``)."""
+    """Run episode ``episode`` of the run with ``seed`` (see the module docstring); its
+    record's ``pd`` is None (PD-only is :func:`pd_only_metrics`, run by the learner).
+    ``env``: one to reuse (its config must be ``env_config``)."""
     started = time.perf_counter()
     env = env if env is not None else PushEnv(env_config, gains)
     reset_seed, rng = episode_rngs(seed, episode)
@@ -109,16 +108,12 @@ def collect_episode(
         gate_open += info["residual_active"]
         obs = next_obs
     rl = _curve_metrics(env.episode.trace())
-    pd = None
-    if run_pd:
-        baseline = Episode(env.scenario, gains, plan=env.plan)
-        pd = _curve_metrics(baseline.run())
     return EpisodeRecord(
         episode=episode,
         scenario=_describe(env),
         transitions=rows,
         rl=rl,
-        pd=pd,
+        pd=None,
         gate_open_fraction=gate_open / max(steps, 1),
         episode_return=float(rows["reward"].sum()),
         seconds=time.perf_counter() - started,

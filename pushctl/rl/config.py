@@ -9,6 +9,7 @@ from dataclasses import asdict, dataclass, fields
 from typing import Any
 
 from pushctl.errors import ConfigError
+from pushctl.toml_files import check_keys
 
 _POSITIVE_FLOATS = ("actor_lr", "critic_lr", "updates_per_step", "ou_dt", "reward_scale")
 _NON_NEGATIVE_FLOATS = (
@@ -127,12 +128,7 @@ class DDPGConfig:
         Unknown keys raise a :class:`ConfigError` listing the accepted ones; a list for
         ``hidden`` becomes a tuple.
         """
-        accepted = [f.name for f in fields(cls)]
-        unknown = sorted(str(key) for key in data if key not in accepted)
-        if unknown:
-            raise ConfigError(
-                f"unknown ddpg config key(s) {', '.join(unknown)}; accepted: {', '.join(accepted)}"
-            )
+        check_keys(data, [f.name for f in fields(cls)], "[ddpg]", all_required=False)
         values = dict(data)
         if isinstance(values.get("hidden"), list):
             values["hidden"] = tuple(values["hidden"])

@@ -71,6 +71,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         self._true_forces = self.episode.plant_forces.forces
         self._true_torques = self.episode.plant_forces.torques
         self._last = self.episode.reset()
+        self._error = self._pose_error(0)
         info = {"scenario": scenario, "goals_redrawn": redrawn}
         return self._observation(), info
 
@@ -82,11 +83,12 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         if action.shape != (3,) or not np.all(np.isfinite(action)):
             raise ConfigError(f"action must be 3 finite numbers in [-1, 1], got {action!r}")
         n = episode.step_index
-        deviation = self._deviation(n)
+        deviation = self._deviation()
         active = deviation > self.config.gate_threshold
         residual = self._world_twist(np.clip(action, -1.0, 1.0), n) if active else None
         self._last = episode.step(residual)
-        terms = (*self._reward_terms(n + 1), -self.config.w_pose * self._deviation(n + 1))
+        self._error = self._pose_error(n + 1)  # the observation's, the next gate's
+        terms = (*self._reward_terms(n + 1), -self.config.w_pose * self._deviation())
         terminated = episode.done
         info = {
             "reward_normal": terms[0],
@@ -143,8 +145,9 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         angle = math.remainder(desired[2] - actual[2], math.tau)
         return np.array([c * dx + s * dy, -s * dx + c * dy, angle])
 
-    def _deviation(self, n: int) -> float:
-        error = self._pose_error(n)
+    def _deviation(self) -> float:
+        """The gate's pose deviation [m] of the current pose error."""
+        error = self._error
         return math.hypot(error[0], error[1], self.config.gate_length * error[2])
 
     def _world_twist(self, action: np.ndarray, n: int) -> np.ndarray:
@@ -168,7 +171,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         measured = last.contact_forces
         parts = (planned[:, 0], planned[:, 1], measured[:, 0], measured[:, 1])
         observation = np.concatenate(
-            [*parts, velocity, self._pose_error(n), [n / n_steps]], dtype=np.float32
+            [*parts, velocity, self._error, [n / n_steps]], dtype=np.float32
         )
         return observation
 

@@ -13,6 +13,7 @@ from pushctl.episode.scenario import STREAMS
 from pushctl.errors import ConfigError
 from pushctl.objects import OBJECT_NAMES
 from pushctl.planning import PROFILE_NAMES
+from pushctl.toml_files import check_keys
 
 
 @dataclass(frozen=True)
@@ -81,10 +82,7 @@ class EnvConfig:
     @classmethod
     def from_mapping(cls, values: Mapping[str, Any]) -> EnvConfig:
         """From a TOML table; ConfigError naming an unknown key and the accepted ones."""
-        names = [item.name for item in fields(cls)]
-        unknown = sorted(set(values) - set(names))
-        if unknown:
-            raise ConfigError(f"unknown env key {unknown[0]!r}; accepted: {', '.join(names)}")
+        check_keys(values, [item.name for item in fields(cls)], "[env]", all_required=False)
         converted: dict[str, Any] = {
             key: tuple(value) if isinstance(value, list) else value for key, value in values.items()
         }

@@ -7,7 +7,6 @@ that made it.
 
 from __future__ import annotations
 
-import io
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -36,18 +35,20 @@ class TrainedPolicy:
     made_by: str
 
 
+def save_atomic(path: Path, state: dict[str, Any]) -> None:
+    """``torch.save`` to a temporary file beside ``path``, then renamed over it."""
+    write_atomic(Path(path), lambda tmp: torch.save(state, tmp))
+
+
 def write_policy(path: Path, actor_state: dict[str, Any], env: EnvConfig, made_by: str) -> None:
     """Save an actor (``DDPGAgent.actor_state()``) with its env settings, atomically."""
-    buffer = io.BytesIO()
     state = {
         "format": POLICY_FORMAT,
         "actor": actor_state,
         "env": env.to_dict(),
         "made_by": made_by,
     }
-    torch.save(state, buffer)
-    data = buffer.getvalue()
-    write_atomic(Path(path), lambda tmp: tmp.write_bytes(data))
+    save_atomic(path, state)
 
 
 def load_policy(path: str | Path) -> TrainedPolicy:

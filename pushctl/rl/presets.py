@@ -122,10 +122,7 @@ def _table(table: dict[str, Any], name: str) -> dict[str, Any]:
 
 
 def _train_config(values: dict[str, Any]) -> TrainConfig:
-    names = [item.name for item in fields(TrainConfig)]
-    unknown = sorted(set(values) - set(names))
-    if unknown:
-        raise ConfigError(f"[train] has unknown key {unknown[0]!r}; accepted: {', '.join(names)}")
+    check_keys(values, [item.name for item in fields(TrainConfig)], "[train]", all_required=False)
     return TrainConfig(**values)
 
 

@@ -15,7 +15,6 @@ validates, else the last), ``policy_last.pt`` (the last actor) and ``validation.
 
 from __future__ import annotations
 
-import io
 import math
 import os
 import threading
@@ -32,7 +31,7 @@ import torch
 
 from pushctl.control.gains import PDGains, load_gains
 from pushctl.errors import ConfigError
-from pushctl.provenance import write_atomic, write_csv
+from pushctl.provenance import write_csv
 from pushctl.rl.collect import (
     CURVE_METRICS,
     Behaviour,
@@ -43,7 +42,7 @@ from pushctl.rl.collect import (
 )
 from pushctl.rl.ddpg import DDPGAgent, configure_torch
 from pushctl.rl.env import PushEnv
-from pushctl.rl.policy import write_policy
+from pushctl.rl.policy import save_atomic, write_policy
 from pushctl.rl.presets import Preset
 from pushctl.rl.spaces import observation_entries, scales
 from pushctl.rl.validate import Validator
@@ -139,7 +138,7 @@ class Trainer:
                 first = self.next_episode
                 round_ = range(first, min(first + train.episodes_per_round, episodes))
                 behaviour = self._behaviour(first)
-                futures = [collector.submit(e, behaviour, run_pd=False) for e in round_]
+                futures = [collector.submit(e, behaviour) for e in round_]
                 # While the round's episodes run in the collectors: validation, the updates
                 # due, and PD-only on the round's scenarios.
                 due = [e for e in round_ if self._validate_due(e)]
@@ -182,9 +181,7 @@ class Trainer:
 
     def save(self) -> None:
         """The checkpoint, then the curve CSV, each written to a temporary file and renamed."""
-        buffer = io.BytesIO()
-        torch.save(self.state_dict(), buffer)
-        _write_bytes(self.out / CHECKPOINT, buffer.getvalue())
+        save_atomic(self.out / CHECKPOINT, self.state_dict())
         write_csv(self.out / CURVE, self.curve(), self.made_by)
         if self.validation:
             write_csv(self.out / VALIDATION, pd.DataFrame(self.validation), self.made_by)
@@ -278,10 +275,6 @@ def _curve_row(record: EpisodeRecord) -> dict[str, Any]:
     return row
 
 
-def _write_bytes(path: Path, data: bytes) -> None:
-    write_atomic(path, lambda tmp: tmp.write_bytes(data))
-
-
 def read_checkpoint(path: Path) -> dict[str, Any]:
     """A checkpoint's contents; ConfigError if missing, unreadable or of another format."""
     if not path.is_file():
@@ -340,10 +333,10 @@ def _exit_with_parent(parent: int) -> None:
     os._exit(0)
 
 
-def _worker_collect(seed: int, episode: int, behaviour: Behaviour, run_pd: bool) -> EpisodeRecord:
+def _worker_collect(seed: int, episode: int, behaviour: Behaviour) -> EpisodeRecord:
     assert _WORKER_ENV is not None
     env = _WORKER_ENV
-    return collect_episode(env.config, env.gains, seed, episode, behaviour, run_pd, env=env)
+    return collect_episode(env.config, env.gains, seed, episode, behaviour, env=env)
 
 
 class _Collector:
@@ -370,13 +363,13 @@ class _Collector:
         if self._pool is not None:
             self._pool.shutdown(wait=True, cancel_futures=True)
 
-    def submit(self, episode: int, behaviour: Behaviour, run_pd: bool) -> Future[EpisodeRecord]:
+    def submit(self, episode: int, behaviour: Behaviour) -> Future[EpisodeRecord]:
         if self._pool is not None:
-            return self._pool.submit(_worker_collect, self.seed, episode, behaviour, run_pd)
+            return self._pool.submit(_worker_collect, self.seed, episode, behaviour)
         future: Future[EpisodeRecord] = Future()
         env = self._env
         assert env is not None
         future.set_result(
-            collect_episode(env.config, env.gains, self.seed, episode, behaviour, run_pd, env=env)
+            collect_episode(env.config, env.gains, self.seed, episode, behaviour, env=env)
         )
         return future

@@ -207,7 +207,7 @@ def test_bad_input_is_refused_with_one_line_errors(env: PushEnv) -> None:
         ({"action_scale_linear": 0.0}, "action_scale_linear must be a finite number > 0"),
         ({"gate_threshold": -1e-3}, "gate_threshold must be a finite number >= 0"),
         ({"w_torque": float("nan")}, "w_torque must be a finite number >= 0"),
-        ({"w_force": 1.0}, "unknown env key 'w_force'"),
+        ({"w_force": 1.0}, r"\[env\] has unknown keys \['w_force'\]"),
     ],
 )
 def test_env_config_rejects_bad_values(values: dict, message: str) -> None:
