@@ -139,7 +139,7 @@ def _acting(behaviour: Behaviour, rng: np.random.Generator):
     noise = OrnsteinUhlenbeckNoise(3, behaviour.ou_theta, behaviour.ou_sigma, behaviour.ou_dt, rng)
     if behaviour.warmup or behaviour.actor_state is None:
         return lambda obs: np.clip(noise.sample(), -1.0, 1.0)
-    policy = ActorPolicy.from_state(_tensors(behaviour.actor_state))
+    policy = ActorPolicy.from_state(tensors(behaviour.actor_state))
 
     def act(obs: np.ndarray) -> np.ndarray:
         return np.clip(policy(obs.astype(np.float64)) + noise.sample(), -1.0, 1.0)
@@ -157,12 +157,12 @@ def portable(state: Any) -> Any:
     return state
 
 
-def _tensors(state: Any) -> Any:
+def tensors(state: Any) -> Any:
     """The inverse of :func:`portable`."""
     if isinstance(state, np.ndarray):
         return torch.from_numpy(state)
     if isinstance(state, dict):
-        return {key: _tensors(value) for key, value in state.items()}
+        return {key: tensors(value) for key, value in state.items()}
     return state
 
 

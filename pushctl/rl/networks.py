@@ -156,6 +156,16 @@ class ActorPolicy:
             "actor": {k: v.clone() for k, v in self.actor.state_dict().items()},
         }
 
+    @staticmethod
+    def zero_residual(state: dict[str, Any]) -> dict[str, Any]:
+        """A copy of the snapshot ``state`` with the output layer zeroed: the policy that
+        outputs 0 for every observation, so the controller is PD-only."""
+        actor = {k: v.clone() for k, v in state["actor"].items()}
+        last = max(int(key.split(".")[1]) for key in actor)  # net.<index>.weight|bias
+        for kind in ("weight", "bias"):
+            actor[f"net.{last}.{kind}"].zero_()
+        return {**state, "actor": actor}
+
     @classmethod
     def from_state(cls, state: dict[str, Any]) -> ActorPolicy:
         """The policy saved by :meth:`state`, in eval mode."""

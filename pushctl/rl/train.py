@@ -9,8 +9,9 @@ schedule needs, so a resumed run continues bit for bit.
 
 Files in a run directory: ``checkpoint.pt`` (atomic, every ``checkpoint_every`` episodes and
 at the end), ``curve.csv`` (one row per episode, rewritten atomically with each checkpoint),
-``policy.pt`` (the actor to evaluate: the best on the validation set when the preset
-validates, else the last), ``policy_last.pt`` (the last actor) and ``validation.csv``.
+``policy.pt`` (the actor to evaluate: when the preset validates, the best of the actors
+that beat PD-only on the validation set, or the zero residual if none did; else the last),
+``policy_last.pt`` (the last actor) and ``validation.csv``.
 """
 
 from __future__ import annotations
@@ -39,13 +40,15 @@ from pushctl.rl.collect import (
     collect_episode,
     pd_only_metrics,
     portable,
+    tensors,
 )
 from pushctl.rl.ddpg import DDPGAgent, configure_torch
 from pushctl.rl.env import PushEnv
+from pushctl.rl.networks import ActorPolicy
 from pushctl.rl.policy import save_atomic, write_policy
 from pushctl.rl.presets import Preset
 from pushctl.rl.spaces import observation_entries, scales
-from pushctl.rl.validate import Validator
+from pushctl.rl.validate import Metrics, Validator, validation_env, validation_metrics
 
 CHECKPOINT = "checkpoint.pt"
 CURVE = "curve.csv"
@@ -141,9 +144,9 @@ class Trainer:
                 futures = [collector.submit(e, behaviour) for e in round_]
                 # While the round's episodes run in the collectors: validation, the updates
                 # due, and PD-only on the round's scenarios.
+                # Validation's pushes queue in the collectors behind the round's episodes.
                 due = [e for e in round_ if self._validate_due(e)]
-                if due:
-                    self._validate(due[0])  # the actor the round runs with
+                validation = self._submit_validation(collector, due[0]) if due else None
                 self._do_pending_updates()
                 pd_metrics = [self._pd_metrics(e) if self._run_pd(e) else None for e in round_]
                 for future, metrics in zip(futures, pd_metrics, strict=True):
@@ -151,16 +154,23 @@ class Trainer:
                     self._absorb(record)
                     if on_episode is not None:
                         on_episode(clock.progress(record, self.next_episode, episodes))
+                if validation is not None:
+                    self._record_validation(validation)
                 every = train.checkpoint_every
                 if self.next_episode // every > first // every:
                     self.save()
-        if self.preset.train.validate_every:
-            self._validate(self.next_episode)
+            if self.preset.train.validate_every:
+                self._record_validation(self._submit_validation(collector, self.next_episode))
         self.save()
         last = self.agent.actor_state()
         env, made_by = self.preset.env, self.made_by
         write_policy(self.out / LAST_POLICY, last, env, made_by)
-        chosen = self.best_actor if self.best_actor is not None else last
+        if not self.preset.train.validate_every:
+            chosen = last
+        elif self.best_actor is not None:
+            chosen = self.best_actor
+        else:  # no actor beat PD-only on the validation set: ship PD-only
+            chosen = ActorPolicy.zero_residual(last)
         write_policy(self.out / POLICY, chosen, env, made_by)
 
     # ------------------------------------------------------------------ checkpoints
@@ -216,23 +226,32 @@ class Trainer:
         done = {row["episode"] for row in self.validation}
         return every > 0 and episode % every == 0 and episode not in done
 
-    def _validate(self, episode: int) -> None:
-        """Score the current actor on the validation set; keep it if it is the best yet
-        (ties keep the earlier one, so a run that never beats PD-only keeps the zero
-        residual it started with)."""
+    def _submit_validation(self, collector: _Collector, episode: int) -> _PendingValidation:
+        """Start scoring the current actor (the one episode ``episode`` runs with) on the
+        validation set, spread over the collectors."""
         if self._validator is None:
             train = self.preset.train
             self._validator = Validator(self.preset.env, self.gains, train.validation_per_cell)
         actor = self.agent.actor_state()
-        result = self._validator.score(actor)
-        best = min((row["score"] for row in self.validation), default=math.inf)
-        kept = result.score < best
+        chunks = self._validator.chunks(3 * max(1, self.preset.train.workers))
+        futures = [collector.validate(portable(actor), chunk) for chunk in chunks]
+        return _PendingValidation(episode, self.agent.n_updates, actor, futures)
+
+    def _record_validation(self, pending: _PendingValidation) -> None:
+        """Wait for a validation's results; keep its actor if it beats PD-only on both force
+        and translation error and scores better than every actor kept before (a run whose
+        actors never beat PD-only keeps the zero residual it started with)."""
+        assert self._validator is not None
+        metrics = [m for future in pending.futures for m in future.result()]
+        result = self._validator.score_metrics(metrics)
+        best = min((row["score"] for row in self.validation if row["kept"]), default=math.inf)
+        kept = result.beats_pd and result.score < best
         if kept:
-            self.best_actor = actor
+            self.best_actor = pending.actor
         self.validation.append(
             {
-                "episode": episode,
-                "updates": self.agent.n_updates,
+                "episode": pending.episode,
+                "updates": pending.updates,
                 "force_error": result.force_error,
                 "pd_force_error": result.pd_force_error,
                 "translation_error_pct": result.translation_error_pct,
@@ -292,6 +311,17 @@ def read_checkpoint(path: Path) -> dict[str, Any]:
     return state
 
 
+@dataclass(frozen=True)
+class _PendingValidation:
+    """A validation under way: the episode and update count it scores, the actor, and the
+    futures of its chunks' metrics."""
+
+    episode: int
+    updates: int
+    actor: dict[str, Any]
+    futures: list[Future[list[Metrics]]]
+
+
 class _Rates:
     """Env steps and updates per second since the session started."""
 
@@ -316,6 +346,7 @@ class _Rates:
 
 
 _WORKER_ENV: PushEnv | None = None
+_WORKER_VALIDATION_ENV: PushEnv | None = None
 
 
 def _worker_init(preset: Preset, gains: PDGains) -> None:
@@ -339,6 +370,14 @@ def _worker_collect(seed: int, episode: int, behaviour: Behaviour) -> EpisodeRec
     return collect_episode(env.config, env.gains, seed, episode, behaviour, env=env)
 
 
+def _worker_validate(actor_state: dict[str, Any], options: list[dict[str, Any]]) -> list[Metrics]:
+    global _WORKER_VALIDATION_ENV
+    assert _WORKER_ENV is not None
+    if _WORKER_VALIDATION_ENV is None:
+        _WORKER_VALIDATION_ENV = validation_env(_WORKER_ENV.config, _WORKER_ENV.gains)
+    return validation_metrics(_WORKER_VALIDATION_ENV, tensors(actor_state), options)
+
+
 class _Collector:
     """Runs episodes in this process (``workers`` 0) or in ``workers`` spawned processes."""
 
@@ -346,6 +385,7 @@ class _Collector:
         self.preset, self.gains, self.seed = preset, gains, seed
         self._pool: ProcessPoolExecutor | None = None
         self._env: PushEnv | None = None
+        self._validation_env: PushEnv | None = None
 
     def __enter__(self) -> _Collector:
         if self.preset.train.workers > 0:
@@ -372,4 +412,17 @@ class _Collector:
         future.set_result(
             collect_episode(env.config, env.gains, self.seed, episode, behaviour, env=env)
         )
+        return future
+
+    def validate(
+        self, actor_state: dict[str, Any], options: list[dict[str, Any]]
+    ) -> Future[list[Metrics]]:
+        """The metrics of the actor of ``actor_state`` (numpy arrays, :func:`portable`) on
+        the validation scenarios ``options``."""
+        if self._pool is not None:
+            return self._pool.submit(_worker_validate, actor_state, options)
+        if self._validation_env is None:
+            self._validation_env = validation_env(self.preset.env, self.gains)
+        future: Future[list[Metrics]] = Future()
+        future.set_result(validation_metrics(self._validation_env, tensors(actor_state), options))
         return future

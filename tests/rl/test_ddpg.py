@@ -455,3 +455,14 @@ def test_the_action_penalty_pulls_the_actor_towards_zero():
     for _ in range(50):
         agent.update()
     assert np.abs(agent.policy_action(obs)).mean() < 0.2 * before
+
+
+def test_the_zero_residual_outputs_zero_and_leaves_the_snapshot_alone() -> None:
+    agent = DDPGAgent(5, 3, DDPGConfig(hidden=(8, 8), actor_final_init=0.5), seed=1)
+    state = agent.actor_state()
+    obs = np.linspace(-1.0, 1.0, 5)
+    before = ActorPolicy.from_state(state)(obs)
+    assert np.abs(before).max() > 0.0
+    zero = ActorPolicy.zero_residual(state)
+    np.testing.assert_array_equal(ActorPolicy.from_state(zero)(obs), np.zeros(3))
+    np.testing.assert_array_equal(ActorPolicy.from_state(state)(obs), before)
