@@ -1,0 +1,183 @@
+"""``make reproduce-tables``: train, evaluate, report (and bench), timed, with a manifest.
+
+Run as ``python -m pushctl.reproduce [--quick]``. Each step is the ``pushctl`` command a
+user would type, run as a subprocess with its own output on the terminal:
+
+1. ``pushctl train --preset paper --seed 0 --out runs/paper`` (``--resume`` when the run
+   directory holds a checkpoint, so an interrupted reproduction continues, and a finished
+   run is not trained again);
+2. the run's ``policy.pt``, ``curve.csv`` and ``validation.csv`` copied to
+   ``results/training/`` (the shipped policy and the Fig. 5 input);
+3. ``pushctl evaluate`` (50 trials per object × profile, both controllers, both plants,
+   2 workers) into ``results/evaluation/``;
+4. ``pushctl report`` (tables, ``tables.md``, figures) into ``results/``;
+5. ``python -m pushctl.bench`` into ``results/bench.csv``.
+
+``--quick``: the ``quick`` preset, 4 trials, no bench, everything under ``results-quick/``
+and ``runs/quick`` (the committed ``results/`` stays as it is). The manifest
+``provenance.md`` records each step's command, exit code and wall time, the git commit,
+the seeds and the date; it is written atomically after the last step, and also when a step
+fails (then naming it).
+"""
+
+from __future__ import annotations
+
+import argparse
+import shutil
+import subprocess
+import sys
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from datetime import datetime, timezone
+from pathlib import Path
+
+import pushctl
+from pushctl.provenance import git_commit, write_atomic
+
+SEED = 0
+MANIFEST = "provenance.md"
+TRAINING_FILES = ("policy.pt", "curve.csv", "validation.csv")
+
+
+@dataclass(frozen=True)
+class Setup:
+    """Where and how much: the training preset and run directory, the evaluation's trials
+    per object × profile, the results directory, and whether to run the bench."""
+
+    preset: str
+    run: Path
+    trials: int
+    results: Path
+    bench: bool
+
+
+FULL = Setup("paper", Path("runs/paper"), 50, Path("results"), bench=True)
+QUICK = Setup("quick", Path("runs/quick"), 4, Path("results-quick"), bench=False)
+
+
+@dataclass(frozen=True)
+class StepRecord:
+    """One step: its name, the command (as typed), exit code and wall time [s]."""
+
+    name: str
+    command: str
+    returncode: int
+    seconds: float
+
+
+def steps(setup: Setup) -> list[tuple[str, list[str]]]:
+    """The (name, argv) of each subprocess step; copying the training files is done in
+    between by :func:`reproduce` itself."""
+    pushctl_cli = [sys.executable, "-m", "pushctl.cli"]
+    resume = ["--resume"] if (setup.run / "checkpoint.pt").is_file() else []
+    training = setup.results / "training"
+    listed: list[tuple[str, list[str]]] = [
+        (
+            "train",
+            [*pushctl_cli, "train", "--preset", setup.preset, "--seed", str(SEED)]
+            + ["--out", str(setup.run), *resume],
+        ),
+        (
+            "evaluate",
+            [*pushctl_cli, "evaluate", "--trials", str(setup.trials), "--workers", "2"]
+            + ["--seed", str(SEED), "--policy", str(training / "policy.pt")]
+            + ["--out", str(setup.results / "evaluation")],
+        ),
+        (
+            "report",
+            [*pushctl_cli, "report", "--in", str(setup.results), "--out", str(setup.results)],
+        ),
+    ]
+    if setup.bench:
+        bench = [sys.executable, "-m", "pushctl.bench", "--profile"]
+        listed.append(("bench", [*bench, "--out", str(setup.results / "bench.csv")]))
+    return listed
+
+
+def reproduce(setup: Setup) -> list[StepRecord]:
+    """Run every step in order, stopping at the first that fails; write the manifest."""
+    started = datetime.now(timezone.utc)
+    records: list[StepRecord] = []
+    for name, argv in steps(setup):
+        clock = time.perf_counter()
+        returncode = subprocess.run(argv, check=False).returncode
+        records.append(StepRecord(name, _typed(argv), returncode, time.perf_counter() - clock))
+        if returncode != 0:
+            break
+        if name == "train":
+            copy_training(setup)
+    write_manifest(setup, records, started)
+    return records
+
+
+def copy_training(setup: Setup) -> None:
+    """The run's policy and curves into ``results/training/`` (each copied atomically)."""
+    target = setup.results / "training"
+    target.mkdir(parents=True, exist_ok=True)
+    for name in TRAINING_FILES:
+        write_atomic(target / name, _copier(setup.run / name))
+
+
+def _copier(source: Path) -> Callable[[Path], object]:
+    return lambda tmp: shutil.copyfile(source, tmp)
+
+
+def write_manifest(setup: Setup, records: list[StepRecord], started: datetime) -> None:
+    total = sum(r.seconds for r in records)
+    failed = [r for r in records if r.returncode != 0]
+    lines = [
+        f"# How `{setup.results}/` was made",
+        "",
+        f"- command: `make reproduce-tables{' QUICK=1' if setup is QUICK else ''}` "
+        f"(`python -m pushctl.reproduce{' --quick' if setup is QUICK else ''}`)",
+        f"- pushctl {pushctl.__version__}, commit {git_commit()}",
+        f"- seeds: training {SEED} (training stream), evaluation {SEED} (evaluation stream)",
+        f"- started {started.strftime('%Y-%m-%d %H:%M:%S')} UTC; wall time {_minutes(total)}",
+        f"- outcome: {'failed at ' + failed[0].name if failed else 'all steps succeeded'}",
+        "",
+        "| step | command | exit | wall time |",
+        "|---|---|---|---|",
+        *(
+            f"| {r.name} | `{r.command}` | {r.returncode} | {_minutes(r.seconds)} |"
+            for r in records
+        ),
+        "",
+        "A `train` step that finds its run finished trains nothing and takes seconds; the",
+        "run's own wall time is in its `curve.csv` provenance and the README.",
+        "",
+    ]
+    setup.results.mkdir(parents=True, exist_ok=True)
+    write_atomic(setup.results / MANIFEST, lambda tmp: tmp.write_text("\n".join(lines)))
+
+
+def _typed(argv: list[str]) -> str:
+    """``argv`` as a user types it: ``pushctl …`` / ``python -m …``."""
+    if argv[1:3] == ["-m", "pushctl.cli"]:
+        return " ".join(["pushctl", *argv[3:]])
+    return " ".join(["python", *argv[1:]])
+
+
+def _minutes(seconds: float) -> str:
+    return f"{int(seconds // 60)} min {seconds % 60:04.1f} s"
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m pushctl.reproduce")
+    parser.add_argument("--quick", action="store_true", help="quick preset, few trials")
+    args = parser.parse_args(argv)
+    setup = QUICK if args.quick else FULL
+    records = reproduce(setup)
+    failed = [r for r in records if r.returncode != 0]
+    if failed:
+        print(
+            f"reproduce-tables: step {failed[0].name} failed: {failed[0].command}", file=sys.stderr
+        )
+        return failed[0].returncode
+    total = _minutes(sum(r.seconds for r in records))
+    print(f"reproduce-tables: done in {total}; see {setup.results / MANIFEST}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
