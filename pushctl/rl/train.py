@@ -4,8 +4,9 @@ and the per-episode training curves (the paper's Fig. 5).
 Schedule (the same with or without collector processes, and with any number of them): the
 episodes run in rounds of ``episodes_per_round``; the episodes of round r run with the actor
 as it was after the updates credited to rounds ≤ r − 2, and while they run the learner does
-the updates credited to round r − 1. A checkpoint after a round holds everything that
-schedule needs, so a resumed run continues bit for bit.
+the updates credited to round r − 1 and then submits round r + 1, so two rounds are in
+flight and the collectors do not wait for the learner. A checkpoint after a round holds
+everything that schedule needs, so a resumed run continues bit for bit.
 
 Files in a run directory: ``checkpoint.pt`` (atomic, every ``checkpoint_every`` episodes and
 at the end), ``curve.csv`` (one row per episode, rewritten atomically with each checkpoint),
@@ -137,28 +138,27 @@ class Trainer:
         clock = _Rates(self.agent)
         train = self.preset.train
         with _Collector(self.preset, self.gains, self.seed) as collector:
-            while self.next_episode < episodes:
-                first = self.next_episode
-                round_ = range(first, min(first + train.episodes_per_round, episodes))
-                behaviour = self._behaviour(first)
-                futures = [collector.submit(e, behaviour) for e in round_]
-                # While the round's episodes run in the collectors: validation, the updates
-                # due, and PD-only on the round's scenarios.
-                # Validation's pushes queue in the collectors behind the round's episodes.
-                due = [e for e in round_ if self._validate_due(e)]
-                validation = self._submit_validation(collector, due[0]) if due else None
+            flight = self._submit_round(collector, self.next_episode, episodes)
+            while flight is not None:
+                # The collectors run this round (and queue its validation pushes) while the
+                # learner does the updates credited to the round before; the actor is then
+                # the one the next round runs with, so that round is submitted before this
+                # one is waited for, and the collectors never wait for the learner.
                 self._do_pending_updates()
-                pd_metrics = [self._pd_metrics(e) if self._run_pd(e) else None for e in round_]
-                for future, metrics in zip(futures, pd_metrics, strict=True):
+                following = self._submit_round(collector, flight.episodes.stop, episodes)
+                episodes_ = flight.episodes
+                pd_metrics = [self._pd_metrics(e) if self._run_pd(e) else None for e in episodes_]
+                for future, metrics in zip(flight.futures, pd_metrics, strict=True):
                     record = replace(future.result(), pd=metrics)
                     self._absorb(record)
                     if on_episode is not None:
                         on_episode(clock.progress(record, self.next_episode, episodes))
-                if validation is not None:
-                    self._record_validation(validation)
+                if flight.validation is not None:
+                    self._record_validation(flight.validation)
                 every = train.checkpoint_every
-                if self.next_episode // every > first // every:
-                    self.save()
+                if self.next_episode // every > episodes_.start // every:
+                    self.save()  # a resume resubmits the round in flight, with the same actor
+                flight = following
             if self.preset.train.validate_every:
                 self._record_validation(self._submit_validation(collector, self.next_episode))
         self.save()
@@ -225,6 +225,20 @@ class Trainer:
         every = self.preset.train.validate_every
         done = {row["episode"] for row in self.validation}
         return every > 0 and episode % every == 0 and episode not in done
+
+    def _submit_round(
+        self, collector: _Collector, first: int, episodes: int
+    ) -> _RoundInFlight | None:
+        """Submit the round starting at episode ``first`` (None past ``episodes``) with the
+        current actor, and its validation if one is due."""
+        if first >= episodes:
+            return None
+        round_ = range(first, min(first + self.preset.train.episodes_per_round, episodes))
+        behaviour = self._behaviour(first)
+        futures = [collector.submit(e, behaviour) for e in round_]
+        due = [e for e in round_ if self._validate_due(e)]
+        validation = self._submit_validation(collector, due[0]) if due else None
+        return _RoundInFlight(round_, futures, validation)
 
     def _submit_validation(self, collector: _Collector, episode: int) -> _PendingValidation:
         """Start scoring the current actor (the one episode ``episode`` runs with) on the
@@ -309,6 +323,15 @@ def read_checkpoint(path: Path) -> dict[str, Any]:
             f"checkpoint {path} has format {found!r}; this pushctl reads {CHECKPOINT_FORMAT}"
         )
     return state
+
+
+@dataclass(frozen=True)
+class _RoundInFlight:
+    """A submitted round: its episodes, their futures, and its validation (if due)."""
+
+    episodes: range
+    futures: list[Future[EpisodeRecord]]
+    validation: _PendingValidation | None
 
 
 @dataclass(frozen=True)
