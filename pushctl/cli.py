@@ -1,7 +1,8 @@
 """The ``pushctl`` command line. Each command parses, validates, calls the core, renders.
 
-Built so far: ``pushctl info``, ``plan``, ``simulate``, ``tune-pd`` and ``train``
-(:mod:`pushctl.cli_train`). ``evaluate`` and ``report`` come with the issue that builds them.
+Commands: ``pushctl info``, ``plan``, ``simulate``, ``tune-pd``, ``train``
+(:mod:`pushctl.cli_train`), ``evaluate`` (:mod:`pushctl.cli_evaluate`) and ``report``
+(:mod:`pushctl.cli_report`).
 """
 
 from __future__ import annotations
@@ -346,6 +347,87 @@ def train(
         _fail(PushctlError(f"cannot write {error.filename}: {error.strerror}"))
     console.print(summary_table(trainer))
     console.print(f"wrote {trainer.out / CURVE} and {trainer.out / POLICY}")
+
+
+@app.command()
+def evaluate(
+    ctx: typer.Context,
+    object_name: Annotated[str, typer.Option("--object", help="cube, wedge or all")] = "all",
+    profile: Annotated[str, typer.Option(help="constant, trapezoid, chirp or all")] = "all",
+    trials: Annotated[int, typer.Option(help="trials per object × profile")] = 50,
+    controller: Annotated[str, typer.Option(help="pd (PD-only), rl (RL-assisted) or both")] = (
+        "both"
+    ),
+    plant: Annotated[str, typer.Option(help="sim, proxy (the reality proxy) or both")] = "both",
+    policy: Annotated[
+        Path | None,
+        typer.Option(help="residual policy (default: the shipped results/training/policy.pt)"),
+    ] = None,
+    seed: Annotated[
+        int, typer.Option(help="evaluation seed: trial i pushes scenario S×100000 + i")
+    ] = 0,
+    workers: Annotated[int, typer.Option(help="processes running trials, 1-8")] = 1,
+    out: Annotated[Path, typer.Option(help="output directory")] = Path("results/evaluation"),
+) -> None:
+    """Paired trials, PD-only and RL-assisted on the same held-out targets and plants;
+    write trials.csv (one row per trial) and steps.csv (per-step means) to --out."""
+    from pushctl.cli_evaluate import prepare, run_with_progress, summary_table
+    from pushctl.evaluation.evaluate import STEPS_FILE, TRIALS_FILE, write_evaluation
+    from pushctl.provenance import provenance_line
+
+    try:
+        spec, trained, policy_path = prepare(
+            object_name, profile, trials, controller, plant, policy, seed, workers, out
+        )
+        first = spec.scenario_seed(0)
+        extra = f"scenario seeds {first}-{first + spec.trials - 1} (evaluation stream)"
+        if trained is not None:
+            extra += f"; policy {policy_path}, {trained.made_by.removeprefix('# ')}"
+        # --workers changes no byte of the results, so the files do not record it either
+        command = _invocation(ctx).replace(f" --workers {workers}", "")
+        made_by = provenance_line(command, extra)
+        evaluation = run_with_progress(spec, trained, workers, console)
+        write_evaluation(out, evaluation, made_by)
+    except PushctlError as error:
+        _fail(error)
+    except KeyboardInterrupt:
+        error_console.print("interrupted: nothing written")
+        raise typer.Exit(code=130) from None
+    except OSError as error:
+        _fail(PushctlError(f"cannot write {error.filename}: {error.strerror}"))
+    console.print(summary_table(evaluation))
+    console.print(f"wrote {out / TRIALS_FILE} and {out / STEPS_FILE}")
+
+
+@app.command()
+def report(
+    ctx: typer.Context,
+    in_dir: Annotated[
+        Path,
+        typer.Option(
+            "--in", help="results directory: evaluation/{trials,steps}.csv, training/curve.csv"
+        ),
+    ] = Path("results"),
+    out: Annotated[Path, typer.Option(help="directory for the tables and figures")] = Path(
+        "results"
+    ),
+) -> None:
+    """Tables III and IV (CSV and Markdown, beside the paper's values) and Figs. 5, 6 and 8
+    from the evaluation and training CSVs."""
+    from pushctl.cli_report import check_out_dir, counts_table, make_report, write_report
+
+    try:
+        check_out_dir(out)
+        with console.status("reading the results and drawing the figures"):
+            made = make_report(in_dir, _invocation(ctx))
+        written = write_report(made, out)
+    except PushctlError as error:
+        _fail(error)
+    except OSError as error:
+        _fail(PushctlError(f"cannot write {error.filename}: {error.strerror}"))
+    console.print(counts_table(made))
+    for path in written:
+        console.print(f"wrote {path}")
 
 
 def _write_text(path: Path, text: str) -> None:

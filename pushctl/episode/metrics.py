@@ -17,6 +17,10 @@ the contact force of prong i and F_des,i the plan's force for it:
 - ``final_position_error`` [m] = ‖p − p_des‖ and ``final_angle_error`` [rad] = |θ − θ_des|
   at the last row;
 - ``angle_error_deg`` [deg] = mean |θ − θ_des| in degrees (defined for straight pushes too).
+
+The pose (p, θ) is the trace's ``measured_pose`` when it has one (the reality proxy's camera,
+DESIGN.md §7: on the proxy, as on the paper's robot, poses are measured, not known), else its
+true ``object_pose``. Forces are always the true contact forces.
 """
 
 from __future__ import annotations
@@ -93,7 +97,8 @@ def compute_metrics(trace: Trace, contact_threshold: float = 1e-3) -> EpisodeMet
     if not (math.isfinite(contact_threshold) and contact_threshold >= 0.0):
         raise ConfigError(f"contact_threshold must be finite and >= 0 N, got {contact_threshold!r}")
 
-    pose = np.asarray(trace.object_pose, dtype=float)[1:]  # (N, 3)
+    seen = trace.object_pose if trace.measured_pose is None else trace.measured_pose
+    pose = np.asarray(seen, dtype=float)[1:]  # (N, 3)
     pose_des = np.asarray(trace.desired_pose, dtype=float)[1:]  # (N, 3)
     forces = np.asarray(trace.contact_forces, dtype=float)[1:]  # (N, k, 2)
     forces_des = np.asarray(trace.desired_forces, dtype=float)[1:]  # (N, k, 2)

@@ -5,6 +5,11 @@ or all at once (:meth:`Episode.run`). The planner and the controller use the sce
 *nominal* parameters, the world its *plant* parameters; the desired prong forces in the
 trace (and any reward) are the force distribution recomputed with the plant's parameters at
 the plan's prong offset: what the pushed object really needed where the prongs really were.
+
+With :class:`~pushctl.episode.proxy.ProxyEffects` the episode runs on the reality proxy: its
+actuators delay the controller's torque and add joint friction (approach and push alike),
+:meth:`Episode.measured_forces` is the noisy force estimate a policy observes, and the trace
+gains the camera's object poses, which the metrics then use.
 """
 
 from __future__ import annotations
@@ -19,13 +24,21 @@ from pushctl.config import PusherConfig
 from pushctl.contact.build import make_world
 from pushctl.contact.world import World
 from pushctl.control.gains import PDGains, load_gains
-from pushctl.control.pd import PDController
+from pushctl.control.pd import PDCommand, PDController
 from pushctl.control.reference import (
     PusherReference,
     concatenate,
     hold,
     minimum_jerk,
     push_reference,
+)
+from pushctl.episode.proxy import (
+    ProxyActuators,
+    ProxyEffects,
+    camera_frames,
+    camera_poses,
+    draw_camera_noise,
+    proxy_rng,
 )
 from pushctl.episode.scenario import Scenario
 from pushctl.episode.trace import Trace, contact_torques
@@ -65,7 +78,8 @@ class Episode:
     :func:`~pushctl.episode.draw.draw_planned_scenario`, to save planning it twice);
     :meth:`reset` runs the approach; :meth:`step` advances one push step with an
     optional residual planar twist (3,) (vx [m/s], vy [m/s], ω_z [rad/s]); :meth:`trace`
-    returns what has been recorded.
+    returns what has been recorded. ``effects``: the reality proxy's (None: the simulator as
+    it is); its random draws restart from the scenario's seed at every :meth:`reset`.
     """
 
     def __init__(
@@ -74,8 +88,10 @@ class Episode:
         gains: PDGains | None = None,
         approach: ApproachSettings | None = None,
         plan: Plan | None = None,
+        effects: ProxyEffects | None = None,
     ) -> None:
         self.scenario = scenario
+        self.effects = effects
         self.gains = gains if gains is not None else load_gains()
         self.approach = approach or ApproachSettings()
         plant, nominal = scenario.plant, scenario.nominal
@@ -124,6 +140,12 @@ class Episode:
         self.controller = self._controller(self.gains)
         self.reference: PusherReference = push_reference(self.plan)
         self._allocate()
+        # The proxy's state, fresh at every reset() (see _start_proxy).
+        self._actuators: ProxyActuators | None = None
+        self._camera = np.zeros((0, 3))
+        self._force_rng = np.random.default_rng(0)
+        if effects is not None:  # check its per-joint friction against this arm now
+            ProxyActuators(effects, self.world.v.size, np.zeros(self.world.v.size))
 
     def set_gains(self, gains: PDGains) -> None:
         """Use other PD gains from the next :meth:`reset` on (the plan and world are kept:
@@ -153,6 +175,7 @@ class Episode:
         the approach, and return the state at the start of the push (t = 0)."""
         world, trajectory = self.world, self.plan.trajectory
         world.reset(object_pose=trajectory.pose[0])
+        self._start_proxy()
         result = self._approach()
         self._n = 0
         self._started = True
@@ -172,10 +195,17 @@ class Episode:
         command = self.controller.command(
             terms, world.q, ref.position[n], ref.yaw[n], self._twists[n], residual
         )
-        result = world.step(command.tau, implicit_kv=command.implicit_kv)
+        result, tau = self._actuate(command)
         self._n = n + 1
-        self._record(self._n, result, command.tau - command.implicit_kv * result.arm_v)
+        self._record(self._n, result, tau)
         return result
+
+    def measured_forces(self, forces: np.ndarray) -> np.ndarray:
+        """Contact forces ``forces`` [N] as the force estimate reads them: on the proxy with
+        its noise (a draw from the episode's force generator), otherwise as they are."""
+        if self.effects is None:
+            return forces
+        return self.effects.noisy_forces(forces, self._force_rng)
 
     def run(self) -> Trace:
         """reset(), every push step without a residual, and the trace."""
@@ -188,8 +218,12 @@ class Episode:
         """The rows recorded so far (t = 0 … t_n)."""
         rows = slice(0, self._n + 1)
         forces = self._forces[rows]
+        t = self.plan.trajectory.t[rows]
+        measured = None
+        if self.effects is not None:
+            measured = camera_poses(t, self._pose[rows], self.effects.camera_rate, self._camera)
         return Trace(
-            t=self.plan.trajectory.t[rows].copy(),
+            t=t.copy(),
             object_pose=self._pose[rows].copy(),
             desired_pose=self.plan.trajectory.pose[rows].copy(),
             contact_forces=forces.copy(),
@@ -205,6 +239,7 @@ class Episode:
             mu_contact=self.scenario.plant.mu_contact,
             arc_length=self.plan.trajectory.arc_length,
             delta_theta=self.plan.trajectory.delta_theta,
+            measured_pose=measured,
         )
 
     # ---------------------------------------------------------------- internals
@@ -235,9 +270,30 @@ class Episode:
             command = self.controller.command(
                 terms, world.q, reference.position[n], reference.yaw[n], twists[n]
             )
-            result = world.step(command.tau, implicit_kv=command.implicit_kv)
+            result, _ = self._actuate(command)
         assert result is not None
         return result
+
+    def _actuate(self, command: PDCommand) -> tuple[StepResult, np.ndarray]:
+        """One world step with ``command``: (the result, the joint torque applied over the
+        step (nv,) [N·m], the explicit torque minus the implicit K_v q̇ of the new velocity)."""
+        if self._actuators is not None:
+            return self._actuators.step(self.world, command.tau, command.implicit_kv)
+        result = self.world.step(command.tau, implicit_kv=command.implicit_kv)
+        return result, command.tau - command.implicit_kv * result.arm_v
+
+    def _start_proxy(self) -> None:
+        """Fresh proxy state for a run from the world's reset state (nothing without effects):
+        the actuators (holding the arm until the first command arrives), the camera's noise
+        for every frame of the push, and the force estimate's generator."""
+        effects = self.effects
+        if effects is None:
+            return
+        self._actuators = ProxyActuators(effects, self.world.v.size, self.world.gravity_torque())
+        seed, case = self.scenario.seed, f"{self.scenario.object}/{self.scenario.profile}"
+        frames = camera_frames(float(self.plan.trajectory.t[-1]), effects.camera_rate)
+        self._camera = draw_camera_noise(effects, frames, proxy_rng(seed, "camera", case))
+        self._force_rng = proxy_rng(seed, "force", case)
 
     def _allocate(self) -> None:
         rows, k = self.n_steps + 1, self.plan.pusher.n_prongs

@@ -26,7 +26,10 @@ class Trace:
     the step ending at the row (the controller's torque minus its implicit K_v q̇);
     ``pusher_position`` (N+1, 3) [m] and ``pusher_position_des`` (N+1, 3) [m] the pusher
     frame, actual and planned; ``mu_contact`` the plant's prong friction (for slip);
-    ``arc_length`` [m] and ``delta_theta`` [rad] of the planned path (the metrics' scales).
+    ``arc_length`` [m] and ``delta_theta`` [rad] of the planned path (the metrics' scales);
+    ``measured_pose`` (N+1, 3) or None: the object pose as the reality proxy's camera reports
+    it (:func:`~pushctl.episode.proxy.camera_poses`), which the pose metrics use when given.
+    ``arm_tau`` is the actuators' torque: on the proxy the delayed command, friction excluded.
     """
 
     t: np.ndarray
@@ -45,6 +48,7 @@ class Trace:
     mu_contact: float
     arc_length: float
     delta_theta: float
+    measured_pose: np.ndarray | None = None
 
     @property
     def n_steps(self) -> int:
@@ -58,7 +62,8 @@ class Trace:
         """The trace CSV's columns (DESIGN.md §8), SI units and radians: ``t, obj_x, obj_y,
         obj_theta, des_x, des_y, des_theta, lambda_n_i, lambda_t_i …, force_n_des_i,
         force_t_des_i …, tau_z, tau_z_des``, then the arm joints ``q_j, dq_j, tau_j``, then
-        the prong gaps ``gap_i`` and the pusher frame ``pusher_x, pusher_y, pusher_z``."""
+        the prong gaps ``gap_i`` and the pusher frame ``pusher_x, pusher_y, pusher_z``, and
+        with a camera its poses ``cam_x, cam_y, cam_theta``."""
         columns: dict[str, np.ndarray] = {"t": self.t}
         for prefix, pose in (("obj", self.object_pose), ("des", self.desired_pose)):
             for i, name in enumerate(("x", "y", "theta")):
@@ -78,6 +83,9 @@ class Trace:
             columns[f"gap_{i + 1}"] = self.prong_gaps[:, i]
         for i, name in enumerate(("x", "y", "z")):
             columns[f"pusher_{name}"] = self.pusher_position[:, i]
+        if self.measured_pose is not None:
+            for i, name in enumerate(("x", "y", "theta")):
+                columns[f"cam_{name}"] = self.measured_pose[:, i]
         return pd.DataFrame(columns)
 
 

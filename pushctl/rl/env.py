@@ -6,6 +6,10 @@ the approach; each step is one 10 ms push step of the PD baseline plus the resid
 the action (Algorithm 1), 2000 steps per episode. Observation and action: the tables of
 :mod:`pushctl.rl.spaces`. Reward: eq. 17 against the force plan recomputed with the episode's
 true (plant) parameters, which the observation never sees.
+
+With ``plant = "proxy"`` the episodes run on the reality proxy (:mod:`pushctl.episode.proxy`):
+latency and joint friction in the world, and the observation's measured contact forces are
+noisy estimates (the reward, the gate and the observation's pose error stay exact).
 """
 
 from __future__ import annotations
@@ -19,6 +23,7 @@ import numpy as np
 from pushctl.config import PusherConfig
 from pushctl.control.gains import PDGains, load_gains
 from pushctl.episode.draw import draw_planned_scenario
+from pushctl.episode.proxy import ProxyEffects, effects_for
 from pushctl.episode.runner import Episode
 from pushctl.episode.scenario import Scenario
 from pushctl.errors import ConfigError, StateError
@@ -56,6 +61,9 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         self._action_scale = np.array(
             [self.config.action_scale_linear] * 2 + [self.config.action_scale_angular]
         )
+        self.effects: ProxyEffects | None = effects_for(self.config.plant)
+        """The reality proxy's effects of the episodes (None on the sim plant): a paired
+        PD-only run is ``Episode(env.scenario, env.gains, plan=env.plan, effects=env.effects)``."""
         self.episode: Episode | None = None
 
     # ------------------------------------------------------------------ gymnasium API
@@ -65,7 +73,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
     ) -> tuple[np.ndarray, dict[str, Any]]:
         super().reset(seed=seed)
         scenario, redrawn, plan = self._draw(options or {})
-        self.episode = Episode(scenario, self.gains, plan=plan)
+        self.episode = Episode(scenario, self.gains, plan=plan, effects=self.effects)
         self._plan_pose = plan.trajectory.pose
         self._plan_forces = plan.forces.forces
         self._true_forces = self.episode.plant_forces.forces
@@ -168,7 +176,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         twist = terms.pusher_jacobian @ last.arm_v
         velocity = [c * twist[0] + s * twist[1], -s * twist[0] + c * twist[1], twist[5]]
         planned = self._plan_forces[min(n + 1, n_steps)]
-        measured = last.contact_forces
+        measured = episode.measured_forces(last.contact_forces)  # noisy on the proxy
         parts = (planned[:, 0], planned[:, 1], measured[:, 0], measured[:, 1])
         observation = np.concatenate(
             [*parts, velocity, self._error, [n / n_steps]], dtype=np.float32

@@ -1,0 +1,183 @@
+"""``pushctl evaluate``: checks its options, runs the paired trials with a progress display,
+and prints the summary table."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+from rich import box
+from rich.console import Console
+from rich.progress import (
+    BarColumn,
+    MofNCompleteColumn,
+    Progress,
+    TextColumn,
+    TimeElapsedColumn,
+    TimeRemainingColumn,
+)
+from rich.table import Table
+
+from pushctl.episode.ranges import PLANTS
+from pushctl.errors import ConfigError
+from pushctl.evaluation.evaluate import (
+    DEFAULT_POLICY,
+    Evaluation,
+    check_workers,
+    evaluate,
+    load_evaluation_policy,
+    summary,
+)
+from pushctl.evaluation.trials import CONTROLLERS, TrialResult, TrialSpec
+from pushctl.objects import OBJECT_NAMES
+from pushctl.planning import PROFILE_NAMES
+from pushctl.rl.policy import TrainedPolicy
+
+LOG_LINES = 20
+"""Plain progress lines printed over a run when the output is not a terminal (a log file or
+a pipe, where a live display would show nothing until the end)."""
+
+SUMMARY_COLUMNS = (
+    ("translation_error_pct", "transl.\n%", 1.0),
+    ("angle_error_pct", "angle\n%", 1.0),
+    ("force_error", "force\nmN", 1e3),
+    ("torque_error", "torque\nmN·m", 1e3),
+    ("slip_fraction", "slip\n%", 100.0),
+    ("contact_loss_fraction", "lost\n%", 100.0),
+)
+"""Summary columns: metric, heading, scale from the metric's unit (slip and lost: % of the
+push steps with a prong slipping, with a prong out of contact)."""
+
+
+def choose(option: str, value: str, names: tuple[str, ...], every: str) -> tuple[str, ...]:
+    """The names ``value`` selects: one of ``names``, or all of them for ``every``."""
+    if value == every:
+        return names
+    if value not in names:
+        raise ConfigError(f"unknown {option} {value!r}; accepted: {', '.join(names)} or {every}")
+    return (value,)
+
+
+def prepare(
+    object_name: str,
+    profile: str,
+    trials: int,
+    controller: str,
+    plant: str,
+    policy: Path | None,
+    seed: int,
+    workers: int,
+    out: Path,
+) -> tuple[TrialSpec, TrainedPolicy | None, Path]:
+    """The trial spec, the policy (None when RL does not run: PD-only needs no file) and its
+    path, from the options; ConfigError (one line) for anything that cannot run or whose
+    results could not be written. Nothing is written."""
+    spec = TrialSpec(
+        objects=choose("--object", object_name, OBJECT_NAMES, "all"),
+        profiles=choose("--profile", profile, PROFILE_NAMES, "all"),
+        plants=choose("--plant", plant, PLANTS, "both"),
+        controllers=choose("--controller", controller, CONTROLLERS, "both"),
+        trials=trials,
+        seed=seed,
+    )
+    check_workers(workers)
+    check_out(out)
+    policy_path = policy if policy is not None else DEFAULT_POLICY
+    loaded = load_evaluation_policy(policy_path) if "rl" in spec.controllers else None
+    if policy_path.is_absolute() and policy_path.is_relative_to(Path.cwd()):
+        policy_path = policy_path.relative_to(Path.cwd())  # as the provenance line shows it
+    return spec, loaded, policy_path
+
+
+def check_out(out: Path) -> None:
+    """ConfigError unless ``out`` is, or can be made, a writable directory: checked before
+    the trials run, not after."""
+    if out.exists() and not out.is_dir():
+        raise ConfigError(f"--out {out} is a file; give a directory")
+    existing = out
+    while not existing.exists():
+        existing = existing.parent
+    if not existing.is_dir():
+        raise ConfigError(f"--out {out}: {existing} is a file, not a directory")
+    if not os.access(existing, os.W_OK | os.X_OK):
+        raise ConfigError(f"--out {out}: cannot write in {existing}")
+
+
+def run_with_progress(
+    spec: TrialSpec, policy: TrainedPolicy | None, workers: int, console: Console
+) -> Evaluation:
+    """:func:`~pushctl.evaluation.evaluate.evaluate` with a live progress display (episodes
+    done, the running mean force error of each controller, the ETA)."""
+    per_job = len(spec.controllers)
+    total = spec.n_episodes
+    force_sums = dict.fromkeys(spec.controllers, 0.0)
+    columns = (
+        TextColumn("[bold]episode"),
+        MofNCompleteColumn(),
+        BarColumn(),
+        TextColumn("{task.fields[cell]}"),
+        TextColumn("{task.fields[errors]}"),
+        TimeElapsedColumn(),
+        TimeRemainingColumn(),
+    )
+    every = max(1, total // (per_job * LOG_LINES))
+    with Progress(*columns, console=console) as progress:
+        task = progress.add_task("evaluate", total=total, cell="", errors="")
+
+        def show(result: TrialResult, done: int, jobs: int) -> None:
+            for row in result.rows:
+                force_sums[row["controller"]] += row["force_error"]
+            job = result.job
+            cell = f"{job.object} {job.profile} {job.plant}"
+            errors = "  ".join(
+                f"|F| {name} {1e3 * total_force / done:.2f} mN"
+                for name, total_force in force_sums.items()
+            )
+            progress.update(task, completed=done * per_job, cell=cell, errors=errors)
+            if not console.is_terminal and (done % every == 0 or done == jobs):
+                elapsed = progress.tasks[0].elapsed or 0.0
+                console.print(
+                    f"episode {done * per_job}/{total}  {elapsed:,.0f} s  {cell}  {errors}",
+                    highlight=False,
+                )
+
+        return evaluate(spec, policy, workers=workers, on_trial=show)
+
+
+def summary_table(evaluation: Evaluation) -> Table:
+    """Per object × profile × plant, one row per controller: the mean of each summary metric
+    over the trials; the caption counts the goals redrawn."""
+    spec = evaluation.spec
+    means = summary(evaluation.trials)
+    targets = len(spec.objects) * len(spec.profiles) * spec.trials
+    table = Table(
+        title=f"means over {spec.trials} trials per object × profile",
+        caption=f"goals redrawn as infeasible: {evaluation.redrawn} of {targets} targets",
+        box=box.SIMPLE_HEAD,
+        show_edge=False,
+        pad_edge=False,
+        collapse_padding=True,
+    )
+    for heading in ("object", "profile", "plant", ""):
+        table.add_column(heading)
+    for _, heading, _ in SUMMARY_COLUMNS:
+        table.add_column(heading, justify="right")
+    for (obj, profile, plant), row in means.iterrows():
+        for i, name in enumerate(spec.controllers):
+            labels = (str(obj), str(profile), str(plant)) if i == 0 else ("", "", "")
+            cells = [
+                _number(scale * float(row[(metric, name)])) for metric, _, scale in SUMMARY_COLUMNS
+            ]
+            last = i == len(spec.controllers) - 1
+            table.add_row(*labels, name.upper(), *cells, end_section=last)
+    return table
+
+
+def _number(value: float) -> str:
+    """At most 6 characters: 3 significant digits from 0.01 up, a short exponent below."""
+    if np.isnan(value):
+        return "–"
+    if value == 0.0 or abs(value) >= 0.01:
+        return f"{value:.3g}" if abs(value) < 1e3 else f"{value:.0f}"
+    return f"{value:.1e}".replace("e-0", "e-")

@@ -1,0 +1,154 @@
+"""``pushctl report``: Tables III and IV, ``tables.md`` and Figs. 5, 6 and 8 from a results
+directory. Registered on the app in :mod:`pushctl.cli`.
+
+Every input is read and checked, both tables computed and all three figures rendered to
+PNG bytes before the first file is written; the files are then written each to a temporary
+file, and renamed over the old ones only once all are written (see :func:`write_chain`),
+so a failure anywhere leaves the output directory as it was.
+"""
+
+from __future__ import annotations
+
+import io
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+from matplotlib.figure import Figure
+from rich.table import Table
+
+from pushctl.errors import ConfigError
+from pushctl.provenance import provenance_line, write_atomic, write_csv
+from pushctl.report.figures import (
+    force_error_figure,
+    tracking_figure,
+    training_figure,
+)
+from pushctl.report.inputs import ResultsTable, read_report_inputs, summary
+from pushctl.report.markdown import tables_markdown
+from pushctl.report.tables import ResultTable, table3, table4
+
+TABLE3_FILE = "table3.csv"
+TABLE4_FILE = "table4.csv"
+MARKDOWN_FILE = "tables.md"
+FIG5_FILE = "fig5_training.png"
+FIG6_FILE = "fig6_tracking.png"
+FIG8_FILE = "fig8_force_error.png"
+DPI = 150
+
+
+@dataclass(frozen=True)
+class Report:
+    """Everything ``pushctl report`` writes, held in memory: the two tables and their
+    ``# made by:`` line, the Markdown text, and each figure's PNG bytes by file name."""
+
+    table3: ResultTable
+    table4: ResultTable
+    table_provenance: str
+    markdown: str
+    figures: dict[str, bytes]
+
+    @property
+    def files(self) -> list[str]:
+        return [TABLE3_FILE, TABLE4_FILE, MARKDOWN_FILE, *self.figures]
+
+
+def _source(table: ResultsTable) -> str:
+    """``path [its made-by line, shortened]``, for another file's provenance."""
+    return f"{table.path} [{summary(table.made_by)}]"
+
+
+def _png(figure: Figure, description: str) -> bytes:
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format="png", dpi=DPI, metadata={"Description": description})
+    return buffer.getvalue()
+
+
+def make_report(in_dir: Path, command: str) -> Report:
+    """Read and check ``in_dir``'s inputs, compute the tables and render the figures;
+    ``command`` is the invocation for the provenance lines. Raises
+    :class:`~pushctl.report.inputs.ResultsFileError` for a bad input; writes nothing."""
+    inputs = read_report_inputs(in_dir)
+    made_by = provenance_line(command)
+    three, four = table3(inputs.trials.frame), table4(inputs.trials.frame)
+    markdown = tables_markdown(three, four, made_by, [_source(t) for t in inputs.tables()])
+    drawings = (
+        (FIG5_FILE, training_figure(inputs.curve.frame), inputs.curve),
+        (FIG6_FILE, tracking_figure(inputs.steps.frame), inputs.steps),
+        (FIG8_FILE, force_error_figure(inputs.steps.frame), inputs.steps),
+    )
+    figures = {}
+    for name, figure, source in drawings:
+        title = " ".join(figure.get_suptitle().split())
+        figures[name] = _png(figure, f"{title}. {made_by}; input: {_source(source)}")
+    return Report(
+        table3=three,
+        table4=four,
+        table_provenance=f"{made_by}; inputs: {_source(inputs.trials)}",
+        markdown=markdown,
+        figures=figures,
+    )
+
+
+def write_chain(steps: list[Callable[[Callable[[], None]], None]]) -> None:
+    """Run ``steps`` nested: each writes its temporary file, calls the next, and renames its
+    file only when the next has returned. Every file is written before the first rename,
+    and a failure while writing renames none."""
+
+    def run(i: int) -> None:
+        if i < len(steps):
+            steps[i](lambda: run(i + 1))
+
+    run(0)
+
+
+def check_out_dir(out_dir: Path) -> None:
+    """ConfigError if ``out_dir`` exists and is not a directory (checked before the work)."""
+    if out_dir.exists() and not out_dir.is_dir():
+        raise ConfigError(f"--out {out_dir} is a file; give a directory")
+
+
+def write_report(report: Report, out_dir: Path) -> list[Path]:
+    """Write ``report`` into ``out_dir`` (created if missing); returns the paths written."""
+    check_out_dir(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    steps: list[Callable[[Callable[[], None]], None]] = []
+    for name, table in ((TABLE3_FILE, report.table3), (TABLE4_FILE, report.table4)):
+        steps.append(_csv_step(out_dir / name, table, report.table_provenance))
+    steps.append(_bytes_step(out_dir / MARKDOWN_FILE, report.markdown.encode()))
+    for name, data in report.figures.items():
+        steps.append(_bytes_step(out_dir / name, data))
+    write_chain(steps)
+    return [out_dir / name for name in report.files]
+
+
+def _csv_step(path: Path, table: ResultTable, made_by: str) -> Callable[[Callable[[], None]], None]:
+    def step(then: Callable[[], None]) -> None:
+        write_csv(path, table.values, made_by, before_rename=then)
+
+    return step
+
+
+def _bytes_step(path: Path, data: bytes) -> Callable[[Callable[[], None]], None]:
+    def step(then: Callable[[], None]) -> None:
+        def write(tmp: Path) -> None:
+            tmp.write_bytes(data)
+            then()
+
+        write_atomic(path, write)
+
+    return step
+
+
+def counts_table(report: Report) -> Table:
+    """Trials behind the tables, per (object, profile): Table III's sim PD/RL and Table
+    IV's sim and proxy PD/RL (the smallest count of each group of columns)."""
+    table = Table(title="trials per table cell")
+    for column in ("object", "profile", "Table III (sim)", "Table IV (sim + proxy)"):
+        table.add_column(column, justify="left" if column in ("object", "profile") else "right")
+    c3, c4 = report.table3.counts, report.table4.counts
+    for i in range(len(c3)):
+        n3 = min(int(c3[c].iloc[i]) for c in report.table3.value_columns)
+        n4 = min(int(c4[c].iloc[i]) for c in report.table4.value_columns)
+        table.add_row(str(c3["object"].iloc[i]), str(c3["profile"].iloc[i]), str(n3), str(n4))
+    return table

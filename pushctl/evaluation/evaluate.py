@@ -1,0 +1,302 @@
+"""``pushctl evaluate``'s core: every trial of a :class:`~pushctl.evaluation.trials.TrialSpec`,
+in this process or in worker processes, gathered into the two tables it writes.
+
+Workers: ``workers`` > 1 runs the jobs (one trial on one plant, PD-only and RL-assisted) in
+that many spawned processes, each building its environments and policy once. A job's result
+depends on the job alone (the scenario comes from its seed, every episode starts from a fresh
+world, the proxy's noise is seeded from the scenario), and results are gathered in job order,
+so any number of workers writes the same bytes.
+
+Outputs (``DIR/trials.csv`` and ``DIR/steps.csv``, see :func:`write_evaluation` and the
+README's *Evaluating* section for the columns) are written only once every trial has run.
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+import time
+from collections.abc import Callable, Iterator
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass, replace
+from multiprocessing import get_context
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+import torch
+
+from pushctl.config import PusherConfig
+from pushctl.control.gains import PDGains, load_gains
+from pushctl.episode.metrics import EpisodeMetrics
+from pushctl.errors import ConfigError
+from pushctl.evaluation.trials import (
+    STEP_COLUMNS,
+    TRIAL_COLUMNS,
+    Job,
+    TrialResult,
+    TrialSpec,
+    run_trial,
+)
+from pushctl.provenance import write_csv
+from pushctl.rl.env import PushEnv
+from pushctl.rl.env_config import EnvConfig
+from pushctl.rl.networks import ActorPolicy
+from pushctl.rl.policy import TrainedPolicy, load_policy
+from pushctl.rl.spaces import ACTION_ENTRIES, observation_entries
+
+DEFAULT_POLICY = Path(__file__).resolve().parents[2] / "results" / "training" / "policy.pt"
+"""The shipped policy (``results/training/policy.pt`` of the checkout)."""
+MAX_WORKERS = 8
+"""Worker processes at most (this machine has 2 cores; more only queue)."""
+TRIALS_FILE = "trials.csv"
+STEPS_FILE = "steps.csv"
+METRIC_COLUMNS = tuple(EpisodeMetrics.__dataclass_fields__)
+SUMMARY_METRICS = (
+    "translation_error_pct",
+    "angle_error_pct",
+    "force_error",
+    "torque_error",
+    "slip_fraction",
+    "contact_loss_fraction",
+)
+"""The metrics of :func:`summary`."""
+
+OnTrial = Callable[[TrialResult, int, int], None]
+"""Called after each job, in job order, with its result, jobs done and jobs in all."""
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """An evaluation's results: ``trials`` (``trials.csv``'s rows), ``steps`` (``steps.csv``'s),
+    and ``redrawn``, the goals redrawn as infeasible over its distinct targets (an object ×
+    profile × trial's goal is the same on both plants, and counted once)."""
+
+    spec: TrialSpec
+    trials: pd.DataFrame
+    steps: pd.DataFrame
+    redrawn: int
+
+
+def load_evaluation_policy(path: str | Path) -> TrainedPolicy:
+    """:func:`~pushctl.rl.policy.load_policy`, then ConfigError (one line) unless the actor
+    fits the environment: its observation and action sizes."""
+    policy = load_policy(path)
+    actor = policy.actor.actor
+    n_obs = len(observation_entries(PusherConfig().n_prongs))
+    if (actor.obs_dim, actor.act_dim) != (n_obs, len(ACTION_ENTRIES)):
+        raise ConfigError(
+            f"policy file {path} is incompatible: its actor takes {actor.obs_dim} observations "
+            f"and gives {actor.act_dim} actions; the environment has {n_obs} and "
+            f"{len(ACTION_ENTRIES)}"
+        )
+    return policy
+
+
+def evaluate(
+    spec: TrialSpec,
+    policy: TrainedPolicy | None = None,
+    gains: PDGains | None = None,
+    workers: int = 1,
+    env_config: EnvConfig | None = None,
+    on_trial: OnTrial | None = None,
+) -> Evaluation:
+    """Run every trial of ``spec`` and gather the tables.
+
+    ``policy``: needed when ``spec.controllers`` holds ``rl``; its environment settings
+    (push duration, step, residual scale, gate) are the evaluation's. Without one,
+    ``env_config`` (default :class:`EnvConfig`'s) sets the push. ``gains``: the PD
+    baseline's (default ``experiments/pd_gains.toml``). ``workers``: 1 … 8 processes.
+    """
+    check_workers(workers)
+    if "rl" in spec.controllers and policy is None:
+        raise ConfigError("RL-assisted trials need a policy: pass --policy or --controller pd")
+    gains = gains if gains is not None else load_gains()
+    config = policy.env if policy is not None else (env_config or EnvConfig())
+    actor_state = _portable(policy.actor.state()) if policy is not None else None
+    setup = (config, gains, actor_state, spec.plants, spec.controllers)
+    jobs = spec.jobs()
+    gathered = _Gathered(spec)
+    for done, result in enumerate(_results(jobs, setup, workers), start=1):
+        gathered.add(result)
+        if on_trial is not None:
+            on_trial(result, done, len(jobs))
+    return gathered.evaluation()
+
+
+def check_workers(workers: int) -> None:
+    """ConfigError unless ``workers`` is an integer in 1 … :data:`MAX_WORKERS`."""
+    if isinstance(workers, bool) or not isinstance(workers, int) or not 1 <= workers <= MAX_WORKERS:
+        raise ConfigError(f"--workers must be an integer in 1 … {MAX_WORKERS}, got {workers!r}")
+
+
+def write_evaluation(out: Path, evaluation: Evaluation, made_by: str) -> None:
+    """``out/trials.csv`` and ``out/steps.csv`` under ``made_by``, each atomically; the
+    trials file appears only once the steps file is written. ``out`` is created if needed."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    write_csv(
+        out / TRIALS_FILE,
+        evaluation.trials,
+        made_by,
+        before_rename=lambda: write_csv(out / STEPS_FILE, evaluation.steps, made_by),
+    )
+
+
+def summary(trials: pd.DataFrame) -> pd.DataFrame:
+    """Means of :data:`SUMMARY_METRICS` per object × profile × plant (rows, in the table's
+    order) and metric × controller (columns)."""
+    keys = ["object", "profile", "plant"]
+    means = trials.groupby([*keys, "controller"], sort=False)[list(SUMMARY_METRICS)].mean()
+    # unstack sorts the rows by name; put them back in the trials' order
+    return means.unstack("controller").reindex(
+        pd.MultiIndex.from_frame(trials[keys].drop_duplicates())
+    )
+
+
+# ---------------------------------------------------------------------------- running jobs
+
+
+class _Context:
+    """What a process needs to run jobs: an environment per plant and the actor."""
+
+    def __init__(
+        self,
+        config: EnvConfig,
+        gains: PDGains,
+        actor_state: dict[str, Any] | None,
+        plants: tuple[str, ...],
+        controllers: tuple[str, ...],
+    ) -> None:
+        self.envs = {
+            plant: PushEnv(replace(config, stream="evaluation", plant=plant), gains)
+            for plant in plants
+        }
+        self.actor = (
+            ActorPolicy.from_state(_tensors(actor_state)) if actor_state is not None else None
+        )
+        self.controllers = controllers
+
+    def run(self, job: Job) -> TrialResult:
+        return run_trial(self.envs[job.plant], self.actor, job, self.controllers)
+
+
+def _results(jobs: list[Job], setup: tuple, workers: int) -> Iterator[TrialResult]:
+    """The jobs' results in job order, from this process or from ``workers`` processes.
+    torch runs the actor on one thread either way (so float sums cannot depend on it)."""
+    threads = torch.get_num_threads()
+    torch.set_num_threads(1)
+    try:
+        if workers == 1:
+            context = _Context(*setup)
+            for job in jobs:
+                yield context.run(job)
+            return
+        pool = ProcessPoolExecutor(
+            max_workers=workers,
+            mp_context=get_context("spawn"),
+            initializer=_worker_init,
+            initargs=setup,
+        )
+        try:
+            yield from pool.map(_worker_run, jobs)
+        finally:
+            pool.shutdown(wait=True, cancel_futures=True)
+    finally:
+        torch.set_num_threads(threads)
+
+
+_WORKER: _Context | None = None
+
+
+def _worker_init(*setup: Any) -> None:
+    global _WORKER
+    _WORKER = _Context(*setup)
+    threading.Thread(target=_exit_with_parent, args=(os.getppid(),), daemon=True).start()
+
+
+def _worker_run(job: Job) -> TrialResult:
+    assert _WORKER is not None
+    return _WORKER.run(job)
+
+
+def _exit_with_parent(parent: int) -> None:
+    """End the worker when the evaluation's process is gone: one killed outright (SIGKILL)
+    runs no clean-up, and the pool's worker would otherwise wait for work forever."""
+    while os.getppid() == parent:
+        time.sleep(1.0)
+    os._exit(0)
+
+
+def _portable(state: Any) -> Any:
+    """Tensors → numpy arrays (nested dicts): an actor state pickled to a spawned process
+    as plain data, not through torch's shared-memory reductions."""
+    if isinstance(state, torch.Tensor):
+        return state.detach().numpy().copy()
+    if isinstance(state, dict):
+        return {key: _portable(value) for key, value in state.items()}
+    return state
+
+
+def _tensors(state: Any) -> Any:
+    if isinstance(state, np.ndarray):
+        return torch.from_numpy(state)
+    if isinstance(state, dict):
+        return {key: _tensors(value) for key, value in state.items()}
+    return state
+
+
+# ---------------------------------------------------------------------------- gathering
+
+
+class _Gathered:
+    """Rows and per-step sums, filled in job order."""
+
+    def __init__(self, spec: TrialSpec) -> None:
+        self.spec = spec
+        self.rows: list[dict[str, Any]] = []
+        self.sums: dict[tuple[str, str, str, str], np.ndarray] = {}
+        self.counts: dict[tuple[str, str, str, str], int] = {}
+        self.t: np.ndarray | None = None
+        self.redrawn: dict[tuple[str, str, int], int] = {}
+
+    def add(self, result: TrialResult) -> None:
+        job = result.job
+        self.rows.extend(result.rows)
+        self.redrawn[(job.object, job.profile, job.trial)] = result.redrawn
+        self.t = result.t
+        for controller, quantities in result.steps.items():
+            key = (job.object, job.profile, job.plant, controller)
+            if key in self.sums:
+                self.sums[key] = self.sums[key] + quantities
+                self.counts[key] += 1
+            else:
+                self.sums[key] = quantities.copy()
+                self.counts[key] = 1
+
+    def evaluation(self) -> Evaluation:
+        """The tables, rows in the spec's order of objects, profiles, plants, controllers
+        (then trials)."""
+        spec = self.spec
+        names = (spec.objects, spec.profiles, spec.plants, spec.controllers)
+
+        def rank(cell: tuple[str, ...]) -> tuple[int, ...]:
+            return tuple(order.index(name) for order, name in zip(names, cell, strict=True))
+
+        cell_keys = ("object", "profile", "plant", "controller")
+        rows = sorted(
+            self.rows, key=lambda row: (*rank(tuple(row[k] for k in cell_keys)), row["trial"])
+        )
+        trials = pd.DataFrame(rows, columns=[*TRIAL_COLUMNS, *METRIC_COLUMNS])
+        assert self.t is not None
+        frames = []
+        for cell in sorted(self.sums, key=rank):
+            frame = pd.DataFrame(self.sums[cell] / self.counts[cell], columns=list(STEP_COLUMNS))
+            frame.insert(0, "t", self.t)
+            frame.insert(0, "step", np.arange(len(self.t)))
+            for i, name in enumerate(cell_keys):
+                frame.insert(i, name, cell[i])
+            frames.append(frame)
+        steps = pd.concat(frames, ignore_index=True)
+        return Evaluation(spec, trials, steps, sum(self.redrawn.values()))

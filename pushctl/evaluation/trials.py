@@ -1,0 +1,258 @@
+"""The evaluation's trials (DESIGN.md §7): which scenarios run, and one paired trial.
+
+Trial i of every object × profile cell of an evaluation with seed S pushes the scenario of
+seed ``S * SEEDS_PER_EVALUATION + i`` in the *evaluation* stream (training and tuning draw
+from their own streams, so no trial was ever trained or tuned on). Trials must number at
+most :data:`SEEDS_PER_EVALUATION`, so two evaluation seeds never share a scenario; seed 0's
+trial i is ``pushctl simulate --seed i``'s scenario. The draw
+(:func:`~pushctl.episode.draw.draw_planned_scenario`) redraws goals the planner finds
+infeasible and counts them. The ``sim`` and ``proxy`` plants of one trial use the same seed:
+the same goal, their parameters from the same uniforms scaled to each plant's ranges.
+
+Paired: PD-only and RL-assisted push the same scenario with the same plan (and, on the proxy,
+the same camera noise), one after the other on the same environment.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from pushctl.episode.metrics import compute_metrics
+from pushctl.episode.ranges import PLANTS
+from pushctl.episode.runner import Episode
+from pushctl.episode.trace import Trace
+from pushctl.errors import ConfigError
+from pushctl.objects import OBJECT_NAMES
+from pushctl.planning import PROFILE_NAMES
+from pushctl.rl.env import PushEnv
+from pushctl.rl.networks import ActorPolicy
+
+CONTROLLERS = ("pd", "rl")
+"""PD-only (the paper's π_H) and RL-assisted (PD plus the trained residual)."""
+SEEDS_PER_EVALUATION = 100_000
+"""Scenario seeds reserved for one evaluation seed: S × this + trial."""
+
+TRIAL_COLUMNS = (
+    "object",
+    "profile",
+    "plant",
+    "controller",
+    "trial",
+    "seed",
+    "redrawn",
+    "goal_dx",
+    "goal_dy",
+    "goal_dtheta",
+    "mu_ground",
+    "mu_contact",
+    "object_mass",
+    "pusher_mass",
+    "gate_open_fraction",
+)
+"""The leading columns of ``trials.csv``; the :class:`EpisodeMetrics` fields follow."""
+
+STEP_COLUMNS = (
+    "translation_des_mm",
+    "translation_mm",
+    "angle_des_deg",
+    "angle_deg",
+    "translation_error_mm",
+    "angle_error_deg",
+    "force_error",
+    "torque_error",
+)
+"""The per-step quantities of ``steps.csv`` (see :func:`step_quantities`)."""
+
+
+@dataclass(frozen=True)
+class TrialSpec:
+    """Which trials run: distinct names from :data:`OBJECT_NAMES`, :data:`PROFILE_NAMES`,
+    :data:`PLANTS` and :data:`CONTROLLERS` (the outputs keep the order given), ``trials``
+    per object × profile (1 … :data:`SEEDS_PER_EVALUATION`) and the evaluation ``seed`` >= 0.
+    ConfigError (one line) for anything else."""
+
+    objects: tuple[str, ...] = OBJECT_NAMES
+    profiles: tuple[str, ...] = PROFILE_NAMES
+    plants: tuple[str, ...] = PLANTS
+    controllers: tuple[str, ...] = CONTROLLERS
+    trials: int = 50
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        for option, chosen, accepted in (
+            ("object", self.objects, OBJECT_NAMES),
+            ("profile", self.profiles, PROFILE_NAMES),
+            ("plant", self.plants, PLANTS),
+            ("controller", self.controllers, CONTROLLERS),
+        ):
+            bad = [name for name in chosen if name not in accepted]
+            if bad or not chosen:
+                raise ConfigError(
+                    f"unknown {option} {bad[0] if bad else '(none)'!r}; "
+                    f"accepted: {', '.join(accepted)}"
+                )
+            if len(set(chosen)) < len(chosen):
+                raise ConfigError(f"each {option} may be named once, got {', '.join(chosen)}")
+        if not _is_int(self.trials) or not 1 <= self.trials <= SEEDS_PER_EVALUATION:
+            raise ConfigError(
+                f"--trials must be an integer in 1 … {SEEDS_PER_EVALUATION}, got {self.trials!r}"
+            )
+        if not _is_int(self.seed) or self.seed < 0:
+            raise ConfigError(f"--seed must be an integer >= 0, got {self.seed!r}")
+
+    def scenario_seed(self, trial: int) -> int:
+        """The evaluation-stream seed of trial ``trial`` (the same in every cell and plant)."""
+        return self.seed * SEEDS_PER_EVALUATION + trial
+
+    def jobs(self) -> list[Job]:
+        """One job per object, profile, plant and trial (nested in that order): the
+        controllers of one trial on one plant."""
+        return [
+            Job(obj, profile, plant, trial, self.scenario_seed(trial))
+            for obj in self.objects
+            for profile in self.profiles
+            for plant in self.plants
+            for trial in range(self.trials)
+        ]
+
+    @property
+    def n_episodes(self) -> int:
+        return (
+            len(self.objects)
+            * len(self.profiles)
+            * len(self.plants)
+            * self.trials
+            * len(self.controllers)
+        )
+
+
+@dataclass(frozen=True)
+class Job:
+    """One trial on one plant."""
+
+    object: str
+    profile: str
+    plant: str
+    trial: int
+    seed: int
+
+
+@dataclass(frozen=True)
+class TrialResult:
+    """What one job leaves: a ``trials.csv`` row per controller (keys :data:`TRIAL_COLUMNS`
+    then the metrics), and per controller the per-step quantities (N+1, 8) in the order of
+    :data:`STEP_COLUMNS`; ``t`` (N+1,) [s]; ``redrawn`` goals before this one."""
+
+    job: Job
+    rows: tuple[dict[str, Any], ...]
+    steps: dict[str, np.ndarray]
+    t: np.ndarray
+    redrawn: int
+
+
+def run_trial(
+    env: PushEnv, actor: ActorPolicy | None, job: Job, controllers: tuple[str, ...]
+) -> TrialResult:
+    """Run ``controllers`` (a subset of :data:`CONTROLLERS`) on ``job``'s scenario.
+
+    ``env``: a :class:`PushEnv` on the evaluation stream with ``job.plant``'s ranges (it
+    draws, plans and, for RL, pushes); ``actor``: the residual policy (None only without
+    ``rl``). The reset draws the scenario even when only PD runs, so PD-only's rows are the
+    same with and without RL.
+    """
+    options = {"object": job.object, "profile": job.profile, "scenario_seed": job.seed}
+    traces: dict[str, tuple[Trace, float]] = {}
+    obs, info = env.reset(options=options)
+    if "rl" in controllers:
+        if actor is None:
+            raise ConfigError("RL-assisted trials need a policy")
+        traces["rl"] = _push_with_policy(env, actor, obs)
+    if "pd" in controllers:
+        episode = Episode(env.scenario, env.gains, plan=env.plan, effects=env.effects)
+        traces["pd"] = (episode.run(), 0.0)
+    redrawn = int(info["goals_redrawn"])
+    rows, steps = [], {}
+    for controller in CONTROLLERS:
+        if controller in traces:
+            trace, gate_share = traces[controller]
+            rows.append(_row(env, job, controller, redrawn, gate_share, trace))
+            steps[controller] = step_quantities(trace)
+    t = next(iter(traces.values()))[0].t
+    return TrialResult(job, tuple(rows), steps, np.asarray(t, dtype=float), redrawn)
+
+
+def _push_with_policy(env: PushEnv, actor: ActorPolicy, obs: np.ndarray) -> tuple[Trace, float]:
+    """The push of the episode ``env`` was just reset to, with the deterministic ``actor``
+    (:func:`~pushctl.rl.policy.run_policy`'s loop, counting the steps the gate was open),
+    and the share of those steps."""
+    assert env.episode is not None
+    steps, gate_open = env.episode.n_steps, 0
+    for _ in range(steps):
+        obs, _, _, _, info = env.step(actor(np.asarray(obs, dtype=np.float64)))
+        gate_open += bool(info["residual_active"])
+    return env.episode.trace(), gate_open / max(steps, 1)
+
+
+def _row(
+    env: PushEnv, job: Job, controller: str, redrawn: int, gate_share: float, trace: Trace
+) -> dict[str, Any]:
+    """One ``trials.csv`` row: the job, the draw (goal relative to the start, world frame
+    [m, m, rad]; the plant's parameters [1, 1, kg, kg]), the gate's share and the metrics."""
+    scenario = env.scenario
+    start = scenario.start
+    assert start is not None  # the draw always sets the default start
+    plant = scenario.plant
+    return {
+        "object": job.object,
+        "profile": job.profile,
+        "plant": job.plant,
+        "controller": controller,
+        "trial": job.trial,
+        "seed": job.seed,
+        "redrawn": redrawn,
+        "goal_dx": scenario.goal.x - start.x,
+        "goal_dy": scenario.goal.y - start.y,
+        "goal_dtheta": scenario.goal.theta - start.theta,
+        "mu_ground": plant.mu_ground,
+        "mu_contact": plant.mu_contact,
+        "object_mass": plant.object_mass,
+        "pusher_mass": plant.pusher_mass,
+        "gate_open_fraction": gate_share,
+        **compute_metrics(trace).as_dict(),
+    }
+
+
+def step_quantities(trace: Trace) -> np.ndarray:
+    """The per-step quantities of :data:`STEP_COLUMNS`, (N+1, 8), rows t = 0 … T.
+
+    Distances [mm] and angles [deg] are from the *planned* start pose (row 0 of the desired
+    pose); angles are multiplied by sign(Δθ of the plan), so pushes turning either way
+    average. The object pose is the camera's where the trace has one (the proxy), as in
+    the metrics. Force error [N]: mean over prongs of ‖F_des,i − λ_i‖; torque error [N·m]:
+    |τ_des − τ|.
+    """
+    seen = trace.object_pose if trace.measured_pose is None else trace.measured_pose
+    pose = np.asarray(seen, dtype=float)
+    desired = np.asarray(trace.desired_pose, dtype=float)
+    start = desired[0]
+    sign = -1.0 if trace.delta_theta < 0.0 else 1.0
+    forces = np.asarray(trace.contact_forces, dtype=float)
+    forces_des = np.asarray(trace.desired_forces, dtype=float)
+    columns = (
+        1e3 * np.linalg.norm(desired[:, :2] - start[:2], axis=1),
+        1e3 * np.linalg.norm(pose[:, :2] - start[:2], axis=1),
+        np.degrees(sign * (desired[:, 2] - start[2])) + 0.0,  # + 0.0: no "-0" in the CSV
+        np.degrees(sign * (pose[:, 2] - start[2])) + 0.0,
+        1e3 * np.linalg.norm(pose[:, :2] - desired[:, :2], axis=1),
+        np.degrees(np.abs(pose[:, 2] - desired[:, 2])),
+        np.linalg.norm(forces_des - forces, axis=2).mean(axis=1),
+        np.abs(np.asarray(trace.desired_torque) - np.asarray(trace.contact_torque)),
+    )
+    return np.column_stack(columns)
+
+
+def _is_int(value: object) -> bool:
+    return isinstance(value, (int, np.integer)) and not isinstance(value, bool)

@@ -1,0 +1,240 @@
+"""Reading and checking the CSVs ``pushctl report`` is made from.
+
+``IN/evaluation/trials.csv`` and ``IN/evaluation/steps.csv`` come from ``pushctl evaluate``
+and ``IN/training/curve.csv`` from ``pushctl train`` (their columns: the README's *Tables
+and figures* section). Every file is read whole and checked before anything is computed:
+a missing, empty or malformed file (a missing column, no data rows, a value that is not a
+number, a plant or controller name not in the interface, a duplicated row) raises
+:class:`ResultsFileError` with one line naming the file and what is wrong.
+
+Only the columns the report uses are required, so a file with extra columns still works.
+"""
+
+from __future__ import annotations
+
+import csv
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from pushctl.errors import ConfigError
+
+TRIALS = Path("evaluation") / "trials.csv"
+STEPS = Path("evaluation") / "steps.csv"
+CURVE = Path("training") / "curve.csv"
+
+PLANTS = ("sim", "proxy")
+CONTROLLERS = ("pd", "rl")
+CURVE_METRICS = ("force_n_error", "force_t_error", "torque_error")
+"""The per-episode errors of Fig. 5 [N, N, N·m], each as ``rl_<m>`` and ``pd_<m>``."""
+
+
+class ResultsFileError(ConfigError):
+    """A results file the report cannot use; the message names the file and the problem."""
+
+
+@dataclass(frozen=True)
+class CsvSpec:
+    """The columns a results file must have: ``labels`` (non-empty text), ``numbers``
+    (finite), ``optional_numbers`` (numbers or empty: NaN), ``choices`` (column → accepted
+    values) and ``key`` (columns no two rows may share)."""
+
+    what: str
+    labels: tuple[str, ...]
+    numbers: tuple[str, ...]
+    optional_numbers: tuple[str, ...] = ()
+    choices: tuple[tuple[str, tuple[str, ...]], ...] = ()
+    key: tuple[str, ...] = ()
+
+    @property
+    def columns(self) -> tuple[str, ...]:
+        return self.labels + self.numbers + self.optional_numbers
+
+
+_GROUP = ("object", "profile", "plant", "controller")
+_CHOICES = (("plant", PLANTS), ("controller", CONTROLLERS))
+
+TRIALS_SPEC = CsvSpec(
+    what="per-trial metrics from `pushctl evaluate`",
+    labels=_GROUP,
+    numbers=("trial", "force_error", "torque_error"),
+    # NaN by definition for a straight push (angle) or a zero-length arc (translation)
+    optional_numbers=("translation_error_pct", "angle_error_pct"),
+    choices=_CHOICES,
+    key=(*_GROUP, "trial"),
+)
+STEPS_SPEC = CsvSpec(
+    what="per-step means from `pushctl evaluate`",
+    labels=_GROUP,
+    numbers=("step", "t"),
+    optional_numbers=(
+        "translation_des_mm",
+        "translation_mm",
+        "angle_des_deg",
+        "angle_deg",
+        "translation_error_mm",
+        "angle_error_deg",
+        "force_error",
+        "torque_error",
+    ),
+    choices=_CHOICES,
+    key=(*_GROUP, "step"),
+)
+CURVE_SPEC = CsvSpec(
+    what="training curve from `pushctl train`",
+    labels=(),
+    numbers=("episode", *(f"rl_{m}" for m in CURVE_METRICS)),
+    # PD-only runs on every n-th episode only: empty elsewhere
+    optional_numbers=tuple(f"pd_{m}" for m in CURVE_METRICS),
+    key=("episode",),
+)
+
+
+@dataclass(frozen=True)
+class ResultsTable:
+    """One checked input: its ``frame`` (numbers as float64, labels as str), its ``path``
+    and its ``# made by:`` line without the ``#`` (None if it has none)."""
+
+    path: Path
+    frame: pd.DataFrame
+    made_by: str | None
+
+
+@dataclass(frozen=True)
+class ReportInputs:
+    """The three inputs of the report."""
+
+    trials: ResultsTable
+    steps: ResultsTable
+    curve: ResultsTable
+
+    def tables(self) -> tuple[ResultsTable, ...]:
+        return (self.trials, self.steps, self.curve)
+
+
+def read_report_inputs(directory: Path) -> ReportInputs:
+    """Read and check ``directory``'s trials, steps and curve CSVs (see the module
+    docstring); raises :class:`ResultsFileError` for the first problem found."""
+    directory = Path(directory)
+    if not directory.is_dir():
+        raise ResultsFileError(
+            f"{directory}: no such directory; expected a results directory holding "
+            f"{TRIALS}, {STEPS} and {CURVE}"
+        )
+    return ReportInputs(
+        trials=read_results_csv(directory / TRIALS, TRIALS_SPEC),
+        steps=read_results_csv(directory / STEPS, STEPS_SPEC),
+        curve=read_results_csv(directory / CURVE, CURVE_SPEC),
+    )
+
+
+def read_results_csv(path: Path, spec: CsvSpec) -> ResultsTable:
+    """Read ``path`` (a CSV with an optional leading ``# made by:`` line) and check it
+    against ``spec``; raises :class:`ResultsFileError`."""
+    if not path.is_file():
+        problem = "is a directory" if path.is_dir() else "no such file"
+        raise ResultsFileError(f"{path}: {problem}; expected the {spec.what}")
+    try:
+        with path.open(newline="") as handle:
+            first = handle.readline().strip()
+        _check_row_lengths(path)
+        raw = pd.read_csv(path, comment="#", dtype=str, keep_default_na=False, index_col=False)
+    except UnicodeDecodeError:
+        raise ResultsFileError(f"{path}: not a text file; expected the {spec.what}") from None
+    except pd.errors.EmptyDataError:
+        raise ResultsFileError(
+            f"{path}: empty file; expected the {spec.what} with a header line"
+        ) from None
+    except (pd.errors.ParserError, csv.Error) as error:
+        detail = str(error).strip().splitlines()[-1]
+        raise ResultsFileError(f"{path}: not a well-formed CSV ({detail})") from None
+    except OSError as error:
+        raise ResultsFileError(f"{path}: cannot read it ({error.strerror})") from None
+    made_by = first[1:].strip() if first.startswith("# made by:") else None
+    frame = _checked(path, raw.fillna(""), spec)
+    return ResultsTable(path=path, frame=frame, made_by=made_by)
+
+
+def _check_row_lengths(path: Path) -> None:
+    """Every data row has as many fields as the header (pandas would silently turn extra
+    leading fields into an index, or pad a short row)."""
+    with path.open(newline="") as handle:
+        lines = (line for line in handle if line.strip() and not line.startswith("#"))
+        rows = csv.reader(lines)
+        header = next(rows, None)
+        if header is None:
+            return  # empty: pandas names it
+        for number, row in enumerate(rows, start=1):
+            if len(row) != len(header):
+                raise ResultsFileError(
+                    f"{path}: not a well-formed CSV (data row {number} has {len(row)} fields, "
+                    f"the header {len(header)})"
+                )
+
+
+def _checked(path: Path, raw: pd.DataFrame, spec: CsvSpec) -> pd.DataFrame:
+    """``raw`` (all text) with its numbers parsed, once every rule of ``spec`` holds."""
+    missing = [c for c in spec.columns if c not in raw.columns]
+    if missing:
+        raise ResultsFileError(
+            f"{path}: missing column(s) {', '.join(missing)}; expected the {spec.what} "
+            f"with columns {', '.join(spec.columns)}"
+        )
+    if raw.empty:
+        raise ResultsFileError(f"{path}: no data rows; expected the {spec.what}")
+    frame = raw.copy()
+    for column in spec.labels:
+        values = frame[column].str.strip()
+        _reject(path, column, values == "", values, "an empty value")
+        frame[column] = values
+    for column, accepted in spec.choices:
+        bad = ~frame[column].isin(accepted)
+        _reject(path, column, bad, frame[column], f"not one of {'|'.join(accepted)}")
+    for column in spec.numbers + spec.optional_numbers:
+        frame[column] = _numbers(path, column, frame[column], column in spec.numbers)
+    if spec.key:
+        duplicated = frame.duplicated(list(spec.key), keep="first")
+        if duplicated.any():
+            row = int(np.flatnonzero(duplicated.to_numpy())[0])
+            key = ", ".join(f"{c}={frame[c].iloc[row]}" for c in spec.key)
+            raise ResultsFileError(f"{path}: data row {row + 1} repeats ({key})")
+    return frame
+
+
+def _numbers(path: Path, column: str, text: pd.Series, required: bool) -> pd.Series:
+    """``text`` as float64; an empty cell is NaN if not ``required``; anything else that is
+    not a finite number is an error."""
+    text = text.str.strip()
+    empty = text.isin(("", "nan", "NaN"))
+    values = pd.to_numeric(text.where(~empty, "nan"), errors="coerce").astype(float)
+    _reject(path, column, values.isna() & ~empty, text, "not a number")
+    _reject(path, column, np.isinf(values.to_numpy()), text, "not finite")
+    if required:
+        _reject(path, column, empty, text, "an empty value")
+    return values
+
+
+def _reject(
+    path: Path, column: str, bad: pd.Series | np.ndarray, text: pd.Series, why: str
+) -> None:
+    """Raise for the first row where ``bad`` holds, quoting the cell."""
+    flags = np.asarray(bad, dtype=bool)
+    if flags.any():
+        row = int(np.flatnonzero(flags)[0])
+        cell = str(text.iloc[row])
+        shown = cell if len(cell) <= 40 else cell[:37] + "..."
+        raise ResultsFileError(f"{path}: column {column}, data row {row + 1}: {shown!r} is {why}")
+
+
+def summary(made_by: str | None, limit: int = 400) -> str:
+    """A ``# made by:`` line shortened for another file's provenance: without the leading
+    ``made by:`` and the pushctl version field (the command, commit, seeds and the rest
+    kept), cut at ``limit`` characters; ``no provenance line`` if there is none."""
+    if made_by is None:
+        return "no provenance line"
+    fields = made_by.removeprefix("made by:").strip().split("; ")
+    text = "; ".join(f for f in fields if not re.fullmatch(r"pushctl \d[\w.+-]*", f))
+    return text if len(text) <= limit else text[: limit - 1] + "…"

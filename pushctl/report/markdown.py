@@ -1,0 +1,189 @@
+"""``tables.md``: Tables III and IV in Markdown, ours (mean ± 95 % CI half-width) beside the
+paper's published values, with the trial counts, the RL/PD ratios (the one comparison that
+survives the differences of units and normalisation) and notes on what differs.
+
+Force and torque errors are shown in mN and mN·m, ours and the paper's alike (the CSVs hold
+N and N·m; the paper prints 10⁻¹ N and 10⁻³ N·m).
+"""
+
+from __future__ import annotations
+
+import math
+
+from pushctl.report import paper_values
+from pushctl.report.tables import ResultTable
+
+MILLI = 1e3
+
+NOTES = (
+    "Paper Table III was measured on the paper's **real robot** (camera poses, 50 trials per "
+    "row); ours on the `sim` plant. The paper does not define its percentages; ours are the "
+    "mean ‖p − p_des‖ over the push relative to the planned arc length, and the mean "
+    "|θ − θ_des| relative to |Δθ| (DESIGN.md §7).",
+    "Paper Table IV prints force in 10⁻¹ N and torque in 10⁻³ N·m; both are converted to mN "
+    "and mN·m here. Its *real* columns are the real robot's internal force/torque estimates; "
+    "our `proxy` plant (wider parameter ranges, latency, joint friction, a noisy 30 Hz camera) "
+    "stands in for that robot and is not one.",
+    "Definitions differ: our force error is the mean over steps and prongs of the Euclidean "
+    "‖F_des,i − λ_i‖₂ and our torque error |Σ τ_des − Σ τ| of the totals about the centre of "
+    "mass; the paper averages 'absolute force and torque deviations' (its eq. 17 weighs "
+    "|ΔF_n|, |ΔF_t| and |Δτ_z| per prong). So compare the RL/PD ratios rather than the "
+    "absolute values.",
+)
+
+
+def _number(value: float, scale: float = 1.0) -> str:
+    return "–" if not math.isfinite(value) else f"{value * scale:.3g}"
+
+
+def _ours(table: ResultTable, row: int, column: str, scale: float = 1.0) -> str:
+    mean = float(table.values[column].iloc[row])
+    ci = float(table.values[f"{column}_ci95"].iloc[row])
+    if not math.isfinite(mean):
+        return "–"
+    return _number(mean, scale) + ("" if not math.isfinite(ci) else f" ± {ci * scale:.2g}")
+
+
+def _counts(table: ResultTable, row: int, columns: list[str]) -> str:
+    counts = [int(table.counts[c].iloc[row]) for c in columns]
+    return str(counts[0]) if len(set(counts)) == 1 else " / ".join(map(str, counts))
+
+
+def _ratio(numerator: float, denominator: float) -> str:
+    if not (math.isfinite(numerator) and math.isfinite(denominator)) or denominator == 0.0:
+        return "–"
+    return f"{numerator / denominator:.2f}"
+
+
+def _cells(table: ResultTable) -> list[tuple[str, str]]:
+    return list(zip(table.values["object"], table.values["profile"], strict=True))
+
+
+def _grid(header: list[str], rows: list[list[str]]) -> list[str]:
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    return lines + ["| " + " | ".join(r) + " |" for r in rows]
+
+
+def _value_table(
+    table: ResultTable,
+    paper: dict[tuple[str, str], dict[str, float]],
+    columns: list[tuple[str, str, str]],
+    scale: float,
+    paper_format: str,
+) -> list[str]:
+    """Rows of object, profile, n, then per (column, heading, paper heading): ours ± CI and
+    the paper's value (formatted with ``paper_format``, as printed in the paper)."""
+    header = ["object", "profile", "n"]
+    for _, heading, paper_heading in columns:
+        header += [heading, paper_heading]
+    rows = []
+    for i, (obj, profile) in enumerate(_cells(table)):
+        published = paper.get((obj, profile), {})
+        row = [obj, profile, _counts(table, i, [c for c, _, _ in columns])]
+        for column, _, _ in columns:
+            value = published.get(column, math.nan) * scale
+            row += [_ours(table, i, column, scale), _paper(value, paper_format)]
+        rows.append(row)
+    return _grid(header, rows)
+
+
+def _paper(value: float, spec: str) -> str:
+    return "–" if not math.isfinite(value) else format(value, spec)
+
+
+def _ratio_table(
+    table: ResultTable,
+    paper: dict[tuple[str, str], dict[str, float]],
+    pairs: list[tuple[str, str, str]],
+) -> list[str]:
+    """RL mean / PD mean per (heading, rl column, pd column), ours and the paper's."""
+    header = ["object", "profile"]
+    for heading, _, _ in pairs:
+        header += [f"{heading} (ours)", "paper"]
+    rows = []
+    for i, (obj, profile) in enumerate(_cells(table)):
+        published = paper.get((obj, profile), {})
+        row = [obj, profile]
+        for _, rl, pd in pairs:
+            ours = _ratio(float(table.values[rl].iloc[i]), float(table.values[pd].iloc[i]))
+            theirs = _ratio(published.get(rl, math.nan), published.get(pd, math.nan))
+            row += [ours, theirs]
+        rows.append(row)
+    return _grid(header, rows)
+
+
+_T3 = [
+    ("translation_error_pd", "translation PD-only", "paper"),
+    ("translation_error_rl", "translation RL", "paper"),
+    ("angle_error_pd", "angle PD-only", "paper"),
+    ("angle_error_rl", "angle RL", "paper"),
+]
+_T3_RATIOS = [
+    ("translation", "translation_error_rl", "translation_error_pd"),
+    ("angle", "angle_error_rl", "angle_error_pd"),
+]
+
+
+def _t4(metric: str) -> list[tuple[str, str, str]]:
+    return [
+        (f"{metric}_pd_sim", "PD-only sim", "paper sim"),
+        (f"{metric}_pd_proxy", "PD-only proxy", "paper real"),
+        (f"{metric}_rl_sim", "RL sim", "paper sim"),
+        (f"{metric}_rl_proxy", "RL proxy", "paper real"),
+    ]
+
+
+_T4_RATIOS = [
+    ("force sim", "force_error_rl_sim", "force_error_pd_sim"),
+    ("force proxy (paper: real)", "force_error_rl_proxy", "force_error_pd_proxy"),
+    ("torque sim", "torque_error_rl_sim", "torque_error_pd_sim"),
+    ("torque proxy (paper: real)", "torque_error_rl_proxy", "torque_error_pd_proxy"),
+]
+
+
+def tables_markdown(
+    table3: ResultTable, table4: ResultTable, made_by: str, inputs: list[str]
+) -> str:
+    """The text of ``tables.md``: its first line the provenance ``made_by`` (the report's
+    own ``# made by:`` line) in an HTML comment, then the ``inputs`` with theirs, both
+    tables beside the paper's, the RL/PD ratios, and notes on what differs."""
+    cell = "each cell: our mean ± the half-width of its 95 % confidence interval (Student t)"
+    lines = [
+        f"<!-- {made_by.removeprefix('#').strip()} -->",
+        "# Tables III and IV: ours beside the paper's",
+        "",
+        "Inputs:",
+        "",
+        *[f"- {source}" for source in inputs],
+        "",
+        f"n: trials behind each mean (finite values; several counts when they differ); {cell}.",
+        "",
+        "## Table III: tracking error [%], `sim` plant (paper: real robot)",
+        "",
+        *_value_table(table3, paper_values.TABLE3, _T3, 1.0, ".1f"),
+        "",
+        "RL-assisted / PD-only, the ratio of the means (< 1: RL-assisted better):",
+        "",
+        *_ratio_table(table3, paper_values.TABLE3, _T3_RATIOS),
+        "",
+        "## Table IV: force error [mN] and torque error [mN·m], `sim` and `proxy` plants",
+        "",
+        "Force error [mN]:",
+        "",
+        *_value_table(table4, paper_values.TABLE4, _t4("force_error"), MILLI, ".0f"),
+        "",
+        "Torque error [mN·m]:",
+        "",
+        *_value_table(table4, paper_values.TABLE4, _t4("torque_error"), MILLI, ".2f"),
+        "",
+        "RL-assisted / PD-only, the ratio of the means (< 1: RL-assisted better):",
+        "",
+        *_ratio_table(table4, paper_values.TABLE4, _T4_RATIOS),
+        "",
+        "## How to read the comparison",
+        "",
+        *[f"- {note}" for note in NOTES],
+        "- The paper's values are transcribed from its text in `pushctl/report/paper_values.py`.",
+        "",
+    ]
+    return "\n".join(lines)

@@ -1,0 +1,131 @@
+"""Tables III and IV from the per-trial CSV: means over the trials with 95 % confidence
+intervals, one row per (object, profile).
+
+- :func:`table3`: translation and angle error [%] of PD-only and RL-assisted on the ``sim``
+  plant (the paper's Table III, which it measured on its real robot).
+- :func:`table4`: force [N] and torque [N·m] error of PD-only and RL-assisted on the
+  ``sim`` and ``proxy`` plants (the paper's Table IV, sim against real).
+
+Each value column ``c`` is followed, after all value columns, by ``c_ci95``: the half-width
+of the 95 % confidence interval of the mean, t(0.975, n − 1) · s / √n with s the sample
+standard deviation (n − 1 in the denominator) and n the number of *finite* values: a
+straight push has no angle error % (NaN), so it is left out of that mean and its n. A
+cell with no finite value is NaN, one with a single value has a NaN interval.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+from scipy import stats
+
+OBJECT_ORDER = ("cube", "wedge")
+PROFILE_ORDER = ("constant", "trapezoid", "chirp")
+CONFIDENCE = 0.95
+
+Source = tuple[str, str, str]
+"""(metric column of trials.csv, plant, controller) a table column is the mean of."""
+
+TABLE3_COLUMNS: dict[str, Source] = {
+    "translation_error_pd": ("translation_error_pct", "sim", "pd"),
+    "translation_error_rl": ("translation_error_pct", "sim", "rl"),
+    "angle_error_pd": ("angle_error_pct", "sim", "pd"),
+    "angle_error_rl": ("angle_error_pct", "sim", "rl"),
+}
+"""Columns of ``table3.csv`` [%] and where each comes from."""
+
+TABLE4_COLUMNS: dict[str, Source] = {
+    f"{metric}_{controller}_{plant}": (metric, plant, controller)
+    for metric in ("force_error", "torque_error")
+    for controller in ("pd", "rl")
+    for plant in ("sim", "proxy")
+}
+"""Columns of ``table4.csv`` (force [N], torque [N·m]) and where each comes from."""
+
+
+@dataclass(frozen=True)
+class ResultTable:
+    """A table as written (``values``: object, profile, the value columns, then their
+    ``_ci95`` columns) and the number of finite trials behind each value (``counts``:
+    object, profile, then the value columns holding integers)."""
+
+    values: pd.DataFrame
+    counts: pd.DataFrame
+
+    @property
+    def value_columns(self) -> list[str]:
+        return [c for c in self.counts.columns if c not in ("object", "profile")]
+
+
+def ci95_halfwidth(values: np.ndarray | pd.Series) -> float:
+    """Half-width of the 95 % confidence interval of the mean of the finite ``values``
+    (Student t, n − 1 degrees of freedom); NaN for fewer than two finite values."""
+    finite = np.asarray(values, dtype=float)
+    finite = finite[np.isfinite(finite)]
+    n = finite.size
+    if n < 2:
+        return math.nan
+    t = float(stats.t.ppf(0.5 + 0.5 * CONFIDENCE, n - 1))
+    return t * float(np.std(finite, ddof=1)) / math.sqrt(n)
+
+
+def _finite_mean(values: np.ndarray) -> float:
+    finite = values[np.isfinite(values)]
+    return float(finite.mean()) if finite.size else math.nan
+
+
+def ordered_names(names: pd.Series, known: tuple[str, ...]) -> list[str]:
+    """The distinct ``names``: the ``known`` ones in that order, then the others sorted."""
+    present = set(names)
+    return [n for n in known if n in present] + sorted(present - set(known))
+
+
+def cells(trials: pd.DataFrame) -> list[tuple[str, str]]:
+    """The (object, profile) pairs present in ``trials``, cube before wedge and constant,
+    trapezoid, chirp in the paper's order (other names after, sorted)."""
+    present = set(zip(trials["object"], trials["profile"], strict=True))
+    return [
+        (obj, profile)
+        for obj in ordered_names(trials["object"], OBJECT_ORDER)
+        for profile in ordered_names(trials["profile"], PROFILE_ORDER)
+        if (obj, profile) in present
+    ]
+
+
+def summarise(trials: pd.DataFrame, columns: dict[str, Source]) -> ResultTable:
+    """One row per (object, profile) of ``trials`` (the columns of ``trials.csv``): the
+    mean, 95 % CI half-width and finite count of each of ``columns``. A source with no rows
+    (say no ``proxy`` trials were run) gives NaN and a count of 0."""
+    groups = trials.groupby(["object", "profile", "plant", "controller"], sort=False)
+    empty = np.array([], dtype=float)
+    rows, counts = [], []
+    for obj, profile in cells(trials):
+        row: dict[str, object] = {"object": obj, "profile": profile}
+        count: dict[str, object] = dict(row)
+        intervals = {}
+        for name, (metric, plant, controller) in columns.items():
+            key = (obj, profile, plant, controller)
+            values = (
+                groups.get_group(key)[metric].to_numpy(float) if key in groups.groups else empty
+            )
+            row[name] = _finite_mean(values)
+            intervals[f"{name}_ci95"] = ci95_halfwidth(values)
+            count[name] = int(np.isfinite(values).sum())
+        rows.append(row | intervals)
+        counts.append(count)
+    return ResultTable(values=pd.DataFrame(rows), counts=pd.DataFrame(counts))
+
+
+def table3(trials: pd.DataFrame) -> ResultTable:
+    """The paper's Table III from ``trials``: translation and angle error [%], PD-only and
+    RL-assisted, ``sim`` plant."""
+    return summarise(trials, TABLE3_COLUMNS)
+
+
+def table4(trials: pd.DataFrame) -> ResultTable:
+    """The paper's Table IV from ``trials``: force error [N] and torque error [N·m],
+    PD-only and RL-assisted, ``sim`` and ``proxy`` plants."""
+    return summarise(trials, TABLE4_COLUMNS)

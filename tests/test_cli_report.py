@@ -1,0 +1,173 @@
+"""``pushctl report`` end to end on small synthetic results: every output written with its
+provenance, the tables readable back, and bad input (a missing directory, an empty file, a
+missing column, garbage) rejected with one line and exit code 2, writing nothing."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pandas as pd
+import pytest
+from PIL import Image
+from test_report import write_results
+from typer.testing import CliRunner
+
+from pushctl.cli import app
+from pushctl.cli_report import write_chain
+
+runner = CliRunner()
+OUTPUTS = (
+    "table3.csv",
+    "table4.csv",
+    "tables.md",
+    "fig5_training.png",
+    "fig6_tracking.png",
+    "fig8_force_error.png",
+)
+
+
+@pytest.fixture(scope="module")
+def report_run(tmp_path_factory) -> tuple[Path, Path, str]:
+    """One run of the command on the synthetic results (figures take a few seconds)."""
+    root = tmp_path_factory.mktemp("report")
+    results = write_results(root / "results")
+    out = root / "out"
+    result = runner.invoke(app, ["report", "--in", str(results), "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    return results, out, result.output
+
+
+def test_report_writes_every_output(report_run):
+    _, out, output = report_run
+    assert sorted(p.name for p in out.iterdir()) == sorted(OUTPUTS)
+    for name in OUTPUTS:
+        assert f"{out / name}" in output.replace("\n", "")
+
+
+def test_tables_carry_provenance_naming_their_input(report_run):
+    results, out, _ = report_run
+    first = (out / "table3.csv").read_text().splitlines()[0]
+    assert first.startswith("# made by: pushctl report --in")
+    assert f"{results / 'evaluation' / 'trials.csv'} [" in first
+    # the input's own line, its pushctl version left out
+    assert "[pushctl evaluate --trials 4; commit abc1234; seed 7]" in first
+    table = pd.read_csv(out / "table3.csv", comment="#")
+    assert list(table.columns[:6]) == [
+        "object",
+        "profile",
+        "translation_error_pd",
+        "translation_error_rl",
+        "angle_error_pd",
+        "angle_error_rl",
+    ]
+    assert len(table) == 6
+    row = table[(table["object"] == "wedge") & (table["profile"] == "chirp")].iloc[0]
+    assert row["translation_error_pd"] == pytest.approx(5.0)
+    four = pd.read_csv(out / "table4.csv", comment="#")
+    assert four["force_error_rl_proxy"].iloc[0] == pytest.approx(3.75e-3)
+    assert four.columns[-1] == "torque_error_rl_proxy_ci95"
+
+
+def test_markdown_and_figures_carry_provenance(report_run):
+    results, out, _ = report_run
+    text = (out / "tables.md").read_text()
+    assert text.startswith("<!-- made by: pushctl report --in")
+    assert "22.3" in text and "| 171 |" in text
+    assert f"{results / 'training' / 'curve.csv'} [no provenance line]" in text
+    for name, fig in (("fig5_training.png", "Fig. 5"), ("fig8_force_error.png", "Fig. 8")):
+        with Image.open(out / name) as image:
+            description = image.info["Description"]
+            assert image.size[0] > 1000
+        assert description.startswith(fig) and "made by: pushctl report" in description
+    with Image.open(out / "fig6_tracking.png") as image:
+        assert "evaluation/steps.csv" in image.info["Description"]
+
+
+def _break(results: Path, kind: str) -> Path:
+    """Damage ``results`` one way; returns the --in directory to use."""
+    trials = results / "evaluation" / "trials.csv"
+    if kind == "missing-dir":
+        return results / "nope"
+    if kind == "empty-file":
+        trials.write_text("")
+    elif kind == "missing-column":
+        frame = pd.read_csv(trials, comment="#").drop(columns="angle_error_pct")
+        frame.to_csv(trials, index=False)
+    elif kind == "garbage":
+        (results / "training" / "curve.csv").write_bytes(b"\x89PNG\r\n\x1a\n\x00\xff\xfe garbage")
+    elif kind == "missing-steps":
+        (results / "evaluation" / "steps.csv").unlink()
+    return results
+
+
+@pytest.mark.parametrize(
+    ("kind", "fragment"),
+    [
+        ("missing-dir", "nope: no such directory"),
+        ("empty-file", "trials.csv: empty file"),
+        ("missing-column", "trials.csv: missing column(s) angle_error_pct"),
+        ("garbage", "curve.csv: not a"),
+        ("missing-steps", "steps.csv: no such file"),
+    ],
+)
+def test_bad_input_gives_one_line_exit_2_and_writes_nothing(tmp_path, kind, fragment):
+    results = write_results(tmp_path / "results")
+    in_dir = _break(results, kind)
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "table3.csv").write_text("old\n")  # an earlier report's file stays as it was
+    result = runner.invoke(app, ["report", "--in", str(in_dir), "--out", str(out)])
+    assert result.exit_code == 2, result.output
+    assert fragment in result.output
+    assert "Traceback" not in result.output
+    assert len(result.output.strip().splitlines()) == 1
+    assert [p.name for p in out.iterdir()] == ["table3.csv"]
+    assert (out / "table3.csv").read_text() == "old\n"
+
+
+def test_out_that_is_a_file_is_refused(tmp_path):
+    results = write_results(tmp_path / "results")
+    target = tmp_path / "file.txt"
+    target.write_text("keep")
+    result = runner.invoke(app, ["report", "--in", str(results), "--out", str(target)])
+    assert result.exit_code == 2
+    assert "is a file" in result.output and len(result.output.strip().splitlines()) == 1
+    assert target.read_text() == "keep"
+
+
+def test_a_failed_write_renames_no_file(tmp_path):
+    """write_chain: each file is renamed only after every later one was written, so a
+    failure while writing the last leaves the earlier files untouched."""
+    from pushctl.provenance import write_atomic
+
+    first, second = tmp_path / "a.txt", tmp_path / "b.txt"
+    first.write_text("old")
+
+    def write_first(then):
+        def write(tmp: Path) -> None:
+            tmp.write_text("new")
+            then()
+
+        write_atomic(first, write)
+
+    def fail(then):
+        def write(tmp: Path) -> None:
+            raise OSError(28, "No space left on device", str(second))
+
+        write_atomic(second, write)
+
+    with pytest.raises(OSError):
+        write_chain([write_first, fail])
+    assert first.read_text() == "old"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.txt"]
+
+
+def test_readme_names_every_output_and_table_column():
+    from pushctl.report.tables import TABLE3_COLUMNS
+
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    section = readme.split("## Tables and figures: `pushctl report`")[1].split("\n## ")[0]
+    for name in OUTPUTS:
+        assert f"`{name}`" in section
+    assert ", ".join(["object", "profile", *TABLE3_COLUMNS]) in section
+    assert "`force_error_{pd,rl}_{sim,proxy}`" in section
