@@ -18,18 +18,27 @@ import pandas as pd
 import pushctl
 
 
-def git_commit() -> str:
-    """``git describe --always --dirty`` of the source tree, or ``unknown`` outside git."""
+def git_commit(source: Path | None = None) -> str:
+    """``git describe --always`` of the source tree (``source``: a directory in it, default
+    this package's), with ``-dirty`` if a tracked file outside ``results/`` differs from the
+    commit (the results a run writes do not make the code that wrote them dirty), or
+    ``unknown`` outside git."""
+    source = source if source is not None else Path(pushctl.__file__).parent
     try:
-        return subprocess.run(
-            ["git", "describe", "--always", "--dirty"],
-            capture_output=True,
-            text=True,
-            check=True,
-            cwd=Path(pushctl.__file__).parent,
-        ).stdout.strip()
+        described = _git(["describe", "--always"], source)
+        changed = _git(
+            ["status", "--porcelain", "--untracked-files=no", "--", ":/", ":(exclude,top)results"],
+            source,
+        )
     except (OSError, subprocess.CalledProcessError):
         return "unknown"
+    return f"{described}-dirty" if changed else described
+
+
+def _git(arguments: list[str], where: Path) -> str:
+    return subprocess.run(
+        ["git", *arguments], capture_output=True, text=True, check=True, cwd=where
+    ).stdout.strip()
 
 
 def provenance_line(command: str | None = None, extra: str = "") -> str:

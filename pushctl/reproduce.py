@@ -6,7 +6,7 @@ user would type, run as a subprocess with its own output on the terminal:
 1. ``pushctl train --preset paper --seed 0 --out runs/paper`` (``--resume`` when the run
    directory holds a checkpoint, so an interrupted reproduction continues, and a finished
    run is not trained again);
-2. the run's ``policy.pt``, ``curve.csv`` and ``validation.csv`` copied to
+2. the run's ``policy.pt``, ``policy_last.pt``, ``curve.csv`` and ``validation.csv`` copied to
    ``results/training/`` (the shipped policy and the Fig. 5 input);
 3. ``pushctl evaluate`` (50 trials per object × profile, both controllers, both plants,
    2 workers) into ``results/evaluation/``;
@@ -37,7 +37,7 @@ from pushctl.provenance import git_commit, write_atomic
 
 SEED = 0
 MANIFEST = "provenance.md"
-TRAINING_FILES = ("policy.pt", "curve.csv", "validation.csv")
+TRAINING_FILES = ("policy.pt", "policy_last.pt", "curve.csv", "validation.csv")
 
 
 @dataclass(frozen=True)

@@ -89,3 +89,26 @@ def test_a_failing_step_stops_the_run_and_the_manifest_names_it(
     assert "failed at evaluate" in (setup.results / MANIFEST).read_text()
     monkeypatch.setattr(reproduce, "QUICK", setup)
     assert reproduce.main(["--quick"]) == 3
+
+
+def test_results_written_by_a_run_do_not_make_the_commit_dirty(tmp_path: Path) -> None:
+    import subprocess
+
+    from pushctl.provenance import git_commit
+
+    def git(*args: str) -> None:
+        subprocess.run(["git", *args], cwd=tmp_path, check=True, capture_output=True)
+
+    git("init", "-q")
+    (tmp_path / "code.py").write_text("a = 1\n")
+    (tmp_path / "results").mkdir()
+    (tmp_path / "results" / "table.csv").write_text("x\n")
+    git("add", ".")
+    git("-c", "user.name=t", "-c", "user.email=t@t", "commit", "-qm", "c")
+    clean = git_commit(tmp_path)
+    assert clean != "unknown" and not clean.endswith("-dirty")
+    (tmp_path / "results" / "table.csv").write_text("y\n")
+    assert git_commit(tmp_path) == clean
+    (tmp_path / "code.py").write_text("a = 2\n")
+    assert git_commit(tmp_path) == f"{clean}-dirty"
+    assert git_commit(tmp_path.parent / "nowhere") == "unknown"
