@@ -40,6 +40,7 @@ from pushctl.evaluation.trials import (
     run_trial,
 )
 from pushctl.provenance import write_csv
+from pushctl.rl.collect import portable, tensors
 from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.networks import ActorPolicy
@@ -114,7 +115,7 @@ def evaluate(
         raise ConfigError("RL-assisted trials need a policy: pass --policy or --controller pd")
     gains = gains if gains is not None else load_gains()
     config = policy.env if policy is not None else (env_config or EnvConfig())
-    actor_state = _portable(policy.actor.state()) if policy is not None else None
+    actor_state = portable(policy.actor.state()) if policy is not None else None
     setup = (config, gains, actor_state, spec.plants, spec.controllers)
     jobs = spec.jobs()
     gathered = _Gathered(spec)
@@ -174,7 +175,7 @@ class _Context:
             for plant in plants
         }
         self.actor = (
-            ActorPolicy.from_state(_tensors(actor_state)) if actor_state is not None else None
+            ActorPolicy.from_state(tensors(actor_state)) if actor_state is not None else None
         )
         self.controllers = controllers
 
@@ -227,24 +228,6 @@ def _exit_with_parent(parent: int) -> None:
     while os.getppid() == parent:
         time.sleep(1.0)
     os._exit(0)
-
-
-def _portable(state: Any) -> Any:
-    """Tensors → numpy arrays (nested dicts): an actor state pickled to a spawned process
-    as plain data, not through torch's shared-memory reductions."""
-    if isinstance(state, torch.Tensor):
-        return state.detach().numpy().copy()
-    if isinstance(state, dict):
-        return {key: _portable(value) for key, value in state.items()}
-    return state
-
-
-def _tensors(state: Any) -> Any:
-    if isinstance(state, np.ndarray):
-        return torch.from_numpy(state)
-    if isinstance(state, dict):
-        return {key: _tensors(value) for key, value in state.items()}
-    return state
 
 
 # ---------------------------------------------------------------------------- gathering
