@@ -167,6 +167,9 @@ def test_the_outputs_read_back_with_their_provenance(tmp_path: Path) -> None:
         assert (out / name).read_text().startswith("# made by: a test\n")
         back = pd.read_csv(out / name, comment="#")
         assert list(back.columns) == list(frame.columns) and len(back) == len(frame)
+        numbers = frame.select_dtypes("number").columns
+        relative = 1e-8 if name == TRIALS_FILE else 1e-5  # 9 and 6 significant figures
+        np.testing.assert_allclose(back[numbers], frame[numbers], rtol=relative, atol=1e-12)
     table = summary(result.trials)
     assert list(table.index) == [
         ("cube", "trapezoid", "sim"),
