@@ -12,6 +12,7 @@ import pytest
 
 from pushctl.episode.metrics import EpisodeMetrics
 from pushctl.errors import ConfigError
+from pushctl.evaluation.columns import STEP_COLUMNS, TRIAL_COLUMNS
 from pushctl.evaluation.evaluate import (
     STEPS_FILE,
     TRIALS_FILE,
@@ -20,12 +21,7 @@ from pushctl.evaluation.evaluate import (
     summary,
     write_evaluation,
 )
-from pushctl.evaluation.trials import (
-    SEEDS_PER_EVALUATION,
-    STEP_COLUMNS,
-    TRIAL_COLUMNS,
-    TrialSpec,
-)
+from pushctl.evaluation.trials import SEEDS_PER_EVALUATION, TrialSpec
 from pushctl.rl.config import DDPGConfig
 from pushctl.rl.ddpg import DDPGAgent
 from pushctl.rl.env_config import EnvConfig

@@ -31,9 +31,8 @@ from pushctl.config import PusherConfig
 from pushctl.control.gains import PDGains, load_gains
 from pushctl.episode.metrics import EpisodeMetrics
 from pushctl.errors import ConfigError
+from pushctl.evaluation.columns import STEP_COLUMNS, TRIAL_COLUMNS
 from pushctl.evaluation.trials import (
-    STEP_COLUMNS,
-    TRIAL_COLUMNS,
     Job,
     TrialResult,
     TrialSpec,

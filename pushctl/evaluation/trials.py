@@ -1,4 +1,5 @@
-"""The evaluation's trials (DESIGN.md §7): which scenarios run, and one paired trial.
+"""The evaluation's trials (DESIGN.md §7): which scenarios run, and one paired trial (the
+CSV columns, ``TRIAL_COLUMNS`` and ``STEP_COLUMNS``, are in :mod:`pushctl.evaluation.columns`).
 
 Trial i of every object × profile cell of an evaluation with seed S pushes the scenario of
 seed ``S * SEEDS_PER_EVALUATION + i`` in the *evaluation* stream (training and tuning draw
@@ -34,37 +35,6 @@ CONTROLLERS = ("pd", "rl")
 """PD-only (the paper's π_H) and RL-assisted (PD plus the trained residual)."""
 SEEDS_PER_EVALUATION = 100_000
 """Scenario seeds reserved for one evaluation seed: S × this + trial."""
-
-TRIAL_COLUMNS = (
-    "object",
-    "profile",
-    "plant",
-    "controller",
-    "trial",
-    "seed",
-    "redrawn",
-    "goal_dx",
-    "goal_dy",
-    "goal_dtheta",
-    "mu_ground",
-    "mu_contact",
-    "object_mass",
-    "pusher_mass",
-    "gate_open_fraction",
-)
-"""The leading columns of ``trials.csv``; the :class:`EpisodeMetrics` fields follow."""
-
-STEP_COLUMNS = (
-    "translation_des_mm",
-    "translation_mm",
-    "angle_des_deg",
-    "angle_deg",
-    "translation_error_mm",
-    "angle_error_deg",
-    "force_error",
-    "torque_error",
-)
-"""The per-step quantities of ``steps.csv`` (see :func:`step_quantities`)."""
 
 
 @dataclass(frozen=True)
@@ -142,9 +112,9 @@ class Job:
 
 @dataclass(frozen=True)
 class TrialResult:
-    """What one job leaves: a ``trials.csv`` row per controller (keys :data:`TRIAL_COLUMNS`
+    """What one job leaves: a ``trials.csv`` row per controller (keys ``TRIAL_COLUMNS``
     then the metrics), and per controller the per-step quantities (N+1, 8) in the order of
-    :data:`STEP_COLUMNS`; ``t`` (N+1,) [s]; ``redrawn`` goals before this one."""
+    ``STEP_COLUMNS``; ``t`` (N+1,) [s]; ``redrawn`` goals before this one."""
 
     job: Job
     rows: tuple[dict[str, Any], ...]
@@ -226,7 +196,7 @@ def _row(
 
 
 def step_quantities(trace: Trace) -> np.ndarray:
-    """The per-step quantities of :data:`STEP_COLUMNS`, (N+1, 8), rows t = 0 … T.
+    """The per-step quantities of ``STEP_COLUMNS``, (N+1, 8), rows t = 0 … T.
 
     Distances [mm] and angles [deg] are from the *planned* start pose (row 0 of the desired
     pose); angles are multiplied by sign(Δθ of the plan), so pushes turning either way

@@ -21,6 +21,7 @@ import numpy as np
 import pandas as pd
 
 from pushctl.errors import ConfigError
+from pushctl.evaluation.columns import STEP_COLUMNS
 
 TRIALS = Path("evaluation") / "trials.csv"
 STEPS = Path("evaluation") / "steps.csv"
@@ -70,16 +71,7 @@ STEPS_SPEC = CsvSpec(
     what="per-step means from `pushctl evaluate`",
     labels=_GROUP,
     numbers=("step", "t"),
-    optional_numbers=(
-        "translation_des_mm",
-        "translation_mm",
-        "angle_des_deg",
-        "angle_deg",
-        "translation_error_mm",
-        "angle_error_deg",
-        "force_error",
-        "torque_error",
-    ),
+    optional_numbers=STEP_COLUMNS,
     choices=_CHOICES,
     key=(*_GROUP, "step"),
 )
