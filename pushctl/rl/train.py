@@ -159,7 +159,9 @@ class Trainer:
                 if self.next_episode // every > episodes_.start // every:
                     self.save()  # a resume resubmits the round in flight, with the same actor
                 flight = following
-            if self.preset.train.validate_every:
+            validated = {row["episode"] for row in self.validation}
+            if self.preset.train.validate_every and self.next_episode not in validated:
+                # the last actor (also when a finished run is resumed: scored once)
                 self._record_validation(self._submit_validation(collector, self.next_episode))
         self.save()
         last = self.agent.actor_state()
@@ -221,10 +223,12 @@ class Trainer:
         return round(env.duration / env.dt)
 
     def _validate_due(self, episode: int) -> bool:
-        """A multiple of ``validate_every`` not yet validated."""
+        """A positive multiple of ``validate_every`` not yet validated. Episode 0's actor is
+        not scored: with ``actor_final_init`` 0 (the presets') it outputs zero, which is
+        PD-only, whose errors every row of ``validation.csv`` already holds."""
         every = self.preset.train.validate_every
         done = {row["episode"] for row in self.validation}
-        return every > 0 and episode % every == 0 and episode not in done
+        return every > 0 and episode > 0 and episode % every == 0 and episode not in done
 
     def _submit_round(
         self, collector: _Collector, first: int, episodes: int
