@@ -6,6 +6,7 @@ Coulomb cones, no penetration), tracking of the plan, the use of the plant's par
 determinism, the trace's CSV layout, and the stepping API's errors.
 """
 
+import copy
 import math
 
 import numpy as np
@@ -185,6 +186,26 @@ def test_episodes_are_bitwise_deterministic():
     for other in (frame_b, frame_c):
         pd.testing.assert_frame_equal(frame_a, other, check_exact=True)
         assert frame_a.to_numpy().tobytes() == other.to_numpy().tobytes()
+
+
+def test_a_copy_of_a_reset_episode_finishes_the_same_push():
+    # The evaluation runs the approach once and pushes PD-only from a deepcopy of the episode.
+    scenario = Scenario(object="wedge", profile="trapezoid", goal=TURNING_GOAL, duration=3.0)
+    fresh = Episode(scenario, gains=GAINS).run().to_frame()
+    episode = Episode(scenario, gains=GAINS)
+    episode.reset()
+    copied = copy.deepcopy(episode)
+    for _ in range(50):  # the original pushes on, with a residual, before the copy runs
+        episode.step(np.array([0.02, 0.0, 0.0]))
+    from_copy = copied.finish().to_frame()
+    assert from_copy.to_numpy().tobytes() == fresh.to_numpy().tobytes()
+    assert not np.array_equal(episode.trace().object_pose, copied.trace().object_pose[:51])
+
+
+def test_finish_before_reset_raises_state_error():
+    scenario = Scenario(object="cube", profile="constant", goal=TURNING_GOAL, duration=1.0)
+    with pytest.raises(StateError, match="reset"):
+        Episode(scenario, gains=GAINS).finish()
 
 
 # ------------------------------------------------------------ 7. trace layout

@@ -8,6 +8,7 @@ the scenario's seed; the environment's proxy observation; full pushes that stay 
 
 from __future__ import annotations
 
+import copy
 import math
 from dataclasses import fields, replace
 
@@ -293,6 +294,18 @@ def test_one_seed_gives_identical_traces() -> None:
     assert not np.array_equal(_camera_noise(a), _camera_noise(d))
     wedge = Episode(short_scenario(object_name="wedge"), GAINS, effects=effects).run()
     assert not np.allclose(_camera_noise(a), _camera_noise(wedge), atol=1e-6)
+
+
+def test_a_copy_of_a_reset_proxy_episode_finishes_the_same_push() -> None:
+    # The latency buffer, friction state and noise generators travel with a deepcopy.
+    effects = ProxyEffects()
+    fresh = Episode(short_scenario(), GAINS, effects=effects).run()
+    episode = Episode(short_scenario(), GAINS, effects=effects)
+    episode.reset()
+    copied = copy.deepcopy(episode)
+    for _ in range(20):
+        episode.step(np.array([0.0, 0.01, 0.0]))
+    assert copied.finish().to_frame().to_numpy().tobytes() == fresh.to_frame().to_numpy().tobytes()
 
 
 def test_pd_only_and_rl_assisted_runs_see_the_same_camera_noise() -> None:

@@ -210,7 +210,15 @@ class Episode:
     def run(self) -> Trace:
         """reset(), every push step without a residual, and the trace."""
         self.reset()
-        for _ in range(self.n_steps):
+        return self.finish()
+
+    def finish(self) -> Trace:
+        """Every remaining push step without a residual, and the trace. After reset() it is
+        run()'s push; on a ``copy.deepcopy`` of an episode just reset, it is that push without
+        running the approach again (how the evaluation pairs PD-only with RL-assisted)."""
+        if not self._started:
+            raise StateError("call reset() before finish(): the approach has not run")
+        while self._n < self.n_steps:
             self.step()
         return self.trace()
 
