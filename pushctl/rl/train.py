@@ -159,8 +159,7 @@ class Trainer:
                 if self.next_episode // every > episodes_.start // every:
                     self.save()  # a resume resubmits the round in flight, with the same actor
                 flight = following
-            validated = {row["episode"] for row in self.validation}
-            if self.preset.train.validate_every and self.next_episode not in validated:
+            if self.preset.train.validate_every and self.next_episode not in self._validated:
                 # the last actor (also when a finished run is resumed: scored once)
                 self._record_validation(self._submit_validation(collector, self.next_episode))
         self.save()
@@ -227,8 +226,12 @@ class Trainer:
         not scored: with ``actor_final_init`` 0 (the presets') it outputs zero, which is
         PD-only, whose errors every row of ``validation.csv`` already holds."""
         every = self.preset.train.validate_every
-        done = {row["episode"] for row in self.validation}
-        return every > 0 and episode > 0 and episode % every == 0 and episode not in done
+        return every > 0 and episode > 0 and episode % every == 0 and episode not in self._validated
+
+    @property
+    def _validated(self) -> set[int]:
+        """The episodes whose actor has been scored."""
+        return {row["episode"] for row in self.validation}
 
     def _submit_round(
         self, collector: _Collector, first: int, episodes: int
