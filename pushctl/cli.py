@@ -32,6 +32,11 @@ def _fail(error: PushctlError) -> None:
     raise typer.Exit(code=2)
 
 
+def _fail_write(error: OSError) -> None:
+    """:func:`_fail` for a file that could not be written."""
+    _fail(PushctlError(f"cannot write {error.filename}: {error.strerror}"))
+
+
 @app.callback()
 def _main() -> None:
     """pushctl: multi-point object pushing experiments."""
@@ -153,7 +158,7 @@ def plan(
             write_atomic(plot, lambda tmp: figure.savefig(tmp, format=plot.suffix[1:], dpi=150))
             console.print(f"wrote {plot}")
     except OSError as error:
-        _fail(PushctlError(f"cannot write {error.filename}: {error.strerror}"))
+        _fail_write(error)
 
 
 @app.command()
@@ -344,7 +349,7 @@ def train(
         )
         raise typer.Exit(code=130) from None
     except OSError as error:
-        _fail(PushctlError(f"cannot write {error.filename}: {error.strerror}"))
+        _fail_write(error)
     console.print(summary_table(trainer))
     console.print(f"wrote {trainer.out / CURVE} and {trainer.out / POLICY}")
 
@@ -394,7 +399,7 @@ def evaluate(
         error_console.print("interrupted: nothing written")
         raise typer.Exit(code=130) from None
     except OSError as error:
-        _fail(PushctlError(f"cannot write {error.filename}: {error.strerror}"))
+        _fail_write(error)
     console.print(summary_table(evaluation))
     console.print(f"wrote {out / TRIALS_FILE} and {out / STEPS_FILE}")
 
@@ -424,7 +429,7 @@ def report(
     except PushctlError as error:
         _fail(error)
     except OSError as error:
-        _fail(PushctlError(f"cannot write {error.filename}: {error.strerror}"))
+        _fail_write(error)
     console.print(counts_table(made))
     for path in written:
         console.print(f"wrote {path}")
@@ -439,7 +444,7 @@ def _write_text(path: Path, text: str) -> None:
     try:
         write_atomic(path, write)
     except OSError as error:
-        _fail(PushctlError(f"cannot write {error.filename}: {error.strerror}"))
+        _fail_write(error)
     console.print(f"wrote {path}")
 
 
@@ -463,7 +468,7 @@ def _write_outputs(
         else:
             save_figure()
     except OSError as error:
-        _fail(PushctlError(f"cannot write {error.filename}: {error.strerror}"))
+        _fail_write(error)
 
 
 def _invocation(context: typer.Context) -> str:

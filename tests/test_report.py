@@ -5,6 +5,7 @@ one-line errors for every kind of bad input."""
 
 from __future__ import annotations
 
+import itertools
 import math
 from pathlib import Path
 
@@ -40,6 +41,8 @@ OBJECTS = ("cube", "wedge")
 PROFILES = ("constant", "trapezoid", "chirp")
 TRIALS = 4
 STEPS = 10
+GROUPS = list(itertools.product(OBJECTS, PROFILES, ("sim", "proxy"), ("pd", "rl")))
+"""Every (object, profile, plant, controller) of the synthetic inputs, in file order."""
 EPISODES = 40
 PD_EVERY = 4
 TRIALS_MADE_BY = "# made by: pushctl evaluate --trials 4; pushctl 0.1.0; commit abc1234; seed 7"
@@ -61,64 +64,53 @@ def trials_frame() -> pd.DataFrame:
     """trials.csv rows: every object × profile × plant × controller × 4 trials, the metrics
     (trial + 1) × factor; cube/constant/pd's first angle error NaN (a straight push)."""
     rows = []
-    for obj in OBJECTS:
-        for profile in PROFILES:
-            for plant in ("sim", "proxy"):
-                for controller in ("pd", "rl"):
-                    f = factor(plant, controller)
-                    for trial in range(TRIALS):
-                        value = (trial + 1) * f
-                        straight = (obj, profile, controller, trial) == (
-                            "cube",
-                            "constant",
-                            "pd",
-                            0,
-                        )
-                        rows.append(
-                            {
-                                "object": obj,
-                                "profile": profile,
-                                "plant": plant,
-                                "controller": controller,
-                                "trial": trial,
-                                "seed": 100 + trial,
-                                "translation_error_pct": value,
-                                "angle_error_pct": math.nan if straight else value / 10,
-                                "force_error": value * 1e-3,
-                                "torque_error": value * 1e-5,
-                            }
-                        )
+    for obj, profile, plant, controller in GROUPS:
+        f = factor(plant, controller)
+        for trial in range(TRIALS):
+            value = (trial + 1) * f
+            straight = (obj, profile, controller, trial) == ("cube", "constant", "pd", 0)
+            rows.append(
+                {
+                    "object": obj,
+                    "profile": profile,
+                    "plant": plant,
+                    "controller": controller,
+                    "trial": trial,
+                    "seed": 100 + trial,
+                    "translation_error_pct": value,
+                    "angle_error_pct": math.nan if straight else value / 10,
+                    "force_error": value * 1e-3,
+                    "torque_error": value * 1e-5,
+                }
+            )
     return pd.DataFrame(rows)
 
 
 def steps_frame() -> pd.DataFrame:
     """steps.csv rows: 11 steps of 0.1 s per group; PD lags the plan by 2 mm, RL by 1 mm."""
     rows = []
-    for obj in OBJECTS:
-        for profile in PROFILES:
-            for plant in ("sim", "proxy"):
-                for controller in ("pd", "rl"):
-                    lag = factor(plant, controller)
-                    for step in range(STEPS + 1):
-                        des = 15.0 * step
-                        rows.append(
-                            {
-                                "object": obj,
-                                "profile": profile,
-                                "plant": plant,
-                                "controller": controller,
-                                "step": step,
-                                "t": 0.1 * step,
-                                "translation_des_mm": des,
-                                "translation_mm": des - lag,
-                                "angle_des_deg": 3.0 * step,
-                                "angle_deg": 3.0 * step - 0.1 * lag,
-                                "translation_error_mm": lag,
-                                "angle_error_deg": 0.1 * lag,
-                                "force_error": 1e-3 * lag if step else math.nan,
-                                "torque_error": 1e-5 * lag if step else math.nan,
-                            }
-                        )
+    for obj, profile, plant, controller in GROUPS:
+        lag = factor(plant, controller)
+        for step in range(STEPS + 1):
+            des = 15.0 * step
+            rows.append(
+                {
+                    "object": obj,
+                    "profile": profile,
+                    "plant": plant,
+                    "controller": controller,
+                    "step": step,
+                    "t": 0.1 * step,
+                    "translation_des_mm": des,
+                    "translation_mm": des - lag,
+                    "angle_des_deg": 3.0 * step,
+                    "angle_deg": 3.0 * step - 0.1 * lag,
+                    "translation_error_mm": lag,
+                    "angle_error_deg": 0.1 * lag,
+                    "force_error": 1e-3 * lag if step else math.nan,
+                    "torque_error": 1e-5 * lag if step else math.nan,
+                }
+            )
     return pd.DataFrame(rows)
 
 
