@@ -30,6 +30,7 @@ from pushctl.objects import OBJECT_NAMES
 from pushctl.planning import PROFILE_NAMES
 from pushctl.rl.env import PushEnv
 from pushctl.rl.networks import ActorPolicy
+from pushctl.rl.policy import policy_action
 
 CONTROLLERS = ("pd", "rl")
 """PD-only (the paper's π_H) and RL-assisted (PD plus the trained residual)."""
@@ -165,7 +166,7 @@ def _push_with_policy(env: PushEnv, actor: ActorPolicy, obs: np.ndarray) -> tupl
     assert env.episode is not None
     steps, gate_open = env.episode.n_steps, 0
     for _ in range(steps):
-        obs, _, _, _, info = env.step(actor(np.asarray(obs, dtype=np.float64)))
+        obs, _, _, _, info = env.step(policy_action(env, actor, obs))
         gate_open += bool(info["residual_active"])
     return env.episode.trace(), gate_open / max(steps, 1)
 

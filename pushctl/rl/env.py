@@ -92,7 +92,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
             raise ConfigError(f"action must be 3 finite numbers in [-1, 1], got {action!r}")
         n = episode.step_index
         deviation = self._deviation()
-        active = deviation > self.config.gate_threshold
+        active = self.gate_open
         residual = self._world_twist(np.clip(action, -1.0, 1.0), n) if active else None
         self._last = episode.step(residual)
         self._error = self._pose_error(n + 1)  # the observation's, the next gate's
@@ -121,6 +121,12 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
     def plan(self) -> Plan:
         assert self.episode is not None, "reset() first"
         return self.episode.plan
+
+    @property
+    def gate_open(self) -> bool:
+        """Whether the next step() applies its action: the pose deviation exceeds the gate's
+        threshold. While it is shut any action gives the same step."""
+        return self._deviation() > self.config.gate_threshold
 
     # ------------------------------------------------------------------ internals
 

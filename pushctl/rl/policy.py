@@ -83,5 +83,13 @@ def run_policy(env: PushEnv, actor: ActorPolicy, options: dict[str, Any]) -> Tra
     obs, _ = env.reset(options=options)
     assert env.episode is not None
     for _ in range(env.episode.n_steps):
-        obs, _, _, _, _ = env.step(actor(np.asarray(obs, dtype=np.float64)))
+        obs, _, _, _, _ = env.step(policy_action(env, actor, obs))
     return env.episode.trace()
+
+
+def policy_action(env: PushEnv, actor: ActorPolicy, obs: np.ndarray) -> np.ndarray:
+    """The deterministic ``actor``'s action (3,) on ``obs``, or zeros while ``env``'s gate is
+    shut: the step ignores the action then, and the actor's forward pass is skipped."""
+    if not env.gate_open:
+        return np.zeros(3)
+    return actor(np.asarray(obs, dtype=np.float64))

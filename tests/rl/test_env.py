@@ -18,6 +18,7 @@ from pushctl.episode.trace import prong_torques
 from pushctl.errors import ConfigError, StateError
 from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
+from pushctl.rl.policy import policy_action
 from pushctl.rl.spaces import ACTION_ENTRIES, index, markdown_table, observation_entries
 
 README = Path(__file__).resolve().parents[2] / "README.md"
@@ -142,6 +143,28 @@ def test_a_shut_gate_leaves_the_pd_baseline_untouched() -> None:
     baseline = Episode(env.scenario, env.gains, plan=env.plan).run()
     np.testing.assert_array_equal(with_residual.object_pose, baseline.object_pose)
     np.testing.assert_array_equal(with_residual.contact_forces, baseline.contact_forces)
+
+
+def test_the_policy_is_asked_for_an_action_only_on_steps_the_gate_lets_through() -> None:
+    """policy_action skips the actor while the gate is shut; gate_open is the step's gate."""
+    calls: list[int] = []
+
+    def actor(obs: np.ndarray) -> np.ndarray:
+        calls.append(env.episode.step_index if env.episode else -1)
+        return np.array([1.0, 0.0, 0.0])
+
+    env = PushEnv(replace(SHORT, gate_threshold=2e-5))
+    obs, _ = env.reset(options=OPTIONS)
+    opened = []
+    for _ in range(200):
+        about_to_open = env.gate_open
+        n = env.episode.step_index if env.episode else -1
+        obs, _, _, _, info = env.step(policy_action(env, actor, obs))
+        assert info["residual_active"] == about_to_open
+        if about_to_open:
+            opened.append(n)
+    assert 0 < len(opened) < 200  # the threshold lets some steps through, not all
+    assert calls == opened
 
 
 def test_an_open_gate_shifts_the_pusher_by_the_residual_over_k_x() -> None:
