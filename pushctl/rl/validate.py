@@ -124,7 +124,8 @@ class Validator:
             self._pd = []
             for options in self.options:
                 self.env.reset(options=options)
-                baseline = Episode(self.env.scenario, self.env.gains, plan=self.env.plan)
+                env = self.env
+                baseline = Episode(env.scenario, env.gains, plan=env.plan, effects=env.effects)
                 self._pd.append(_metrics(baseline.run()))
         return self._pd
 

@@ -1,0 +1,26 @@
+"""The validation set's PD-only baseline is the same push as the policy's, on either plant."""
+
+from __future__ import annotations
+
+import pytest
+
+from pushctl.control.gains import load_gains
+from pushctl.episode.ranges import PLANTS
+from pushctl.rl.env_config import EnvConfig
+from pushctl.rl.networks import Actor, ActorPolicy
+from pushctl.rl.validate import Validator
+
+
+@pytest.mark.parametrize("plant", PLANTS)
+def test_a_policy_behind_a_shut_gate_scores_exactly_pd_only(plant: str) -> None:
+    """With the gate never open the residual never acts, so the policy's pushes are PD-only's,
+    proxy effects (latency, friction, noisy estimates, camera) included."""
+    config = EnvConfig(
+        objects=("wedge",), profiles=("chirp",), duration=2.0, plant=plant, gate_threshold=1.0
+    )
+    validator = Validator(config, load_gains(), per_cell=2)
+    n_obs = validator.env.observation_space.shape[0]
+    actor_state = ActorPolicy(Actor(n_obs, 3, [8])).state()
+    score = validator.score(actor_state)
+    assert score.force_error == score.pd_force_error
+    assert score.translation_error_pct == score.pd_translation_error_pct
