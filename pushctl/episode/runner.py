@@ -101,9 +101,7 @@ class Episode:
         self.object: ObjectSpec = resolve_object(
             scenario.object, mass=plant.object_mass, pusher_mass=plant.pusher_mass
         )
-        planning_arm = load_arm(
-            ArmConfig(name=scenario.arm, pusher=PusherConfig(mass=nominal_obj.pusher_mass))
-        )
+        planning_pusher = PusherConfig(mass=nominal_obj.pusher_mass)
         self.plan: Plan = (
             plan
             if plan is not None
@@ -115,7 +113,7 @@ class Episode:
                 duration=scenario.duration,
                 dt=scenario.dt,
                 forces=ForceSettings(mu_contact=nominal.mu_contact, mu_ground=nominal.mu_ground),
-                arm=planning_arm,
+                arm=load_arm(ArmConfig(name=scenario.arm, pusher=planning_pusher)),
                 gravity=scenario.gravity,
             )
         )
@@ -123,7 +121,7 @@ class Episode:
         self.plant_forces: ForcePlan = distribute_forces(
             self.plan.trajectory,
             self.object,
-            planning_arm.pusher.prong_offsets(),
+            planning_pusher.prong_offsets(),
             ForceSettings(mu_contact=plant.mu_contact, mu_ground=plant.mu_ground),
             scenario.gravity,
             offset=self.plan.forces.offset,

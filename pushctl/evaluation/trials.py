@@ -30,7 +30,7 @@ from pushctl.objects import OBJECT_NAMES
 from pushctl.planning import PROFILE_NAMES
 from pushctl.rl.env import PushEnv
 from pushctl.rl.networks import ActorPolicy
-from pushctl.rl.policy import policy_action
+from pushctl.rl.policy import finish_with_policy
 
 CONTROLLERS = ("pd", "rl")
 """PD-only (the paper's π_H) and RL-assisted (PD plus the trained residual)."""
@@ -136,7 +136,7 @@ def run_trial(
     """
     options = {"object": job.object, "profile": job.profile, "scenario_seed": job.seed}
     traces: dict[str, tuple[Trace, float]] = {}
-    obs, info = env.reset(options=options)
+    _, info = env.reset(options=options)
     assert env.episode is not None
     # Both controllers start from the end of the same approach: PD-only pushes from a copy
     # of the episode as the reset left it (9 % of a trial's CPU time saved; the same trace
@@ -145,7 +145,7 @@ def run_trial(
     if "rl" in controllers:
         if actor is None:
             raise ConfigError("RL-assisted trials need a policy")
-        traces["rl"] = _push_with_policy(env, actor, obs)
+        traces["rl"] = _push_with_policy(env, actor)
     if pd_episode is not None:
         traces["pd"] = (pd_episode.finish(), 0.0)
     redrawn = int(info["goals_redrawn"])
@@ -159,16 +159,12 @@ def run_trial(
     return TrialResult(job, tuple(rows), steps, np.asarray(t, dtype=float), redrawn)
 
 
-def _push_with_policy(env: PushEnv, actor: ActorPolicy, obs: np.ndarray) -> tuple[Trace, float]:
-    """The push of the episode ``env`` was just reset to, with the deterministic ``actor``
-    (:func:`~pushctl.rl.policy.run_policy`'s loop, counting the steps the gate was open),
-    and the share of those steps."""
+def _push_with_policy(env: PushEnv, actor: ActorPolicy) -> tuple[Trace, float]:
+    """The push of the episode ``env`` was just reset to, with the deterministic ``actor``,
+    and the share of its steps the gate was open."""
     assert env.episode is not None
-    steps, gate_open = env.episode.n_steps, 0
-    for _ in range(steps):
-        obs, _, _, _, info = env.step(policy_action(env, actor, obs))
-        gate_open += bool(info["residual_active"])
-    return env.episode.trace(), gate_open / max(steps, 1)
+    opened = finish_with_policy(env, actor)
+    return env.episode.trace(), opened / max(env.episode.n_steps, 1)
 
 
 def _row(

@@ -80,8 +80,9 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         self._true_torques = self.episode.plant_forces.torques
         self._last = self.episode.reset()
         self._error = self._pose_error(0)
+        self._measured = self.episode.measured_forces(self._last.contact_forces)
         info = {"scenario": scenario, "goals_redrawn": redrawn}
-        return self._observation(), info
+        return self.observation(), info
 
     def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         episode = self.episode
@@ -92,10 +93,8 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
             raise ConfigError(f"action must be 3 finite numbers in [-1, 1], got {action!r}")
         n = episode.step_index
         deviation = self._deviation()
-        active = self.gate_open
-        residual = self._world_twist(np.clip(action, -1.0, 1.0), n) if active else None
-        self._last = episode.step(residual)
-        self._error = self._pose_error(n + 1)  # the observation's, the next gate's
+        residual = self.advance(action)
+        active = residual is not None
         terms = (*self._reward_terms(n + 1), -self.config.w_pose * self._deviation())
         terminated = episode.done
         info = {
@@ -107,7 +106,29 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
             "residual": np.zeros(3) if residual is None else residual,
             "pose_deviation": deviation,
         }
-        return self._observation(), float(sum(terms)), terminated, False, info
+        return self.observation(), float(sum(terms)), terminated, False, info
+
+    # ------------------------------------------------------------------ acting without gym
+
+    def advance(self, action: np.ndarray | None) -> np.ndarray | None:
+        """step()'s push step without its observation, reward and info, for loops that only
+        act (evaluation and validation: they ask for :meth:`observation` only while
+        :attr:`gate_open`, and a policy's forward pass only then). ``action`` (3,) in
+        [−1, 1], unchecked, or None, which the open gate takes as zeros. Returns the
+        world-frame residual twist applied (3,) [m/s, m/s, rad/s], None while the gate was
+        shut. The same steps, and the same draws of the proxy's force noise, as step()."""
+        episode = self.episode
+        if episode is None:
+            raise StateError("call reset() before advance()")
+        n = episode.step_index
+        residual = None
+        if self.gate_open:
+            clipped = np.zeros(3) if action is None else np.clip(action, -1.0, 1.0)
+            residual = self._world_twist(clipped, n)
+        self._last = episode.step(residual)
+        self._error = self._pose_error(n + 1)  # the observation's, the next gate's
+        self._measured = episode.measured_forces(self._last.contact_forces)
+        return residual
 
     # ------------------------------------------------------------------ what it exposes
 
@@ -171,7 +192,9 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         c, s = math.cos(yaw), math.sin(yaw)
         return np.array([c * scaled[0] - s * scaled[1], s * scaled[0] + c * scaled[1], scaled[2]])
 
-    def _observation(self) -> np.ndarray:
+    def observation(self) -> np.ndarray:
+        """The observation (float32, :mod:`pushctl.rl.spaces`) of the current state: what
+        reset() or the last step() returned."""
         episode, last = self.episode, self._last
         assert episode is not None
         n, n_steps = episode.step_index, episode.n_steps
@@ -182,7 +205,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         twist = terms.pusher_jacobian @ last.arm_v
         velocity = [c * twist[0] + s * twist[1], -s * twist[0] + c * twist[1], twist[5]]
         planned = self._plan_forces[min(n + 1, n_steps)]
-        measured = episode.measured_forces(last.contact_forces)  # noisy on the proxy
+        measured = self._measured  # noisy on the proxy: one draw per step, even unobserved
         parts = (planned[:, 0], planned[:, 1], measured[:, 0], measured[:, 1])
         observation = np.concatenate(
             [*parts, velocity, self._error, [n / n_steps]], dtype=np.float32

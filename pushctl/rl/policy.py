@@ -16,7 +16,7 @@ import torch
 
 from pushctl.control.gains import PDGains
 from pushctl.episode.trace import Trace
-from pushctl.errors import ConfigError
+from pushctl.errors import ConfigError, StateError
 from pushctl.provenance import write_atomic
 from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
@@ -80,16 +80,28 @@ def evaluation_env(policy: TrainedPolicy, gains: PDGains, plant: str = "sim") ->
 def run_policy(env: PushEnv, actor: ActorPolicy, options: dict[str, Any]) -> Trace:
     """Reset ``env`` with ``options`` (see :data:`pushctl.rl.env.RESET_OPTIONS`), push with
     the deterministic ``actor`` (no exploration), and return the trace."""
-    obs, _ = env.reset(options=options)
+    env.reset(options=options)
+    finish_with_policy(env, actor)
     assert env.episode is not None
-    for _ in range(env.episode.n_steps):
-        obs, _, _, _, _ = env.step(policy_action(env, actor, obs))
     return env.episode.trace()
 
 
-def policy_action(env: PushEnv, actor: ActorPolicy, obs: np.ndarray) -> np.ndarray:
-    """The deterministic ``actor``'s action (3,) on ``obs``, or zeros while ``env``'s gate is
-    shut: the step ignores the action then, and the actor's forward pass is skipped."""
-    if not env.gate_open:
-        return np.zeros(3)
-    return actor(np.asarray(obs, dtype=np.float64))
+def finish_with_policy(env: PushEnv, actor: ActorPolicy) -> int:
+    """Push the rest of ``env``'s episode with the deterministic ``actor``; return the number
+    of steps its gate was open.
+
+    The same push as step() after step() with the actor's actions, but the actor, and the
+    observation it reads, run only while the gate is open: the step ignores the action
+    otherwise (:meth:`PushEnv.advance`).
+    """
+    episode = env.episode
+    if episode is None:
+        raise StateError("call reset() before pushing with a policy")
+    opened = 0
+    while not episode.done:
+        if env.gate_open:
+            opened += 1
+            env.advance(actor(np.asarray(env.observation(), dtype=np.float64)))
+        else:
+            env.advance(None)
+    return opened

@@ -18,7 +18,7 @@ from pushctl.episode.trace import prong_torques
 from pushctl.errors import ConfigError, StateError
 from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
-from pushctl.rl.policy import policy_action
+from pushctl.rl.policy import finish_with_policy
 from pushctl.rl.spaces import ACTION_ENTRIES, index, markdown_table, observation_entries
 
 README = Path(__file__).resolve().parents[2] / "README.md"
@@ -145,26 +145,40 @@ def test_a_shut_gate_leaves_the_pd_baseline_untouched() -> None:
     np.testing.assert_array_equal(with_residual.contact_forces, baseline.contact_forces)
 
 
-def test_the_policy_is_asked_for_an_action_only_on_steps_the_gate_lets_through() -> None:
-    """policy_action skips the actor while the gate is shut; gate_open is the step's gate."""
+@pytest.mark.parametrize("plant", ["sim", "proxy"])
+def test_finishing_with_a_policy_is_step_after_step_with_the_actor_only_behind_an_open_gate(
+    plant: str,
+) -> None:
+    """finish_with_policy (advance, and the actor only while the gate is open) gives the
+    step() loop's push to the bit, the proxy's force noise included."""
     calls: list[int] = []
 
     def actor(obs: np.ndarray) -> np.ndarray:
-        calls.append(env.episode.step_index if env.episode else -1)
-        return np.array([1.0, 0.0, 0.0])
+        assert env.episode is not None
+        calls.append(env.episode.step_index)
+        return np.array([1.0, -0.5, 0.2]) * math.cos(1e3 * float(obs.sum()))
 
-    env = PushEnv(replace(SHORT, gate_threshold=2e-5))
+    config = replace(SHORT, plant=plant, gate_threshold=2e-5)
+    env = PushEnv(config)
     obs, _ = env.reset(options=OPTIONS)
     opened = []
-    for _ in range(200):
+    for n in range(200):
         about_to_open = env.gate_open
-        n = env.episode.step_index if env.episode else -1
-        obs, _, _, _, info = env.step(policy_action(env, actor, obs))
+        obs, _, _, _, info = env.step(actor(np.asarray(obs, dtype=np.float64)))
         assert info["residual_active"] == about_to_open
-        if about_to_open:
-            opened.append(n)
+        opened += [n] if about_to_open else []
+    assert env.episode is not None
+    stepped = env.episode.trace()
     assert 0 < len(opened) < 200  # the threshold lets some steps through, not all
+
+    calls.clear()
+    env.reset(options=OPTIONS)
+    assert finish_with_policy(env, actor) == len(opened)
     assert calls == opened
+    assert env.episode is not None
+    finished = env.episode.trace()
+    np.testing.assert_array_equal(finished.object_pose, stepped.object_pose)
+    np.testing.assert_array_equal(finished.contact_forces, stepped.contact_forces)
 
 
 def test_an_open_gate_shifts_the_pusher_by_the_residual_over_k_x() -> None:
