@@ -130,6 +130,26 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         self._measured = episode.measured_forces(self._last.contact_forces)
         return residual
 
+    def observation(self) -> np.ndarray:
+        """The observation (float32, :mod:`pushctl.rl.spaces`) of the current state: what
+        reset() or the last step() returned."""
+        episode, last = self.episode, self._last
+        assert episode is not None
+        n, n_steps = episode.step_index, episode.n_steps
+        terms = episode.world.arm_terms
+        assert terms is not None
+        yaw = self._plan_pose[n, 2]
+        c, s = math.cos(yaw), math.sin(yaw)
+        twist = terms.pusher_jacobian @ last.arm_v
+        velocity = [c * twist[0] + s * twist[1], -s * twist[0] + c * twist[1], twist[5]]
+        planned = self._plan_forces[min(n + 1, n_steps)]
+        measured = self._measured  # noisy on the proxy: one draw per step, even unobserved
+        parts = (planned[:, 0], planned[:, 1], measured[:, 0], measured[:, 1])
+        observation = np.concatenate(
+            [*parts, velocity, self._error, [n / n_steps]], dtype=np.float32
+        )
+        return observation
+
     # ------------------------------------------------------------------ what it exposes
 
     @property
@@ -191,26 +211,6 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         yaw = self._plan_pose[n, 2]
         c, s = math.cos(yaw), math.sin(yaw)
         return np.array([c * scaled[0] - s * scaled[1], s * scaled[0] + c * scaled[1], scaled[2]])
-
-    def observation(self) -> np.ndarray:
-        """The observation (float32, :mod:`pushctl.rl.spaces`) of the current state: what
-        reset() or the last step() returned."""
-        episode, last = self.episode, self._last
-        assert episode is not None
-        n, n_steps = episode.step_index, episode.n_steps
-        terms = episode.world.arm_terms
-        assert terms is not None
-        yaw = self._plan_pose[n, 2]
-        c, s = math.cos(yaw), math.sin(yaw)
-        twist = terms.pusher_jacobian @ last.arm_v
-        velocity = [c * twist[0] + s * twist[1], -s * twist[0] + c * twist[1], twist[5]]
-        planned = self._plan_forces[min(n + 1, n_steps)]
-        measured = self._measured  # noisy on the proxy: one draw per step, even unobserved
-        parts = (planned[:, 0], planned[:, 1], measured[:, 0], measured[:, 1])
-        observation = np.concatenate(
-            [*parts, velocity, self._error, [n / n_steps]], dtype=np.float32
-        )
-        return observation
 
     def _reward_terms(self, row: int) -> tuple[float, float, float]:
         """The three weighted terms of eq. 17 for the step that ended at ``row``.

@@ -121,10 +121,9 @@ class Validator:
 
     def _pd_metrics(self) -> list[Metrics]:
         if self._pd is None:
-            self._pd = []
+            env, self._pd = self.env, []
             for options in self.options:
-                self.env.reset(options=options)
-                env = self.env
+                env.reset(options=options)
                 baseline = Episode(env.scenario, env.gains, plan=env.plan, effects=env.effects)
                 self._pd.append(_metrics(baseline.run()))
         return self._pd
