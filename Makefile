@@ -26,12 +26,12 @@ lint: $(STAMP)
 	$(PY) -m mypy pushctl
 
 bench: $(STAMP)
-	$(PY) -m pushctl.bench --profile --out results/bench.csv
+	$(PY) -m pushctl.bench --profile --out results/bench.csv --force
 
 # Train (paper preset), evaluate (50 trials x 2 objects x 3 profiles x 2 controllers x 2 plants),
 # report, bench; QUICK=1: quick preset, 4 trials, into results-quick/ (pushctl/reproduce.py).
 reproduce-tables: $(STAMP)
-	$(PY) -m pushctl.reproduce $(if $(filter 1,$(QUICK)),--quick,)
+	$(PY) -m pushctl.reproduce $(if $(filter 1,$(QUICK)),--quick,) $(if $(filter 1,$(FORCE)),--force,)
 
 clean:
 	rm -rf $(VENV) .pytest_cache

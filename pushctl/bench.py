@@ -1,6 +1,7 @@
 """``make bench``: timings of the simulator core, printed as a table and written as CSV.
 
-Run as ``python -m pushctl.bench [--out results/bench.csv]``. Each figure is the median over
+Run as ``python -m pushctl.bench [--out results/bench.csv] [--force]`` (an existing --out
+file is overwritten only with ``--force``; ``make bench`` passes it). Each figure is the median over
 many calls of one operation on one core (this is a single-threaded process), in µs (plans:
 seconds); the CSV
 records how it was made (command, version, git commit, date, machine). The closed-loop rows
@@ -30,6 +31,8 @@ import pushctl
 from pushctl.bench_episode import episode_rows, profile_episode
 from pushctl.bench_rl import rl_rows
 from pushctl.contact.world import World
+from pushctl.errors import ConfigError
+from pushctl.output_guard import refuse_existing_files
 from pushctl.provenance import provenance_line, write_csv
 
 
@@ -253,7 +256,13 @@ def main(argv: list[str] | None = None) -> int:
         action="store_true",
         help="also print a cProfile of the world step and of a PD episode's push",
     )
+    parser.add_argument("--force", action="store_true", help="overwrite an existing --out file")
     args = parser.parse_args(argv)
+    try:
+        refuse_existing_files("--out", (args.out,), args.force)
+    except ConfigError as error:
+        print(f"error: {error}", file=sys.stderr)
+        return 2
     rows = run_benchmarks(args.repeats)
     table = Table(title="pushctl core benchmarks (median, one core)")
     for column in ("name", "value", "unit", "note"):

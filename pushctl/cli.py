@@ -16,6 +16,7 @@ from rich.console import Console
 from rich.table import Table
 
 from pushctl.errors import PushctlError
+from pushctl.output_guard import refuse_existing_files, refuse_occupied_dir
 
 app = typer.Typer(
     add_completion=False,
@@ -23,6 +24,7 @@ app = typer.Typer(
     help="Multi-point object pushing with a redundant arm: simulate, plan, train, evaluate.",
 )
 console = Console()
+FORCE_HELP = "overwrite existing results in the output path"
 error_console = Console(stderr=True, soft_wrap=True)
 
 
@@ -110,6 +112,7 @@ def plan(
     ),
     out: Annotated[Path | None, typer.Option(help="write the plan as CSV here")] = None,
     plot: Annotated[Path | None, typer.Option(help="save a figure (.png, .pdf, .svg)")] = None,
+    force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
 ) -> None:
     """Plan a push: ICR arc, angular profile, prong forces; check the arm can follow it."""
     from pushctl.arm import ArmConfig, load_arm
@@ -123,6 +126,7 @@ def plan(
     try:
         check_output("--out", out, (".csv",))
         check_output("--plot", plot, PLOT_SUFFIXES)
+        refuse_existing_files("--out/--plot", (out, plot), force)
         goal_pose = parse_pose("--goal", goal)
         start_pose = None if start is None else parse_pose("--start", start)
         timing = make_profile(profile)
@@ -191,6 +195,7 @@ def simulate(
     ),
     out: Annotated[Path | None, typer.Option(help="write the trace as CSV here")] = None,
     plot: Annotated[Path | None, typer.Option(help="save a figure (.png, .pdf, .svg)")] = None,
+    force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
 ) -> None:
     """Run one push with the PD baseline: approach, push, metrics, trace and figure."""
     from pushctl.cli_plan import PLOT_SUFFIXES, check_output, parse_pose
@@ -207,6 +212,7 @@ def simulate(
     try:
         check_output("--out", out, (".csv",))
         check_output("--plot", plot, PLOT_SUFFIXES)
+        refuse_existing_files("--out/--plot", (out, plot), force)
         check_controller(controller)
         goal_pose = None if goal is None else parse_pose("--goal", goal)
         pd_gains = load_gains(gains)
@@ -245,6 +251,7 @@ def tune_pd_command(
     out: Annotated[
         Path | None, typer.Option(help="gains file to write; default experiments/pd_gains.toml")
     ] = None,
+    force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
 ) -> None:
     """Search the PD gains on a tuning set disjoint from evaluation; write the gains file."""
     from pushctl.cli_plan import check_output
@@ -256,6 +263,7 @@ def tune_pd_command(
     target = out if out is not None else DEFAULT_GAINS_FILE
     try:
         check_output("--out", target, (".toml",))
+        refuse_existing_files("--out", (target,), force)
         object_names = tuple(name for name in objects.split(",") if name)
         profile_names = tuple(name for name in profiles.split(",") if name)
         for name in object_names:
@@ -373,6 +381,7 @@ def evaluate(
     ] = 0,
     workers: Annotated[int, typer.Option(help="processes running trials, 1-8")] = 1,
     out: Annotated[Path, typer.Option(help="output directory")] = Path("results/evaluation"),
+    force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
 ) -> None:
     """Paired trials, PD-only and RL-assisted on the same held-out targets and plants;
     write trials.csv (one row per trial) and steps.csv (per-step means) to --out."""
@@ -384,6 +393,7 @@ def evaluate(
         spec, trained, policy_path = prepare(
             object_name, profile, trials, controller, plant, policy, seed, workers, out
         )
+        refuse_occupied_dir("--out", out, force)
         first = spec.scenario_seed(0)
         extra = f"scenario seeds {first}-{first + spec.trials - 1} (evaluation stream)"
         if trained is not None:
@@ -416,13 +426,21 @@ def report(
     out: Annotated[Path, typer.Option(help="directory for the tables and figures")] = Path(
         "results"
     ),
+    force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
 ) -> None:
     """Tables III and IV (CSV and Markdown, beside the paper's values) and Figs. 5, 6 and 8
     from the evaluation and training CSVs."""
-    from pushctl.cli_report import check_out_dir, counts_table, make_report, write_report
+    from pushctl.cli_report import (
+        check_out_dir,
+        counts_table,
+        make_report,
+        report_paths,
+        write_report,
+    )
 
     try:
         check_out_dir(out)
+        refuse_existing_files("--out", report_paths(out), force)
         with console.status("reading the results and drawing the figures"):
             made = make_report(in_dir, _invocation(ctx))
         written = write_report(made, out)
@@ -479,7 +497,8 @@ def _invocation(context: typer.Context) -> str:
     parts = ["pushctl", context.info_name or ""]
     for param in context.command.params:
         value = context.params.get(param.name or "")
-        if value is None or value is False or not param.opts:
+        # --force changes no byte of the results, so the files do not record it either
+        if value is None or value is False or not param.opts or param.name == "force":
             continue
         parts += [param.opts[0]] if value is True else [param.opts[0], str(value)]
     return shlex.join(parts)

@@ -108,6 +108,13 @@ def check_out_dir(out_dir: Path) -> None:
         raise ConfigError(f"--out {out_dir} is a file; give a directory")
 
 
+def report_paths(out_dir: Path) -> list[Path]:
+    """Every file ``pushctl report`` writes into ``out_dir`` (its results directory also
+    holds its inputs, so the check is per file, not on the directory)."""
+    names = (TABLE3_FILE, TABLE4_FILE, MARKDOWN_FILE, FIG5_FILE, FIG6_FILE, FIG8_FILE)
+    return [out_dir / name for name in names]
+
+
 def write_report(report: Report, out_dir: Path) -> list[Path]:
     """Write ``report`` into ``out_dir`` (created if missing); returns the paths written."""
     check_out_dir(out_dir)

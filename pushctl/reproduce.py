@@ -16,8 +16,15 @@ user would type, run as a subprocess with its own output on the terminal:
 ``--quick``: the ``quick`` preset, 4 trials, no bench, everything under ``results-quick/``
 and ``runs/quick`` (the committed ``results/`` stays as it is). The manifest
 ``provenance.md`` records each step's command, exit code and wall time, the git commit,
-the seeds and the date; it is written atomically after the last step, and also when a step
-fails (then naming it).
+the seeds and the date; it is written atomically before the first step ("running"), after
+each step, and at the end, also when a step fails (then naming it).
+
+Nothing it did not make is overwritten: the steps overwrite the results directory's files
+(``--force``) only when that directory is absent, empty, or holds a manifest of an earlier
+``make reproduce-tables`` (the shipped ``results/`` does, so a clean clone reproduces into
+it). Anything else is refused with one line naming ``--force``. A training run directory
+with a checkpoint is resumed; one without a checkpoint but with files is started over only
+if the manifest names it as this reproduction's run (stopped before its first checkpoint).
 """
 
 from __future__ import annotations
@@ -28,7 +35,7 @@ import subprocess
 import sys
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from datetime import datetime, timezone
 from pathlib import Path
 
@@ -50,6 +57,7 @@ class Setup:
     trials: int
     results: Path
     bench: bool
+    force: bool = False
 
 
 FULL = Setup("paper", Path("runs/paper"), 50, Path("results"), bench=True)
@@ -68,9 +76,10 @@ class StepRecord:
 
 def steps(setup: Setup) -> list[tuple[str, list[str]]]:
     """The (name, argv) of each subprocess step; copying the training files is done in
-    between by :func:`reproduce` itself."""
+    between by :func:`reproduce` itself. Every step but ``train`` overwrites (``--force``):
+    :func:`check_owned` has made sure the results directory is this command's."""
     pushctl_cli = [sys.executable, "-m", "pushctl.cli"]
-    resume = ["--resume"] if (setup.run / "checkpoint.pt").is_file() else []
+    resume = _train_mode(setup)
     training = setup.results / "training"
     listed: list[tuple[str, list[str]]] = [
         (
@@ -82,24 +91,73 @@ def steps(setup: Setup) -> list[tuple[str, list[str]]]:
             "evaluate",
             [*pushctl_cli, "evaluate", "--trials", str(setup.trials), "--workers", "2"]
             + ["--seed", str(SEED), "--policy", str(training / "policy.pt")]
-            + ["--out", str(setup.results / "evaluation")],
+            + ["--out", str(setup.results / "evaluation"), "--force"],
         ),
         (
             "report",
-            [*pushctl_cli, "report", "--in", str(setup.results), "--out", str(setup.results)],
+            [*pushctl_cli, "report", "--in", str(setup.results), "--out", str(setup.results)]
+            + ["--force"],
         ),
     ]
     if setup.bench:
         bench = [sys.executable, "-m", "pushctl.bench", "--profile"]
-        listed.append(("bench", [*bench, "--out", str(setup.results / "bench.csv")]))
+        listed.append(("bench", [*bench, "--out", str(setup.results / "bench.csv"), "--force"]))
     return listed
+
+
+def _train_mode(setup: Setup) -> list[str]:
+    """``--resume`` for a run with a checkpoint; ``--force`` for a run directory holding
+    files but no checkpoint that this reproduction started (its manifest names it) or when
+    the user passed ``--force``; nothing for a fresh run."""
+    if (setup.run / "checkpoint.pt").is_file():
+        return ["--resume"]
+    occupied = setup.run.is_dir() and any(setup.run.iterdir())
+    if occupied and (setup.force or _run_line(setup) in _own_manifest(setup)):
+        return ["--force"]
+    return []
+
+
+def _run_line(setup: Setup) -> str:
+    return f"- training run directory: `{setup.run}`"
+
+
+def _own_manifest(setup: Setup) -> str:
+    """The text of the results directory's manifest if an earlier ``make reproduce-tables``
+    wrote it, else ''."""
+    path = setup.results / MANIFEST
+    try:
+        text = path.read_text()
+    except (OSError, UnicodeDecodeError):
+        return ""
+    return text if text.startswith(f"# How `{setup.results}/` was made") else ""
+
+
+def check_owned(setup: Setup) -> str | None:
+    """Why this reproduction may not write into ``setup.results`` (one line naming
+    ``--force``), or None when it may: the directory is absent or empty, holds a manifest
+    of an earlier reproduction, or ``setup.force`` is set."""
+    results = setup.results
+    if setup.force or not results.exists():
+        return None
+    if not results.is_dir():
+        return f"{results} is a file; give a directory"
+    if not any(results.iterdir()) or _own_manifest(setup):
+        return None
+    return (
+        f"{results} holds files that no earlier `make reproduce-tables` made (no {MANIFEST} "
+        "of one); pass --force (make reproduce-tables FORCE=1) to overwrite them"
+    )
 
 
 def reproduce(setup: Setup) -> list[StepRecord]:
     """Run every step in order, stopping at the first that fails; write the manifest."""
     started = datetime.now(timezone.utc)
     records: list[StepRecord] = []
-    for name, argv in steps(setup):
+    listed = steps(setup)
+    # The manifest first: it marks results/ and the run directory as this command's, so a
+    # reproduction stopped anywhere resumes into them.
+    write_manifest(setup, records, started, running=True)
+    for name, argv in listed:
         clock = time.perf_counter()
         returncode = subprocess.run(argv, check=False).returncode
         records.append(StepRecord(name, _typed(argv), returncode, time.perf_counter() - clock))
@@ -107,6 +165,7 @@ def reproduce(setup: Setup) -> list[StepRecord]:
             break
         if name == "train":
             copy_training(setup)
+        write_manifest(setup, records, started, running=True)
     write_manifest(setup, records, started)
     return records
 
@@ -123,18 +182,23 @@ def _copier(source: Path) -> Callable[[Path], object]:
     return lambda tmp: shutil.copyfile(source, tmp)
 
 
-def write_manifest(setup: Setup, records: list[StepRecord], started: datetime) -> None:
+def write_manifest(
+    setup: Setup, records: list[StepRecord], started: datetime, running: bool = False
+) -> None:
     total = sum(r.seconds for r in records)
     failed = [r for r in records if r.returncode != 0]
+    outcome = "failed at " + failed[0].name if failed else "all steps succeeded"
+    quick = setup.preset == QUICK.preset
     lines = [
         f"# How `{setup.results}/` was made",
         "",
-        f"- command: `make reproduce-tables{' QUICK=1' if setup is QUICK else ''}` "
-        f"(`python -m pushctl.reproduce{' --quick' if setup is QUICK else ''}`)",
+        f"- command: `make reproduce-tables{' QUICK=1' if quick else ''}` "
+        f"(`python -m pushctl.reproduce{' --quick' if quick else ''}`)",
         f"- pushctl {pushctl.__version__}, commit {git_commit()}",
         f"- seeds: training {SEED} (training stream), evaluation {SEED} (evaluation stream)",
         f"- started {started.strftime('%Y-%m-%d %H:%M:%S')} UTC; wall time {_minutes(total)}",
-        f"- outcome: {'failed at ' + failed[0].name if failed else 'all steps succeeded'}",
+        f"- outcome: {'running (or stopped)' if running else outcome}",
+        _run_line(setup),
         "",
         "| step | command | exit | wall time |",
         "|---|---|---|---|",
@@ -165,8 +229,17 @@ def _minutes(seconds: float) -> str:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m pushctl.reproduce")
     parser.add_argument("--quick", action="store_true", help="quick preset, few trials")
+    parser.add_argument(
+        "--force", action="store_true", help="overwrite a results directory it did not make"
+    )
     args = parser.parse_args(argv)
     setup = QUICK if args.quick else FULL
+    if args.force:
+        setup = replace(setup, force=True)
+    refusal = check_owned(setup)
+    if refusal is not None:
+        print(f"reproduce-tables: {refusal}", file=sys.stderr)
+        return 2
     records = reproduce(setup)
     failed = [r for r in records if r.returncode != 0]
     if failed:

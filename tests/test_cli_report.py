@@ -116,7 +116,8 @@ def test_bad_input_gives_one_line_exit_2_and_writes_nothing(tmp_path, kind, frag
     out = tmp_path / "out"
     out.mkdir()
     (out / "table3.csv").write_text("old\n")  # an earlier report's file stays as it was
-    result = runner.invoke(app, ["report", "--in", str(in_dir), "--out", str(out)])
+    args = ["report", "--in", str(in_dir), "--out", str(out), "--force"]
+    result = runner.invoke(app, args)
     assert result.exit_code == 2, result.output
     assert fragment in result.output
     assert "Traceback" not in result.output

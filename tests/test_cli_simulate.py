@@ -95,7 +95,8 @@ def test_seed_without_goal_is_reproducible_to_the_byte(tmp_path, gains):
     assert _plant(result.output)[:2] == ("0.300", "0.400")
     assert "seed 3" in path.read_text().splitlines()[0]
     first = path.read_bytes()
-    assert _simulate(gains, "--seed", "3", "--out", str(path)).exit_code == 0
+    # the second run overwrites its own file: --force (which the provenance does not record)
+    assert _simulate(gains, "--seed", "3", "--out", str(path), "--force").exit_code == 0
     assert path.read_bytes() == first
 
 
@@ -198,7 +199,8 @@ def test_failed_simulate_keeps_existing_output_files(tmp_path, gains):
     out, plot = tmp_path / "t.csv", tmp_path / "t.png"
     out.write_text("old")
     plot.write_text("old")
-    result = _simulate(gains, "--goal", "0.30,0,0", "--out", str(out), "--plot", str(plot))
+    args = ("--goal", "0.30,0,0", "--out", str(out), "--plot", str(plot), "--force")
+    result = _simulate(gains, *args)
     _assert_one_line_error(result, "behind the pushed face")
     assert out.read_text() == "old" and plot.read_text() == "old"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["gains.toml", "t.csv", "t.png"]

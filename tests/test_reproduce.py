@@ -24,7 +24,7 @@ def test_the_full_setup_is_the_issue_s_protocol(
     evaluate = " ".join(commands["evaluate"])
     assert "--trials 50 --workers 2" in evaluate
     assert "--policy results/training/policy.pt --out results/evaluation" in evaluate
-    assert commands["report"][3:] == ["report", "--in", "results", "--out", "results"]
+    assert commands["report"][3:] == ["report", "--in", "results", "--out", "results", "--force"]
 
 
 def test_quick_writes_elsewhere_and_skips_the_bench() -> None:
