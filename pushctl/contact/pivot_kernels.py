@@ -1,0 +1,251 @@
+"""Compiled pivoting for the box-friction MLCP's cold path (numba).
+
+When the last step's active set no longer holds (a prong starts or stops slipping, a
+contact opens), :func:`pivot_solve` searches for the new one by block principal pivoting —
+the same labels, linear systems, verification and moves as the plain-numpy reference
+:func:`pushctl.contact.active_set.finish` (see that module for the equations), compiled so
+that one pivot costs a few µs instead of ~50 µs of numpy calls. Its answer is a
+deterministic function of its inputs: the last bits do not depend on the process's heap
+history, as an iterative solver's (ProxQP's) do. :func:`pushctl.contact.mlcp.solve_box_mlcp`
+uses it first and falls back to the ProxQP fixed point only when it does not verify.
+
+The search (Júdice & Pires, 1994): flip every infeasible row at once (block pivot) while the
+number of infeasible rows keeps falling, allowing ``_BLOCK_RETRIES`` block pivots that do
+not improve it; then single pivots of the least-index infeasible row (Murty), which cannot
+cycle on a P-matrix. An active set already visited is never solved again: the next
+infeasible row is flipped alone instead.
+
+This file is self-contained (it calls no compiled function in another file) because numba's
+disk cache is invalidated per source file (see :mod:`pushctl.contact.kernels`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+SINGULAR_PIVOT = 1e-11
+"""As :data:`pushctl.contact.kernels.SINGULAR_PIVOT` (a copy: see the module doc)."""
+
+RANK_RCOND = 1e-11
+"""As :data:`pushctl.contact.kernels.RANK_RCOND`."""
+
+_BLOCK_RETRIES = 3
+"""Block pivots allowed that do not reduce the number of infeasible rows."""
+
+
+@njit(cache=True)
+def _solve(A: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """x (n,) with A x = rhs: LU with partial pivoting, or the minimum-norm least-squares
+    solution when a pivot falls below ``SINGULAR_PIVOT`` times the largest one."""
+    n = A.shape[0]
+    M = A.copy()
+    x = rhs.copy()
+    largest, smallest = 0.0, np.inf
+    for k in range(n):
+        pivot_row, pivot = k, abs(M[k, k])
+        for i in range(k + 1, n):
+            if abs(M[i, k]) > pivot:
+                pivot, pivot_row = abs(M[i, k]), i
+        if pivot_row != k:
+            for j in range(n):
+                M[k, j], M[pivot_row, j] = M[pivot_row, j], M[k, j]
+            x[k], x[pivot_row] = x[pivot_row], x[k]
+        largest = max(largest, pivot)
+        smallest = min(smallest, pivot)
+        if pivot == 0.0:
+            break
+        for i in range(k + 1, n):
+            factor = M[i, k] / M[k, k]
+            if factor != 0.0:
+                for j in range(k + 1, n):
+                    M[i, j] -= factor * M[k, j]
+                x[i] -= factor * x[k]
+    if not smallest > SINGULAR_PIVOT * largest:
+        return np.linalg.lstsq(A, rhs, rcond=RANK_RCOND)[0]
+    for k in range(n - 1, -1, -1):
+        total = x[k]
+        for j in range(k + 1, n):
+            total -= M[k, j] * x[j]
+        x[k] = total / M[k, k]
+    return x
+
+
+@njit(cache=True)
+def _solve_labels(D, b, lo, hi, mu, fi, labels):
+    """p (n,) of the active set ``labels`` (n,): as :func:`~pushctl.contact.active_set.
+    solve_labels` (``lo``/``hi`` 0 and ``mu`` > 0 on friction rows, ``mu`` 0 elsewhere)."""
+    n = b.shape[0]
+    A = np.zeros((n, n))
+    rhs = np.zeros(n)
+    for i in range(n):
+        label = labels[i]
+        if label == 0:
+            A[i, :] = D[i, :]
+            rhs[i] = -b[i]
+        else:
+            A[i, i] = 1.0
+            A[i, fi[i]] -= label * mu[i]  # friction rows: p_t − s·mu·p_n = 0
+            rhs[i] = lo[i] if label < 0 else hi[i]
+    return _solve(A, rhs)
+
+
+@njit(cache=True)
+def _evaluate(D, b, lo, hi, mu, fi, p, threshold, w, r):
+    """w = D p + b and the natural map's |r| per row, into ``w``, ``r`` (n,); returns
+    (residual = max r, inf if any is NaN, number of rows with r > threshold)."""
+    n = b.shape[0]
+    residual, bad = 0.0, 0
+    for i in range(n):
+        total = b[i]
+        for j in range(n):
+            total += D[i, j] * p[j]
+        w[i] = total
+    for i in range(n):
+        width = mu[i] * abs(p[fi[i]])
+        value = abs(p[i] - min(max(p[i] - w[i], lo[i] - width), hi[i] + width))
+        r[i] = value
+        if not value <= residual:
+            residual = value if value == value else np.inf
+        if not value <= threshold:
+            bad += 1
+    return residual, bad
+
+
+@njit(cache=True)
+def _next_labels(lo, hi, mu, fi, labels, p, w, r, threshold, only):
+    """The labels after a pivot from ``labels`` (n,) at the candidate (p, w, r): every
+    infeasible row moved to its target (``only`` < 0: a block pivot) or only row ``only``.
+    Targets and the re-signing of zero-width friction rows as in
+    :func:`pushctl.contact.active_set._moves`."""
+    n = labels.shape[0]
+    new = labels.copy()
+    for i in range(n):  # _resign_friction
+        if mu[i] > 0.0 and labels[i] * w[i] > threshold and r[i] <= threshold:
+            new[i] = -labels[i]
+    for i in range(n):
+        if not r[i] > threshold or (only >= 0 and i != only):
+            continue
+        if labels[i] != 0:
+            new[i] = 0
+            continue
+        width = mu[i] * abs(p[fi[i]])
+        lower, upper = lo[i] - width, hi[i] + width
+        target = -1 if (p[i] < lower or (p[i] <= upper and w[i] > 0.0)) else 1
+        if target < 0 and lower == -np.inf:
+            target = 1
+        if target > 0 and upper == np.inf:
+            target = 0
+        new[i] = target
+    return new
+
+
+@njit(cache=True)
+def _visited(history, count, labels) -> bool:
+    for k in range(count):
+        same = True
+        for i in range(labels.shape[0]):
+            if history[k, i] != labels[i]:
+                same = False
+                break
+        if same:
+            return True
+    return False
+
+
+@njit(cache=True)
+def pivot_solve(D, b, lo, hi, mu, fi, labels, threshold, max_pivots):
+    """Pivot from the active set ``labels`` (n,) until the natural-map residual is at most
+    ``threshold``, or ``max_pivots`` linear solves after the first.
+
+    Arrays as in :class:`pushctl.contact.active_set.BoxProblem`: D (n, n), b (n,), ``lo``,
+    ``hi`` (n,) with 0 on friction rows, ``mu`` (n,) 0 on non-friction rows, ``fi`` (n,) the
+    normal row of each friction row (any index elsewhere). Returns ``(p (n,), w (n,),
+    residual, verified, pivots)`` of the lowest-residual active set met.
+    """
+    n = b.shape[0]
+    history = np.zeros((max_pivots + 1, n), dtype=labels.dtype)
+    w, r = np.zeros(n), np.zeros(n)
+    p = _solve_labels(D, b, lo, hi, mu, fi, labels)
+    residual, bad = _evaluate(D, b, lo, hi, mu, fi, p, threshold, w, r)
+    best_p, best_w, best_residual = p, w.copy(), residual
+    history[0, :] = labels
+    fewest, retries, pivots = bad, _BLOCK_RETRIES, 0
+    while residual > threshold and pivots < max_pivots and residual < np.inf:
+        block = retries > 0
+        trial = _next_labels(lo, hi, mu, fi, labels, p, w, r, threshold, -1)
+        if not block or _visited(history, pivots + 1, trial):
+            # Murty: the least-index infeasible row alone; the next one if that was visited.
+            found = False
+            for i in range(n):
+                if r[i] > threshold:
+                    trial = _next_labels(lo, hi, mu, fi, labels, p, w, r, threshold, i)
+                    if not _visited(history, pivots + 1, trial):
+                        found = True
+                        break
+            if not found:
+                break
+        pivots += 1
+        history[pivots, :] = trial
+        labels = trial
+        p = _solve_labels(D, b, lo, hi, mu, fi, labels)
+        residual, bad = _evaluate(D, b, lo, hi, mu, fi, p, threshold, w, r)
+        if residual < best_residual:
+            best_p, best_w, best_residual = p, w.copy(), residual
+        if bad < fewest:
+            fewest, retries = bad, _BLOCK_RETRIES
+        elif block:
+            retries -= 1
+    return best_p, best_w, best_residual, best_residual <= threshold, pivots
+
+
+@njit(cache=True)
+def _labels_at(lo, hi, mu, fi, p):
+    """As :func:`pushctl.contact.active_set.labels_at` with the friction widths at p."""
+    n = p.shape[0]
+    atol = 1e-9 * max(1.0, np.max(np.abs(p))) if n else 0.0
+    labels = np.zeros(n, dtype=np.int64)
+    for i in range(n):
+        c = mu[i] * abs(p[fi[i]]) - atol
+        if p[i] <= lo[i] - c:
+            labels[i] = -1
+        elif p[i] >= hi[i] + c:
+            labels[i] = 1
+    return labels
+
+
+@njit(cache=True)
+def cold_pivot(D, b, lo, hi, findex, mu, start, has_start, threshold, max_pivots):
+    """The compiled cold path: :func:`pivot_solve` from the active set of ``start`` (n,) if
+    ``has_start``, then from every row free, then from that of p = 0, until one verifies.
+
+    Takes the arrays of :func:`pushctl.contact.mlcp.solve_box_mlcp` as they are (friction
+    rows ``findex ≥ 0``, their own lo/hi ignored). Returns ``(p, w, residual, verified,
+    pivots, which)``: ``which`` is the index of the start that verified (0: ``start``, 1:
+    all free, 2: p = 0), or −1 with
+    the lowest-residual point met when none did; ``pivots`` counts all linear solves after
+    each start's first.
+    """
+    n = b.shape[0]
+    lo_f, hi_f, mu_f = lo.copy(), hi.copy(), np.zeros(n)
+    fi = np.zeros(n, dtype=np.int64)
+    for i in range(n):
+        if findex[i] >= 0:
+            lo_f[i], hi_f[i], mu_f[i], fi[i] = 0.0, 0.0, mu[i], findex[i]
+    starts = (
+        _labels_at(lo_f, hi_f, mu_f, fi, start),
+        np.zeros(n, dtype=np.int64),
+        _labels_at(lo_f, hi_f, mu_f, fi, np.zeros(n)),
+    )
+    total = 0
+    best_p, best_w, best_residual = np.zeros(n), np.zeros(n), np.inf
+    for which in range(0 if has_start else 1, 3):
+        p, w, residual, verified, pivots = pivot_solve(
+            D, b, lo_f, hi_f, mu_f, fi, starts[which], threshold, max_pivots
+        )
+        total += pivots
+        if verified:
+            return p, w, residual, True, total, which
+        if residual < best_residual:
+            best_p, best_w, best_residual = p, w, residual
+    return best_p, best_w, best_residual, False, total, -1
