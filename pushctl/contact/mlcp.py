@@ -263,10 +263,8 @@ def _fixed_point(
     ``max_iterations`` solves.
     """
     n = prob.b.shape[0]
-    qp = proxqp.dense.QP(n, 0, 0, True)
-    qp.settings.eps_abs = _QP_EPS_ABS
-    qp.settings.eps_rel = 0.0
-    qp.settings.verbose = False
+    qp = _reused_qp(n)
+    qp.settings.initial_guess = proxqp.InitialGuess.EQUALITY_CONSTRAINED_INITIAL_GUESS
     # Friction half-widths mu·|p_n| (0 on other rows): the part of the bounds that moves.
     width = prob.mu * np.abs(start[prob.fi])
     qp.init(prob.D, prob.b, None, None, None, None, None, prob.lo - width, prob.hi + width)
@@ -285,6 +283,22 @@ def _fixed_point(
         width = width + relax * step
         qp.update(l_box=prob.lo - width, u_box=prob.hi + width)
         qp.solve(p, None, None)
+
+
+_QPS: dict[int, proxqp.dense.QP] = {}
+"""One ProxQP problem per size, reused: a fresh one's answers differ in the last bit with
+where its workspace lands in the heap, a reused one's do not (README, *Reproducibility*)."""
+
+
+def _reused_qp(n: int) -> proxqp.dense.QP:
+    qp = _QPS.get(n)
+    if qp is None:
+        qp = proxqp.dense.QP(n, 0, 0, True)
+        qp.settings.eps_abs = _QP_EPS_ABS
+        qp.settings.eps_rel = 0.0
+        qp.settings.verbose = False
+        _QPS[n] = qp
+    return qp
 
 
 def _repeats(width: np.ndarray, history: list[np.ndarray], tol: float) -> bool:

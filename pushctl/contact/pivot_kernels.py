@@ -45,7 +45,9 @@ _INT = types.CPointer(types.int32)
 _FLOAT = types.CPointer(types.float64)
 _dgelsy = types.ExternalFunction(
     "pushctl_dgelsy",
-    types.void(_INT, _INT, _INT, _FLOAT, _INT, _FLOAT, _INT, _INT, _FLOAT, _INT, _FLOAT, _INT, _INT),  # noqa: E501
+    types.void(
+        _INT, _INT, _INT, _FLOAT, _INT, _FLOAT, _INT, _INT, _FLOAT, _INT, _FLOAT, _INT, _INT
+    ),  # noqa: E501
 )
 
 
