@@ -25,8 +25,10 @@ lint: $(STAMP)
 	$(PY) -m ruff format --check pushctl tests
 	$(PY) -m mypy pushctl
 
+# bench_compare: this tree against 551bcac side by side (git archive, interleaved children).
 bench: $(STAMP)
 	$(PY) -m pushctl.bench --profile --out results/bench.csv --force
+	$(PY) -m pushctl.bench_compare --against 551bcac --out results/bench_compare.csv --force
 
 # Train (paper preset), evaluate (50 trials x 2 objects x 3 profiles x 2 controllers x 2 plants),
 # report, bench; QUICK=1: quick preset, 4 trials, into results-quick/ (pushctl/reproduce.py).

@@ -236,3 +236,17 @@ def test_reproduce_main_refuses_with_one_line(
     error = capsys.readouterr().err.strip()
     assert "--force" in error and len(error.splitlines()) == 1
     assert (setup.results / "tables.md").read_text() == "keep\n"
+
+
+def test_bench_compare_refuses_an_unknown_commit_and_an_existing_csv(
+    tmp_path: Path, capsys: pytest.CaptureFixture
+) -> None:
+    from pushctl import bench_compare
+
+    out = tmp_path / "compare.csv"
+    out.write_text("shipped\n")
+    assert bench_compare.main(["--out", str(out), "--repeats", "1"]) == 2
+    assert "--force" in capsys.readouterr().err and out.read_text() == "shipped\n"
+    assert bench_compare.main(["--against", "no-such-commit", "--repeats", "1"]) == 2
+    error = capsys.readouterr().err.strip()
+    assert error.startswith("error: --against no-such-commit") and len(error.splitlines()) == 1

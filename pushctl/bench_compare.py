@@ -1,0 +1,249 @@
+"""``make bench``'s side-by-side timing: this tree against a reference commit, in one run.
+
+Run as ``python -m pushctl.bench_compare [--against 551bcac] [--repeats 5] [--out FILE]
+[--force]``. Timings on a shared machine drift by tens of percent from minute to minute, so
+a speed claim is a ratio measured side by side: the reference commit's ``pushctl/`` (and
+``experiments/``) is unpacked with ``git archive`` into a temporary directory, and each
+repeat runs one fresh child process per tree, alternating which goes first, pinned to one
+core (``taskset -c 0`` where it exists). Each child times, on the same inputs:
+
+- ``world step``: the arm pushing the cube at 1 cm/s (:func:`pushctl.bench._pushing_world`),
+  median of 2000 steps [µs];
+- ``cold MLCP``: ``solve_box_mlcp`` on the cold-path problems (the warm active set failed)
+  recorded from random-action ``Push-v0`` steps in this tree, median over problems of each
+  problem's median of 5 solves [µs];
+- ``cold MLCP, ProxQP path of the reference``: the same over the problems the reference
+  solved with its ProxQP fixed point (the ~400 µs path of issue 15);
+- ``env step, zero residual`` and ``env step, random actions``: ``Push-v0`` steps on one
+  wedge chirp push, median [µs].
+
+The table gives the median over repeats of each tree and the ratio this / reference.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import pickle
+import shutil
+import statistics
+import subprocess
+import sys
+import tarfile
+import tempfile
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from rich.console import Console
+from rich.table import Table
+
+import pushctl
+from pushctl.errors import ConfigError
+from pushctl.output_guard import refuse_existing_files
+from pushctl.provenance import git_commit, provenance_line, write_csv
+
+REFERENCE = "551bcac"
+"""The commit issue 15 measures against."""
+
+METRICS = (
+    "world step",
+    "cold MLCP",
+    "cold MLCP, ProxQP path of the reference",
+    "env step, zero residual",
+    "env step, random actions",
+)
+
+_CHILD = r"""
+import json, pickle, statistics, sys, time
+import numpy as np
+from pushctl.bench import _pushing_world
+from pushctl.contact.mlcp import solve_box_mlcp
+from pushctl.rl.env import PushEnv
+from pushctl.rl.env_config import EnvConfig
+
+def median_us(samples):
+    return 1e6 * statistics.median(samples)
+
+world, torque, kv = _pushing_world("cube")
+steps = []
+for _ in range(2000):
+    tau = torque()
+    start = time.perf_counter()
+    world.step(tau, implicit_kv=kv)
+    steps.append(time.perf_counter() - start)
+
+with open(sys.argv[1], "rb") as handle:
+    problems = pickle.load(handle)
+for D, b, lo, hi, findex, mu, warm in problems:  # warm-up (and numba's first calls)
+    solve_box_mlcp(D, b, lo, hi, findex, mu, warm_start=warm, validate=False)
+cold, methods = [], []
+for D, b, lo, hi, findex, mu, warm in problems:
+    times = []
+    for _ in range(5):
+        start = time.perf_counter()
+        result = solve_box_mlcp(D, b, lo, hi, findex, mu, warm_start=warm, validate=False)
+        times.append(time.perf_counter() - start)
+    cold.append(statistics.median(times))
+    methods.append(result.method)
+
+def env_steps(random):
+    env = PushEnv(EnvConfig(duration=6.0, gate_threshold=0.0))
+    env.reset(seed=3, options={"object": "wedge", "profile": "chirp"})
+    rng = np.random.default_rng(0)
+    times = []
+    for _ in range(600):
+        action = rng.uniform(-1, 1, 3) if random else np.zeros(3)
+        start = time.perf_counter()
+        env.step(action.astype(np.float32))
+        times.append(time.perf_counter() - start)
+    return times
+
+env_steps(True)  # warm-up
+print(json.dumps({
+    "world step": median_us(steps),
+    "cold MLCP": median_us(cold),
+    "cold_each": cold,
+    "methods": methods,
+    "env step, zero residual": median_us(env_steps(False)),
+    "env step, random actions": median_us(env_steps(True)),
+}))
+"""
+
+
+def record_cold_problems(steps: int = 1500, seed: int = 0) -> list[tuple]:
+    """The MLCPs that reached :func:`solve_box_mlcp` (the compiled warm step had failed)
+    during ``steps`` random-action ``Push-v0`` steps of this tree: (D, b, lo, hi, findex, mu,
+    warm_start) each."""
+    import pushctl.contact.world as world_module
+    from pushctl.rl.env import PushEnv
+    from pushctl.rl.env_config import EnvConfig
+
+    recorded: list[tuple] = []
+    solve = world_module.solve_box_mlcp
+
+    def record(D, b, lo, hi, findex, mu, warm_start=None, **options):
+        warm = None if warm_start is None else warm_start.copy()
+        recorded.append((D.copy(), b.copy(), lo.copy(), hi.copy(), findex.copy(), mu.copy(), warm))
+        return solve(D, b, lo, hi, findex, mu, warm_start=warm_start, **options)
+
+    world_module.solve_box_mlcp = record  # type: ignore[assignment]
+    try:
+        env = PushEnv(EnvConfig(duration=6.0, gate_threshold=0.0))
+        rng = np.random.default_rng(seed)
+        env.reset(seed=seed)
+        for i in range(steps):
+            _, _, terminated, truncated, _ = env.step(rng.uniform(-1, 1, 3).astype(np.float32))
+            if terminated or truncated:
+                env.reset(seed=seed + i + 1)
+    finally:
+        world_module.solve_box_mlcp = solve  # type: ignore[assignment]
+    return recorded
+
+
+def unpack(commit: str, into: Path) -> Path:
+    """``pushctl/`` and ``experiments/`` of ``commit`` under ``into``; ConfigError if this
+    is not a git checkout or the commit is unknown."""
+    root = Path(pushctl.__file__).resolve().parent.parent
+    archive = into / "reference.tar"
+    done = subprocess.run(
+        ["git", "-C", str(root), "archive", "-o", str(archive), commit, "pushctl", "experiments"],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    if done.returncode != 0:
+        message = done.stderr.strip().splitlines()[-1] if done.stderr.strip() else "git failed"
+        raise ConfigError(f"--against {commit}: cannot unpack it from {root}: {message}")
+    tree = into / "reference"
+    with tarfile.open(archive) as tar:
+        tar.extractall(tree, filter="data")
+    return tree
+
+
+def run_child(tree: Path, problems: Path) -> dict[str, float]:
+    """One child process timing the tree at ``tree`` (its ``pushctl`` first on the path)."""
+    pin = ["taskset", "-c", "0"] if shutil.which("taskset") else []
+    env = {**os.environ, "PYTHONPATH": str(tree)}
+    done = subprocess.run(
+        [*pin, sys.executable, "-c", _CHILD, str(problems)],
+        capture_output=True,
+        text=True,
+        env=env,
+        check=False,
+        cwd=tree,
+    )
+    if done.returncode != 0:
+        raise RuntimeError(f"timing child in {tree} failed:\n{done.stderr[-2000:]}")
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def compare(against: str, repeats: int) -> tuple[pd.DataFrame, int]:
+    """Median [µs] of each metric per tree over ``repeats`` interleaved pairs of children,
+    and the ratio; also the number of cold problems timed."""
+    this_tree = Path(pushctl.__file__).resolve().parent.parent
+    with tempfile.TemporaryDirectory(prefix="pushctl-bench-") as scratch:
+        scratch_dir = Path(scratch)
+        reference = unpack(against, scratch_dir)
+        problems = record_cold_problems()
+        problems_file = scratch_dir / "problems.pkl"
+        problems_file.write_bytes(pickle.dumps(problems))
+        samples: dict[str, list[dict[str, float]]] = {"this": [], "reference": []}
+        for k in range(repeats):
+            order = ("reference", "this") if k % 2 == 0 else ("this", "reference")
+            for name in order:
+                tree = reference if name == "reference" else this_tree
+                samples[name].append(run_child(tree, problems_file))
+    proxqp = [i for i, m in enumerate(samples["reference"][0]["methods"]) if m.startswith("proxqp")]
+    for sample in (*samples["this"], *samples["reference"]):
+        each = sample["cold_each"]
+        subset = [each[i] for i in proxqp] or [float("nan")]
+        sample["cold MLCP, ProxQP path of the reference"] = 1e6 * statistics.median(subset)
+    rows = []
+    for metric in METRICS:
+        ours = statistics.median(s[metric] for s in samples["this"])
+        theirs = statistics.median(s[metric] for s in samples["reference"])
+        rows.append(
+            {
+                "name": metric,
+                "this_us": ours,
+                "reference_us": theirs,
+                "ratio": ours / theirs,
+                "note": f"median of {repeats} interleaved child processes per tree, one core",
+            }
+        )
+    return pd.DataFrame(rows), len(problems)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--against", default=REFERENCE, help="reference commit (git)")
+    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--out", type=Path, default=None, help="also write the table as CSV")
+    parser.add_argument("--force", action="store_true", help="overwrite an existing --out file")
+    args = parser.parse_args(argv)
+    try:
+        refuse_existing_files("--out", (args.out,), args.force)
+        if args.repeats < 1:
+            raise ConfigError(f"--repeats must be an integer >= 1, got {args.repeats}")
+        frame, n_problems = compare(args.against, args.repeats)
+    except ConfigError as error:
+        print(f"error: {error}", file=sys.stderr)
+        return 2
+    table = Table(title=f"this tree ({git_commit()}) against {args.against}, side by side")
+    for column in ("what", "this [µs]", f"{args.against} [µs]", "ratio"):
+        table.add_column(column, justify="left" if column == "what" else "right")
+    for row in frame.itertuples():
+        table.add_row(row.name, f"{row.this_us:.1f}", f"{row.reference_us:.1f}", f"{row.ratio:.2f}")
+    Console().print(table)
+    print(f"cold MLCP: {n_problems} problems recorded from random-action Push-v0 steps")
+    if args.out is not None:
+        args.out.parent.mkdir(parents=True, exist_ok=True)
+        extra = f"against {args.against}; {n_problems} cold problems"
+        write_csv(args.out, frame, provenance_line(extra=extra), float_format="%.4g")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
