@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
+import numpy as np
+
 from pushctl.arm import ArmConfig, load_arm
 from pushctl.config import GRAVITY, PusherConfig
 from pushctl.contact.world import World, WorldConfig
@@ -21,6 +25,7 @@ def make_world(
     damping=None,
     substeps: int = 1,
     gravity: float = GRAVITY,
+    friction_field: Callable[[np.ndarray], np.ndarray] | None = None,
 ) -> World:
     """Build a world. Every argument is validated; bad ones raise a ``ConfigError``.
 
@@ -35,6 +40,8 @@ def make_world(
         (30 g for the cube, 40 g for the wedge).
     armature [kg·m²], damping [N·m·s/rad]: per joint; None uses the arm's defaults.
     gravity [m/s²]: its magnitude; 0 turns it off for arm and ground loads alike.
+    friction_field: μ(p)/μ_g at table points (S, 2) [m] → (S,) (e.g. a
+        :class:`~pushctl.contact.ground_field.FrictionField`); None: μ_g everywhere.
     """
     config = WorldConfig(
         dt=dt, mu_ground=mu_ground, mu_contact=mu_contact, substeps=substeps, gravity=gravity
@@ -44,7 +51,7 @@ def make_world(
     else:
         spec = resolve_object(object, mass=object_mass)
     if arm is None:
-        return World(spec, None, config)
+        return World(spec, None, config, friction_field)
     if pusher is None:
         pusher = PusherConfig(mass=spec.pusher_mass)
     arm_config = ArmConfig(
@@ -55,7 +62,7 @@ def make_world(
     )
     arm_model = load_arm(arm_config)
     arm_model.set_gravity(gravity)
-    return World(spec, arm_model, config)
+    return World(spec, arm_model, config, friction_field)
 
 
 __all__ = ["make_world"]
