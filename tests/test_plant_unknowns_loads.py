@@ -81,6 +81,8 @@ def test_the_friction_field_is_seeded_bounded_and_stationary_with_its_length():
     points = np.random.default_rng(0).uniform(-1.0, 1.0, size=(5000, 2))
     values = field(points)
     assert np.all((values > 0.9) & (values < 1.1)) and values.std() > 0.02
+    # the compiled per-step path is the documented formula over the mode sum
+    np.testing.assert_allclose(values, 1 + 0.1 * np.tanh(field.unit_field(points) / 2), atol=1e-13)
     np.testing.assert_array_equal(values, FrictionField(0.1, 0.05, seed=11)(points))
     assert not np.array_equal(values, FrictionField(0.1, 0.05, seed=12)(points))
     # unit variance, and the squared-exponential correlation exp(−r²/2ℓ²) at r = ℓ and 3ℓ,
@@ -144,3 +146,9 @@ def test_friction_over_the_table_changes_the_plant_forces_not_the_motion():
     assert mb.force_error_plan > ma.force_error_plan + 0.002
     assert np.abs(varied.plant_forces.forces - base.plant_forces.forces).max() > 0.01
     assert varied.world.stats.warm_starts > 0.9 * varied.world.stats.solves
+    # the world's bounds are the field at the support points' table positions
+    world = varied.world
+    corners = support_positions(world.object_pose, np.asarray(world.object.support_points))
+    world._start_slip_state()
+    expected = scenario.plant.mu_ground * world.object.support_loads * world.friction_field(corners)
+    np.testing.assert_allclose(world._friction_limits, expected, rtol=1e-12)

@@ -2,12 +2,9 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
-
-import numpy as np
-
 from pushctl.arm import ArmConfig, load_arm
 from pushctl.config import GRAVITY, PusherConfig
+from pushctl.contact.ground_field import FrictionField
 from pushctl.contact.world import World, WorldConfig
 from pushctl.objects import ObjectSpec, resolve_object, with_masses
 
@@ -25,7 +22,7 @@ def make_world(
     damping=None,
     substeps: int = 1,
     gravity: float = GRAVITY,
-    friction_field: Callable[[np.ndarray], np.ndarray] | None = None,
+    friction_field: FrictionField | None = None,
 ) -> World:
     """Build a world. Every argument is validated; bad ones raise a ``ConfigError``.
 
@@ -40,8 +37,8 @@ def make_world(
         (30 g for the cube, 40 g for the wedge).
     armature [kg·m²], damping [N·m·s/rad]: per joint; None uses the arm's defaults.
     gravity [m/s²]: its magnitude; 0 turns it off for arm and ground loads alike.
-    friction_field: μ(p)/μ_g at table points (S, 2) [m] → (S,) (e.g. a
-        :class:`~pushctl.contact.ground_field.FrictionField`); None: μ_g everywhere.
+    friction_field: μ(p)/μ_g over the table, a
+        :class:`~pushctl.contact.ground_field.FrictionField`; None: μ_g everywhere.
     """
     config = WorldConfig(
         dt=dt, mu_ground=mu_ground, mu_contact=mu_contact, substeps=substeps, gravity=gravity

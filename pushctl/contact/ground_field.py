@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba import njit
 
 from pushctl.errors import ConfigError
 
@@ -53,7 +54,45 @@ class FrictionField:
 
     def __call__(self, points: np.ndarray) -> np.ndarray:
         """μ(p)/μ_g at table points ``points`` (..., 2) [m], shape (...), in (1 − a, 1 + a)."""
+        points = np.asarray(points, dtype=float)
+        if points.ndim == 2:  # the world's per-step query: compiled (5× faster than numpy)
+            return _multiplier(
+                points, self._wavevectors, self._phases, self._amplitude, self.variation
+            )
         return 1.0 + self.variation * np.tanh(0.5 * self.unit_field(points))
+
+    def at_support_points(self, pose: np.ndarray, support_points: np.ndarray) -> np.ndarray:
+        """μ(p_j)/μ_g (S,) at the table positions of ``support_points`` (S, 2) [m] (object
+        frame) of an object at ``pose`` (3,): the world's per-step query, compiled."""
+        return _support_multiplier(
+            pose, support_points, self._wavevectors, self._phases, self._amplitude, self.variation
+        )
+
+
+@njit(cache=True)
+def _support_multiplier(pose, support_points, wavevectors, phases, amplitude, variation):
+    """:func:`support_positions` of one pose, then :func:`_multiplier`."""
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    points = np.empty_like(support_points)
+    for j in range(support_points.shape[0]):
+        px, py = support_points[j, 0], support_points[j, 1]
+        points[j, 0] = pose[0] + c * px - s * py
+        points[j, 1] = pose[1] + s * px + c * py
+    return _multiplier(points, wavevectors, phases, amplitude, variation)
+
+
+@njit(cache=True)
+def _multiplier(points, wavevectors, phases, amplitude, variation):
+    """``FrictionField.__call__`` for points (S, 2): 1 + a tanh(f/2), f the mode sum."""
+    out = np.empty(points.shape[0])
+    for j in range(points.shape[0]):
+        total = 0.0
+        for m in range(phases.shape[0]):
+            total += math.cos(
+                points[j, 0] * wavevectors[m, 0] + points[j, 1] * wavevectors[m, 1] + phases[m]
+            )
+        out[j] = 1.0 + variation * math.tanh(0.5 * amplitude * total)
+    return out
 
 
 def support_positions(pose: np.ndarray, support_points: np.ndarray) -> np.ndarray:

@@ -23,7 +23,6 @@ controller's job.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -31,7 +30,7 @@ import numpy as np
 from pushctl.arm import ArmModel, ArmTerms
 from pushctl.checks import finite_vector
 from pushctl.config import GRAVITY
-from pushctl.contact.ground_field import support_positions
+from pushctl.contact.ground_field import FrictionField
 from pushctl.contact.kernels import (
     apply_impulses,
     assemble,
@@ -110,10 +109,10 @@ class World:
         obj: ObjectSpec,
         arm: ArmModel | None,
         config: WorldConfig,
-        friction_field: Callable[[np.ndarray], np.ndarray] | None = None,
+        friction_field: FrictionField | None = None,
     ) -> None:
-        """``friction_field``: μ(p)/μ_g at table points (S, 2) [m] → (S,), e.g. a
-        :class:`~pushctl.contact.ground_field.FrictionField`; None: μ_g everywhere."""
+        """``friction_field``: μ(p)/μ_g over the table
+        (:class:`~pushctl.contact.ground_field.FrictionField`); None: μ_g everywhere."""
         self.object = obj
         self.friction_field = friction_field
         self.arm = arm
@@ -241,12 +240,13 @@ class World:
         The warm start's ground impulses (the last 2 S rows) scale with their bounds, so a
         row that slid at its old bound is read as sliding at the new one."""
         assert self.friction_field is not None
-        positions = support_positions(self.object_pose, self._support_points)
-        limits = self._uniform_limits * self.friction_field(positions)
+        field = self.friction_field.at_support_points(self.object_pose, self._support_points)
+        limits = self._uniform_limits * field
         if self._last_p is not None:
-            ratio = np.repeat(limits / np.maximum(self._friction_limits, 1e-300), 2)
-            self._last_p = self._last_p.copy()
-            self._last_p[-ratio.size :] *= ratio
+            ratio = limits / np.maximum(self._friction_limits, 1e-300)
+            guess = self._last_p.copy()
+            guess[-2 * ratio.size :] *= np.repeat(ratio, 2)
+            self._last_p = guess
         self._friction_limits = limits
 
     def _step_inputs(self, h: float, tau: np.ndarray, damping: np.ndarray) -> tuple:
