@@ -72,24 +72,24 @@ def _grid(header: list[str], rows: list[list[str]]) -> list[str]:
 
 def _value_table(
     table: ResultTable,
-    paper: dict[tuple[str, str], dict[str, float]] | None,
-    columns: list[tuple[str, str, str]],
+    paper: dict[tuple[str, str], dict[str, float]],
+    columns: list[tuple[str, str, str | None]],
     scale: float,
     paper_format: str,
 ) -> list[str]:
     """Rows of object, profile, n, then per (column, heading, paper heading): ours ± CI and
-    the paper's value (formatted with ``paper_format``, as printed in the paper); ``paper``
-    None: ours only (a quantity the paper does not report)."""
+    the paper's value (formatted with ``paper_format``, as printed in the paper; no paper
+    column where the paper heading is None: the feedback baseline)."""
     header = ["object", "profile", "n"]
     for _, heading, paper_heading in columns:
-        header += [heading] if paper is None else [heading, paper_heading]
+        header += [heading] if paper_heading is None else [heading, paper_heading]
     rows = []
     for i, (obj, profile) in enumerate(_cells(table)):
-        published = {} if paper is None else paper.get((obj, profile), {})
+        published = paper.get((obj, profile), {})
         row = [obj, profile, _counts(table, i, [c for c, _, _ in columns])]
-        for column, _, _ in columns:
+        for column, _, paper_heading in columns:
             row.append(_ours(table, i, column, scale))
-            if paper is not None:
+            if paper_heading is not None:
                 row.append(_paper(published.get(column, math.nan) * scale, paper_format))
         rows.append(row)
     return _grid(header, rows)
@@ -120,7 +120,7 @@ def _ratio_table(
     return _grid(header, rows)
 
 
-_T3 = [
+_T3: list[tuple[str, str, str | None]] = [
     ("translation_error_pd", "translation PD-only", "paper"),
     ("translation_error_rl", "translation RL", "paper"),
     ("angle_error_pd", "angle PD-only", "paper"),
@@ -132,7 +132,12 @@ _T3_RATIOS = [
 ]
 
 
-def _t4(metric: str) -> list[tuple[str, str, str]]:
+def _ours_only(columns: list[tuple[str, str, str | None]]) -> list[tuple[str, str, str | None]]:
+    """``columns`` without their paper columns (a quantity the paper does not report)."""
+    return [(column, heading, None) for column, heading, _ in columns]
+
+
+def _t4(metric: str) -> list[tuple[str, str, str | None]]:
     return [
         (f"{metric}_pd_sim", "PD-only sim", "paper sim"),
         (f"{metric}_pd_proxy", "PD-only proxy", "paper real"),
@@ -185,7 +190,7 @@ def tables_markdown(
         "Force error against what the plant needed [mN] (its true parameters and unknowns, "
         "`force_error`; the paper has no such column):",
         "",
-        *_value_table(table4, None, _t4("force_error"), MILLI, ".0f"),
+        *_value_table(table4, {}, _ours_only(_t4("force_error")), MILLI, ".0f"),
         "",
         "Torque error [mN·m]:",
         "",
