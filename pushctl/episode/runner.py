@@ -9,7 +9,10 @@ the plan's prong offset: what the pushed object really needed where the prongs r
 Plant unknowns (``Scenario.unknowns``, DESIGN.md §9) live in the world only: the object
 starts at its true pose (the believed start ⊕ the placement error) while the plan and the
 approach aim at the believed one, and the world's pusher has the mounting error while the
-controller's arm model (:meth:`Episode.controller_terms`) keeps the nominal pusher.
+controller's arm model (:meth:`Episode.controller_terms`) keeps the nominal pusher; the
+world's object carries the shifted support loads and its table the friction field, and the
+plant forces (:attr:`Episode.plant_forces`) are computed with both. The trace also keeps the
+nominal plan's forces (``plan_forces``), the reference of ``force_error_plan``.
 
 With :class:`~pushctl.episode.proxy.ProxyEffects` the episode runs on the reality proxy: its
 actuators delay the controller's torque and add joint friction (approach and push alike),
