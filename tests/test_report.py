@@ -236,11 +236,13 @@ def test_paper_values_are_in_si_and_cover_every_cell():
         (paper_values.TABLE4, TABLE4_COLUMNS),
     ):
         assert set(table) == {(o, p) for o in OBJECTS for p in PROFILES}
+        # every column but our force error against the plant's needs, which the paper lacks
+        ours_only = {c for c in columns if c.startswith("force_error_") and "plan" not in c}
         for row in table.values():
-            assert set(row) == set(columns)
+            assert set(row) == set(columns) - ours_only
     assert paper_values.TABLE3[("wedge", "chirp")]["translation_error_pd"] == 29.6
     cube = paper_values.TABLE4[("cube", "constant")]
-    assert cube["force_error_pd_sim"] == pytest.approx(0.171)  # printed 1.71 × 10⁻¹ N
+    assert cube["force_error_plan_pd_sim"] == pytest.approx(0.171)  # printed 1.71 × 10⁻¹ N
     assert cube["torque_error_rl_proxy"] == pytest.approx(2.52e-3)  # printed 2.52 × 10⁻³ N·m
 
 
@@ -263,6 +265,23 @@ def test_markdown_shows_ours_beside_the_papers_values():
     # RL/PD ratio: ours 0.5 everywhere, the paper's translation on cube constant 4.0/22.3
     assert "| cube | constant | 0.50 | 0.18 |" in text
     assert "real robot" in text and "10⁻¹ N" in text
+
+
+def test_table4_shows_force_error_against_the_plan_beside_the_paper_and_the_plant_s_alone():
+    trials = trials_frame()
+    trials["force_error_plan"] = 3.0 * trials["force_error"]
+    text = tables_markdown(table3(trials), table4(trials), "# made by: x", ["trials.csv"])
+    plan_part = text.split("against the nominal plan [mN]")[1].split("against what the plant")[0]
+    plant_part = text.split("against what the plant needed [mN]")[1].split("Torque error")[0]
+    # cube chirp PD sim: plan 3 × 5 mN beside the paper's 205 mN; the plant's 5 mN alone
+    assert "| cube | chirp | 4 | 15 ± " in plan_part and "| 205 |" in plan_part
+    (row,) = [line for line in plant_part.splitlines() if line.startswith("| cube | chirp |")]
+    assert row.startswith("| cube | chirp | 4 | 5 ± ") and row.count("|") == 8  # no paper
+    assert "| force vs plan sim (ours) | paper |" in text
+    # an older trials.csv without the column still makes the table (NaN: "–")
+    older = table4(trials_frame())
+    assert np.isnan(older.values["force_error_plan_pd_sim"]).all()
+    assert (older.counts["force_error_plan_pd_sim"] == 0).all()
 
 
 # ---------------------------------------------------------------- inputs

@@ -6,6 +6,14 @@ or all at once (:meth:`Episode.run`). The planner and the controller use the sce
 trace (and any reward) are the force distribution recomputed with the plant's parameters at
 the plan's prong offset: what the pushed object really needed where the prongs really were.
 
+Plant unknowns (``Scenario.unknowns``, DESIGN.md §9) live in the world only: the object
+starts at its true pose (the believed start ⊕ the placement error) while the plan and the
+approach aim at the believed one, and the world's pusher has the mounting error while the
+controller's arm model (:meth:`Episode.controller_terms`) keeps the nominal pusher; the
+world's object carries the shifted support loads and its table the friction field, and the
+plant forces (:attr:`Episode.plant_forces`) are computed with both. The trace also keeps the
+nominal plan's forces (``plan_forces``), the reference of ``force_error_plan``.
+
 With :class:`~pushctl.episode.proxy.ProxyEffects` the episode runs on the reality proxy: its
 actuators delay the controller's torque and add joint friction (approach and push alike),
 :meth:`Episode.measured_forces` is the noisy force estimate a policy observes, and the trace
@@ -15,13 +23,14 @@ gains the camera's object poses, which the metrics then use.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
-from pushctl.arm import ArmConfig, load_arm
+from pushctl.arm import ArmConfig, ArmModel, ArmTerms, load_arm
 from pushctl.config import PusherConfig
 from pushctl.contact.build import make_world
+from pushctl.contact.ground_field import FrictionField
 from pushctl.contact.world import World
 from pushctl.control.gains import PDGains, load_gains
 from pushctl.control.pd import PDCommand, PDController
@@ -42,6 +51,7 @@ from pushctl.episode.proxy import (
 )
 from pushctl.episode.scenario import Scenario
 from pushctl.episode.trace import Trace, contact_torques
+from pushctl.episode.unknowns import friction_field, friction_limits, with_unknown_loads
 from pushctl.errors import ConfigError, StateError
 from pushctl.objects import ObjectSpec, resolve_object
 from pushctl.planning import ForcePlan, ForceSettings, Plan, make_plan
@@ -98,9 +108,12 @@ class Episode:
         nominal_obj = resolve_object(
             scenario.object, mass=nominal.object_mass, pusher_mass=nominal.pusher_mass
         )
-        self.object: ObjectSpec = resolve_object(
-            scenario.object, mass=plant.object_mass, pusher_mass=plant.pusher_mass
+        unknowns = scenario.unknowns
+        self.object: ObjectSpec = with_unknown_loads(
+            resolve_object(scenario.object, mass=plant.object_mass, pusher_mass=plant.pusher_mass),
+            unknowns,
         )
+        self.friction_field: FrictionField | None = friction_field(unknowns)
         planning_pusher = PusherConfig(mass=nominal_obj.pusher_mass)
         self.plan: Plan = (
             plan
@@ -118,23 +131,28 @@ class Episode:
             )
         )
         self.plan.raise_if_infeasible()
-        self.plant_forces: ForcePlan = distribute_forces(
-            self.plan.trajectory,
-            self.object,
-            planning_pusher.prong_offsets(),
-            ForceSettings(mu_contact=plant.mu_contact, mu_ground=plant.mu_ground),
-            scenario.gravity,
-            offset=self.plan.forces.offset,
-        )
+        pusher = PusherConfig(mass=self.object.pusher_mass)
+        if unknowns.has_mounting_error:
+            pusher = replace(
+                pusher,
+                mount_yaw=unknowns.mount_yaw,
+                prong_errors=unknowns.prong_errors_for(pusher.n_prongs),
+            )
+        self.plant_forces: ForcePlan = self._plant_forces(pusher)
         self.world: World = make_world(
             self.object,
             arm=scenario.arm,
             mu_ground=plant.mu_ground,
             mu_contact=plant.mu_contact,
             dt=scenario.dt,
-            pusher=PusherConfig(mass=self.object.pusher_mass),
+            pusher=pusher,
             gravity=scenario.gravity,
+            friction_field=self.friction_field,
         )
+        # The controller's model of the arm: the world's own unless the pusher is mounted
+        # other than the controller believes (then the nominal pusher, same mass).
+        self.controller_arm: ArmModel = self._nominal_arm(pusher)
+        self.true_start: np.ndarray = unknowns.true_start(self.plan.trajectory.pose[0])
         self.controller = self._controller(self.gains)
         self.reference: PusherReference = push_reference(self.plan)
         self._allocate()
@@ -151,9 +169,51 @@ class Episode:
         self.gains = gains
         self.controller = self._controller(gains)
 
+    def _plant_forces(self, pusher: PusherConfig) -> ForcePlan:
+        """The prong forces the plant needs to follow the plan (DESIGN.md §7's F_des): its
+        true parameters, support loads and friction field, at the plan's plate offset with
+        the prongs where they really are on the plate (along the face)."""
+        plant, trajectory = self.scenario.plant, self.plan.trajectory
+        limits = None
+        if self.friction_field is not None:
+            limits = friction_limits(
+                self.object, plant.mu_ground, self.friction_field, trajectory.pose,
+                self.scenario.gravity,
+            )  # fmt: skip
+        return distribute_forces(
+            trajectory,
+            self.object,
+            pusher.prong_points()[:, 1],
+            ForceSettings(mu_contact=plant.mu_contact, mu_ground=plant.mu_ground),
+            self.scenario.gravity,
+            offset=self.plan.forces.offset,
+            friction_limits=limits,
+        )
+
     def _controller(self, gains: PDGains) -> PDController:
-        assert self.world.arm is not None
-        return PDController(self.world.arm, gains, self.scenario.dt)
+        return PDController(self.controller_arm, gains, self.scenario.dt)
+
+    def _nominal_arm(self, pusher: PusherConfig) -> ArmModel:
+        """The world's arm, or with a mounting error a copy of it with the nominal pusher."""
+        arm = self.world.arm
+        assert arm is not None
+        if pusher == pusher.nominal:
+            return arm
+        nominal = load_arm(ArmConfig(name=self.scenario.arm, pusher=pusher.nominal))
+        nominal.set_gravity(self.scenario.gravity)
+        return nominal
+
+    def controller_terms(self) -> ArmTerms:
+        """The arm's terms at the world's current state as the controller's model computes
+        them: the world's own (:attr:`World.arm_terms`) unless the pusher has a mounting
+        error, then the nominal pusher's frame, Jacobian and g(q) (the prongs' true
+        positions are the world's business)."""
+        world = self.world
+        terms = world.arm_terms
+        assert terms is not None
+        if self.controller_arm is world.arm:
+            return terms
+        return self.controller_arm.compute(world.q, world.v)
 
     @property
     def n_steps(self) -> int:
@@ -169,10 +229,11 @@ class Episode:
         return self._n >= self.n_steps
 
     def reset(self) -> StepResult:
-        """Put the arm at its ready configuration and the object at the plan's start, run
-        the approach, and return the state at the start of the push (t = 0)."""
-        world, trajectory = self.world, self.plan.trajectory
-        world.reset(object_pose=trajectory.pose[0])
+        """Put the arm at its ready configuration (the controller's) and the object at its
+        true start (the plan's, unless placed with an error), run the approach, and return
+        the state at the start of the push (t = 0)."""
+        world = self.world
+        world.reset(object_pose=self.true_start, arm_q=self.controller_arm.q_ready)
         self._start_proxy()
         result = self._approach()
         self._n = 0
@@ -188,8 +249,7 @@ class Episode:
         if self._n >= self.n_steps:
             raise StateError(f"the push is over: all {self.n_steps} steps have been taken")
         n, world, ref = self._n, self.world, self.reference
-        terms = world.arm_terms
-        assert terms is not None
+        terms = self.controller_terms()
         command = self.controller.command(
             terms, world.q, ref.position[n], ref.yaw[n], self._twists[n], residual
         )
@@ -246,6 +306,7 @@ class Episode:
             arc_length=self.plan.trajectory.arc_length,
             delta_theta=self.plan.trajectory.delta_theta,
             measured_pose=measured,
+            plan_forces=self.plan.forces.forces[rows].copy(),
         )
 
     # ---------------------------------------------------------------- internals
@@ -253,8 +314,7 @@ class Episode:
     def _approach(self) -> StepResult:
         """Ready pose → standoff → touching at the plan's offset → settle."""
         world, settings, dt = self.world, self.approach, self.scenario.dt
-        terms = world.arm_terms
-        assert terms is not None
+        terms = self.controller_terms()
         contact_position = self.reference.position[0]
         yaw = float(self.reference.yaw[0])
         normal = np.array([math.cos(yaw), math.sin(yaw), 0.0])
@@ -271,8 +331,7 @@ class Episode:
         twists = reference.twist
         result = None
         for n in range(len(reference) - 1):
-            terms = world.arm_terms
-            assert terms is not None
+            terms = self.controller_terms()
             command = self.controller.command(
                 terms, world.q, reference.position[n], reference.yaw[n], twists[n]
             )

@@ -171,7 +171,8 @@ def _row(
     env: PushEnv, job: Job, controller: str, redrawn: int, gate_share: float, trace: Trace
 ) -> dict[str, Any]:
     """One ``trials.csv`` row: the job, the draw (goal relative to the start, world frame
-    [m, m, rad]; the plant's parameters [1, 1, kg, kg]), the gate's share and the metrics."""
+    [m, m, rad]; the plant's parameters [1, 1, kg, kg]; its unknowns, ``UNKNOWN_COLUMNS``),
+    the gate's share and the metrics."""
     scenario = env.scenario
     start = scenario.start
     assert start is not None  # the draw always sets the default start
@@ -191,6 +192,7 @@ def _row(
         "mu_contact": plant.mu_contact,
         "object_mass": plant.object_mass,
         "pusher_mass": plant.pusher_mass,
+        **scenario.unknowns.as_dict(n_prongs=2),
         "gate_open_fraction": gate_share,
         **compute_metrics(trace).as_dict(),
     }

@@ -158,7 +158,9 @@ def test_finishing_with_a_policy_is_step_after_step_with_the_actor_only_behind_a
         calls.append(env.episode.step_index)
         return np.array([1.0, -0.5, 0.2]) * math.cos(1e3 * float(obs.sum()))
 
-    config = replace(SHORT, plant=plant, gate_threshold=2e-5)
+    # Shut at the start (the placement error of this seed is 2-3 mm), open once the push
+    # falls behind its 2 s plan.
+    config = replace(SHORT, plant=plant, gate_threshold=5e-3)
     env = PushEnv(config)
     obs, _ = env.reset(options=OPTIONS)
     opened = []
