@@ -62,7 +62,7 @@ def load_policy(path: str | Path) -> TrainedPolicy:
             raise ValueError(f"format {state.get('format') if isinstance(state, dict) else None}")
         return TrainedPolicy(
             actor=ActorPolicy.from_state(state["actor"]),
-            env=EnvConfig.from_mapping(state["env"]),
+            env=EnvConfig.from_saved(state["env"]),
             made_by=str(state["made_by"]),
         )
     except ConfigError as exc:
