@@ -1,6 +1,7 @@
 """``tables.md``: Tables III and IV in Markdown, ours (mean ± 95 % CI half-width) beside the
 paper's published values, with the trial counts, the RL/PD ratios (the one comparison that
-survives the differences of units and normalisation) and notes on what differs.
+survives the differences of units and normalisation), the RL/feedback ratios (the paper has
+no feedback baseline) and notes on what differs.
 
 Force and torque errors are shown in mN and mN·m, ours and the paper's alike (the CSVs hold
 N and N·m; the paper prints 10⁻¹ N and 10⁻³ N·m).
@@ -67,22 +68,24 @@ def _grid(header: list[str], rows: list[list[str]]) -> list[str]:
 def _value_table(
     table: ResultTable,
     paper: dict[tuple[str, str], dict[str, float]],
-    columns: list[tuple[str, str, str]],
+    columns: list[tuple[str, str, str | None]],
     scale: float,
     paper_format: str,
 ) -> list[str]:
     """Rows of object, profile, n, then per (column, heading, paper heading): ours ± CI and
-    the paper's value (formatted with ``paper_format``, as printed in the paper)."""
+    the paper's value (formatted with ``paper_format``, as printed in the paper; no paper
+    column where the paper heading is None: the feedback baseline)."""
     header = ["object", "profile", "n"]
     for _, heading, paper_heading in columns:
-        header += [heading, paper_heading]
+        header += [heading] if paper_heading is None else [heading, paper_heading]
     rows = []
     for i, (obj, profile) in enumerate(_cells(table)):
         published = paper.get((obj, profile), {})
         row = [obj, profile, _counts(table, i, [c for c, _, _ in columns])]
-        for column, _, _ in columns:
-            value = published.get(column, math.nan) * scale
-            row += [_ours(table, i, column, scale), _paper(value, paper_format)]
+        for column, _, paper_heading in columns:
+            row.append(_ours(table, i, column, scale))
+            if paper_heading is not None:
+                row.append(_paper(published.get(column, math.nan) * scale, paper_format))
         rows.append(row)
     return _grid(header, rows)
 
@@ -96,48 +99,64 @@ def _ratio_table(
     paper: dict[tuple[str, str], dict[str, float]],
     pairs: list[tuple[str, str, str]],
 ) -> list[str]:
-    """RL mean / PD mean per (heading, rl column, pd column), ours and the paper's."""
+    """Ratio of means per (heading, numerator column, denominator column), ours and, for
+    RL/PD, the paper's (the paper has no feedback baseline: RL/feedback is ours only)."""
     header = ["object", "profile"]
-    for heading, _, _ in pairs:
-        header += [f"{heading} (ours)", "paper"]
+    for heading, _, below in pairs:
+        header += [f"{heading} (ours)"] + (["paper"] if below.endswith(_PD_SUFFIXES) else [])
     rows = []
     for i, (obj, profile) in enumerate(_cells(table)):
         published = paper.get((obj, profile), {})
         row = [obj, profile]
-        for _, rl, pd in pairs:
-            ours = _ratio(float(table.values[rl].iloc[i]), float(table.values[pd].iloc[i]))
-            theirs = _ratio(published.get(rl, math.nan), published.get(pd, math.nan))
-            row += [ours, theirs]
+        for _, above, below in pairs:
+            row.append(
+                _ratio(float(table.values[above].iloc[i]), float(table.values[below].iloc[i]))
+            )
+            if below.endswith(_PD_SUFFIXES):
+                row.append(_ratio(published.get(above, math.nan), published.get(below, math.nan)))
         rows.append(row)
     return _grid(header, rows)
 
 
-_T3 = [
+_PD_SUFFIXES = ("_pd", "_pd_sim", "_pd_proxy")
+
+
+_T3: list[tuple[str, str, str | None]] = [
     ("translation_error_pd", "translation PD-only", "paper"),
+    ("translation_error_feedback", "translation feedback", None),
     ("translation_error_rl", "translation RL", "paper"),
     ("angle_error_pd", "angle PD-only", "paper"),
+    ("angle_error_feedback", "angle feedback", None),
     ("angle_error_rl", "angle RL", "paper"),
 ]
 _T3_RATIOS = [
-    ("translation", "translation_error_rl", "translation_error_pd"),
-    ("angle", "angle_error_rl", "angle_error_pd"),
+    ("translation RL/PD", "translation_error_rl", "translation_error_pd"),
+    ("translation RL/feedback", "translation_error_rl", "translation_error_feedback"),
+    ("angle RL/PD", "angle_error_rl", "angle_error_pd"),
+    ("angle RL/feedback", "angle_error_rl", "angle_error_feedback"),
 ]
 
 
-def _t4(metric: str) -> list[tuple[str, str, str]]:
+def _t4(metric: str) -> list[tuple[str, str, str | None]]:
     return [
         (f"{metric}_pd_sim", "PD-only sim", "paper sim"),
         (f"{metric}_pd_proxy", "PD-only proxy", "paper real"),
+        (f"{metric}_feedback_sim", "feedback sim", None),
+        (f"{metric}_feedback_proxy", "feedback proxy", None),
         (f"{metric}_rl_sim", "RL sim", "paper sim"),
         (f"{metric}_rl_proxy", "RL proxy", "paper real"),
     ]
 
 
 _T4_RATIOS = [
-    ("force sim", "force_error_rl_sim", "force_error_pd_sim"),
-    ("force proxy (paper: real)", "force_error_rl_proxy", "force_error_pd_proxy"),
-    ("torque sim", "torque_error_rl_sim", "torque_error_pd_sim"),
-    ("torque proxy (paper: real)", "torque_error_rl_proxy", "torque_error_pd_proxy"),
+    ("force sim RL/PD", "force_error_rl_sim", "force_error_pd_sim"),
+    ("force proxy RL/PD (paper: real)", "force_error_rl_proxy", "force_error_pd_proxy"),
+    ("force sim RL/feedback", "force_error_rl_sim", "force_error_feedback_sim"),
+    ("force proxy RL/feedback", "force_error_rl_proxy", "force_error_feedback_proxy"),
+    ("torque sim RL/PD", "torque_error_rl_sim", "torque_error_pd_sim"),
+    ("torque proxy RL/PD (paper: real)", "torque_error_rl_proxy", "torque_error_pd_proxy"),
+    ("torque sim RL/feedback", "torque_error_rl_sim", "torque_error_feedback_sim"),
+    ("torque proxy RL/feedback", "torque_error_rl_proxy", "torque_error_feedback_proxy"),
 ]
 
 
@@ -162,7 +181,8 @@ def tables_markdown(
         "",
         *_value_table(table3, paper_values.TABLE3, _T3, 1.0, ".1f"),
         "",
-        "RL-assisted / PD-only, the ratio of the means (< 1: RL-assisted better):",
+        "RL-assisted / PD-only and RL-assisted / feedback, the ratios of the means (< 1: "
+        "RL-assisted better; the paper has no feedback baseline):",
         "",
         *_ratio_table(table3, paper_values.TABLE3, _T3_RATIOS),
         "",
@@ -176,7 +196,8 @@ def tables_markdown(
         "",
         *_value_table(table4, paper_values.TABLE4, _t4("torque_error"), MILLI, ".2f"),
         "",
-        "RL-assisted / PD-only, the ratio of the means (< 1: RL-assisted better):",
+        "RL-assisted / PD-only and RL-assisted / feedback, the ratios of the means (< 1: "
+        "RL-assisted better):",
         "",
         *_ratio_table(table4, paper_values.TABLE4, _T4_RATIOS),
         "",
