@@ -6,7 +6,7 @@ DESIGN.md §9 and the paper's Table II.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -23,6 +23,11 @@ class PusherConfig:
     The plate is ``width`` [m] along the pushed face (the contact tangent e_t),
     ``height`` [m] vertically and ``thickness`` [m] along the push direction. Its prongs are
     points on the front face at mid-height, ``prong_spacing`` [m] apart, centred.
+
+    Mounting/calibration error (DESIGN.md §9; zero on the nominal pusher the planner and the
+    controllers use): ``mount_yaw`` [rad] turns the plate about the tool axis, counter-
+    clockwise seen from above; ``prong_errors`` ((along the push, along the face) [m] per
+    prong, or empty for none) displaces each prong on the plate.
     """
 
     mass: float = 0.030
@@ -31,8 +36,22 @@ class PusherConfig:
     thickness: float = 0.030
     n_prongs: int = 2
     prong_spacing: float = 0.070
+    mount_yaw: float = 0.0
+    prong_errors: tuple[tuple[float, float], ...] = ()
 
     def __post_init__(self) -> None:
+        if not (np.isfinite(self.mount_yaw) and abs(self.mount_yaw) <= 0.5):
+            raise ConfigError(f"pusher mount_yaw must be within ±0.5 rad, got {self.mount_yaw!r}")
+        errors = np.asarray(self.prong_errors, dtype=float)
+        if errors.size and (
+            errors.shape != (self.n_prongs, 2)
+            or not np.all(np.isfinite(errors))
+            or np.abs(errors).max() > 0.01
+        ):
+            raise ConfigError(
+                f"pusher prong_errors must be {self.n_prongs} pairs (along, across) within "
+                f"±0.01 m, got {self.prong_errors!r}"
+            )
         for field in ("mass", "width", "height", "thickness"):
             value = getattr(self, field)
             if not np.isfinite(value) or value <= 0.0:
@@ -52,3 +71,16 @@ class PusherConfig:
         """Tangential offsets of the prongs from the plate centre, (k,) [m], ascending."""
         k = self.n_prongs
         return self.prong_spacing * (np.arange(k) - (k - 1) / 2.0)
+
+    def prong_points(self) -> np.ndarray:
+        """The prongs on the plate's front face, (k, 2) [m]: (along the push, along the face)
+        in the pusher frame, the nominal (0, offset) plus any ``prong_errors``."""
+        points = np.column_stack([np.zeros(self.n_prongs), self.prong_offsets()])
+        if self.prong_errors:
+            points = points + np.asarray(self.prong_errors, dtype=float)
+        return points
+
+    @property
+    def nominal(self) -> PusherConfig:
+        """This pusher without its mounting error (what the planner and controllers assume)."""
+        return replace(self, mount_yaw=0.0, prong_errors=())

@@ -9,7 +9,9 @@ push direction.
 The ``pusher`` frame has its origin at the centre of the front face at mid-height (the
 prongs' midpoint), x = push direction (out of the front face), z = up in the ready pose
 (minus the tool axis), y = z × x along the face. Prong i sits at (0, t_i, 0) in it, with
-t_i = ``PusherConfig.prong_offsets()[i]``.
+t_i = ``PusherConfig.prong_offsets()[i]``. A mounting error (``PusherConfig.mount_yaw``,
+``prong_errors``) turns the plate about the tool axis through the end-effector origin and
+moves the prongs to ``PusherConfig.prong_points()``.
 """
 
 from __future__ import annotations
@@ -37,10 +39,16 @@ def rotation_ee_to_pusher(push_axis_ee, tool_axis_ee) -> np.ndarray:
 
 
 def placement_ee_to_pusher(push_axis_ee, tool_axis_ee, pusher: PusherConfig) -> pin.SE3:
-    """Placement of the pusher frame in the end-effector frame (``eeMp``)."""
+    """Placement of the pusher frame in the end-effector frame (``eeMp``), turned by the
+    plate's ``mount_yaw`` about the tool axis (up in the pusher frame)."""
     translation = 0.5 * pusher.thickness * np.asarray(push_axis_ee, dtype=float)
     translation += 0.5 * pusher.height * np.asarray(tool_axis_ee, dtype=float)
-    return pin.SE3(rotation_ee_to_pusher(push_axis_ee, tool_axis_ee), translation)
+    placement = pin.SE3(rotation_ee_to_pusher(push_axis_ee, tool_axis_ee), translation)
+    if pusher.mount_yaw == 0.0:
+        return placement
+    up = -np.asarray(tool_axis_ee, dtype=float)
+    mount = pin.SE3(pin.AngleAxis(pusher.mount_yaw, up).matrix(), np.zeros(3))
+    return mount * placement
 
 
 def plate_inertia(pusher: PusherConfig) -> pin.Inertia:
@@ -68,8 +76,8 @@ def attach_pusher(
         pin.Frame(PUSHER_FRAME, ee.parentJoint, ee_id, jMp, pin.FrameType.OP_FRAME), False
     )
     prong_ids = []
-    for i, offset in enumerate(pusher.prong_offsets()):
-        jMprong = jMp * pin.SE3(np.eye(3), np.array([0.0, float(offset), 0.0]))
+    for i, (along, across) in enumerate(pusher.prong_points()):
+        jMprong = jMp * pin.SE3(np.eye(3), np.array([float(along), float(across), 0.0]))
         frame = pin.Frame(
             prong_frame_name(i), ee.parentJoint, pusher_id, jMprong, pin.FrameType.OP_FRAME
         )

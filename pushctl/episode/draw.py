@@ -6,7 +6,8 @@ from __future__ import annotations
 from pushctl.arm import ArmConfig, load_arm
 from pushctl.config import GRAVITY, PusherConfig
 from pushctl.episode.ranges import Randomisation, load_ranges
-from pushctl.episode.scenario import PhysicalParameters, Scenario, stream_rng
+from pushctl.episode.scenario import STREAMS, PhysicalParameters, Scenario, stream_rng
+from pushctl.episode.unknowns import NO_UNKNOWNS, unknowns_rng
 from pushctl.errors import PlanError
 from pushctl.objects import resolve_object
 from pushctl.planning import ForceSettings, Plan, make_plan
@@ -50,7 +51,10 @@ def draw_planned_scenario(
     Each attempt draws, in this order, a goal (4 uniforms) and a plant (4 uniforms), so the
     goals of one seed are the same whether or not, and from whichever ranges, the plant is
     randomised (and the sim and proxy plants of one seed use the same uniforms). ``plant`` None:
-    the world gets the ``nominal`` parameters; ``"sim"`` or ``"proxy"``: the drawn ones.
+    the world gets the ``nominal`` parameters; ``"sim"`` or ``"proxy"``: the drawn ones, and
+    plant unknowns drawn from that plant's ranges with their own generator
+    (:func:`~pushctl.episode.unknowns.unknowns_rng`), so the goals and parameters above are
+    the same with or without them.
     A goal the planner (with the nominal parameters) cannot execute is redrawn; PlanError
     after :data:`MAX_DRAWS` attempts.
     """
@@ -62,6 +66,9 @@ def draw_planned_scenario(
     arm_model = load_arm(ArmConfig(name=arm, pusher=PusherConfig(mass=obj.pusher_mass)))
     start = default_start(obj, arm_model.ready_pusher_position)
     settings = ForceSettings(mu_contact=nominal.mu_contact, mu_ground=nominal.mu_ground)
+    unknowns = NO_UNKNOWNS
+    if plant is not None:
+        unknowns = ranges.unknowns(plant).draw(unknowns_rng(seed, STREAMS[stream]))
     reason = ""
     for attempt in range(MAX_DRAWS):
         goal = ranges.targets.draw(rng, start)
@@ -91,6 +98,7 @@ def draw_planned_scenario(
                 dt=dt,
                 arm=arm,
                 gravity=gravity,
+                unknowns=unknowns,
             )
             return scenario, attempt, plan
         reason = plan.problems[0]

@@ -3,7 +3,10 @@
 Tables ``[sim]`` and ``[proxy]`` hold :class:`~pushctl.episode.scenario.ParameterRanges`
 (``mu_ground``, ``mu_contact``, ``object_mass_scale``, ``pusher_mass_scale``, each
 ``[lo, hi]``); ``[targets]`` holds :class:`~pushctl.episode.scenario.TargetRanges`
-(``forward`` [m], ``rotation_deg`` [deg], ``lateral`` [m]).
+(``forward`` [m], ``rotation_deg`` [deg], ``lateral`` [m]). Optional tables
+``[unknowns.sim]`` and ``[unknowns.proxy]`` hold each plant's
+:class:`~pushctl.episode.unknowns.UnknownRanges` (DESIGN.md §9's plant unknowns); a file
+without them has none (every half-width 0).
 """
 
 from __future__ import annotations
@@ -12,6 +15,7 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 
 from pushctl.episode.scenario import ParameterRanges, TargetRanges
+from pushctl.episode.unknowns import UnknownRanges
 from pushctl.errors import ConfigError
 from pushctl.toml_files import check_keys, read_toml
 
@@ -23,17 +27,25 @@ PLANTS = ("sim", "proxy")
 
 @dataclass(frozen=True)
 class Randomisation:
-    """Parameter ranges per plant and the goal ranges."""
+    """Parameter ranges per plant, the goal ranges, and the plant unknowns' ranges per plant."""
 
     sim: ParameterRanges
     proxy: ParameterRanges
     targets: TargetRanges
+    sim_unknowns: UnknownRanges = UnknownRanges()
+    proxy_unknowns: UnknownRanges = UnknownRanges()
 
     def plant(self, name: str) -> ParameterRanges:
         """The ranges of plant ``name`` (one of :data:`PLANTS`)."""
         if name not in PLANTS:
             raise ConfigError(f"unknown plant {name!r}; accepted: {', '.join(PLANTS)}")
         ranges: ParameterRanges = getattr(self, name)
+        return ranges
+
+    def unknowns(self, name: str) -> UnknownRanges:
+        """The plant unknowns' ranges of plant ``name`` (one of :data:`PLANTS`)."""
+        self.plant(name)  # the same check
+        ranges: UnknownRanges = getattr(self, f"{name}_unknowns")
         return ranges
 
 
@@ -47,6 +59,7 @@ def load_ranges(path: str | Path | None = None) -> Randomisation:
             sim=_table(table, "sim", ParameterRanges),
             proxy=_table(table, "proxy", ParameterRanges),
             targets=_table(table, "targets", TargetRanges),
+            **_unknowns(table),
         )
     except ConfigError as exc:
         raise ConfigError(f"ranges file {path}: {exc}") from None
@@ -59,6 +72,22 @@ def _table(table: dict, name: str, kind):
         raise ConfigError(f"no [{name}] table with keys {', '.join(names)}")
     check_keys(values, names, f"[{name}]")
     return kind(**{key: _pair(value) for key, value in values.items()})
+
+
+def _unknowns(table: dict) -> dict[str, UnknownRanges]:
+    """The optional ``[unknowns.<plant>]`` tables as Randomisation's keyword arguments."""
+    unknowns = table.get("unknowns", {})
+    if not isinstance(unknowns, dict):
+        raise ConfigError("unknowns must be a table of [unknowns.sim] and [unknowns.proxy]")
+    check_keys(unknowns, list(PLANTS), "[unknowns]", all_required=False)
+    names = [item.name for item in fields(UnknownRanges)]
+    result = {}
+    for plant, values in unknowns.items():
+        if not isinstance(values, dict):
+            raise ConfigError(f"[unknowns.{plant}] must be a table with keys {', '.join(names)}")
+        check_keys(values, names, f"[unknowns.{plant}]", all_required=False)
+        result[f"{plant}_unknowns"] = UnknownRanges(**values)
+    return result
 
 
 def _pair(value):

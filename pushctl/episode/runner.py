@@ -6,6 +6,11 @@ or all at once (:meth:`Episode.run`). The planner and the controller use the sce
 trace (and any reward) are the force distribution recomputed with the plant's parameters at
 the plan's prong offset: what the pushed object really needed where the prongs really were.
 
+Plant unknowns (``Scenario.unknowns``, DESIGN.md §9) live in the world only: the object
+starts at its true pose (the believed start ⊕ the placement error) while the plan and the
+approach aim at the believed one, and the world's pusher has the mounting error while the
+controller's arm model (:meth:`Episode.controller_terms`) keeps the nominal pusher.
+
 With :class:`~pushctl.episode.proxy.ProxyEffects` the episode runs on the reality proxy: its
 actuators delay the controller's torque and add joint friction (approach and push alike),
 :meth:`Episode.measured_forces` is the noisy force estimate a policy observes, and the trace
@@ -15,11 +20,11 @@ gains the camera's object poses, which the metrics then use.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
-from pushctl.arm import ArmConfig, load_arm
+from pushctl.arm import ArmConfig, ArmModel, ArmTerms, load_arm
 from pushctl.checks import finite_vector
 from pushctl.config import PusherConfig
 from pushctl.contact.build import make_world
@@ -133,15 +138,27 @@ class Episode:
             scenario.gravity,
             offset=self.plan.forces.offset,
         )
+        unknowns = scenario.unknowns
+        pusher = PusherConfig(mass=self.object.pusher_mass)
+        if unknowns.has_mounting_error:
+            pusher = replace(
+                pusher,
+                mount_yaw=unknowns.mount_yaw,
+                prong_errors=unknowns.prong_errors_for(pusher.n_prongs),
+            )
         self.world: World = make_world(
             self.object,
             arm=scenario.arm,
             mu_ground=plant.mu_ground,
             mu_contact=plant.mu_contact,
             dt=scenario.dt,
-            pusher=PusherConfig(mass=self.object.pusher_mass),
+            pusher=pusher,
             gravity=scenario.gravity,
         )
+        # The controller's model of the arm: the world's own unless the pusher is mounted
+        # other than the controller believes (then the nominal pusher, same mass).
+        self.controller_arm: ArmModel = self._nominal_arm(pusher)
+        self.true_start: np.ndarray = unknowns.true_start(self.plan.trajectory.pose[0])
         self.controller = self._controller(self.gains)
         self.reference: PusherReference = push_reference(self.plan)
         self._offset = ReferenceOffset(scenario.dt)
@@ -160,8 +177,29 @@ class Episode:
         self.controller = self._controller(gains)
 
     def _controller(self, gains: PDGains) -> PDController:
-        assert self.world.arm is not None
-        return PDController(self.world.arm, gains, self.scenario.dt)
+        return PDController(self.controller_arm, gains, self.scenario.dt)
+
+    def _nominal_arm(self, pusher: PusherConfig) -> ArmModel:
+        """The world's arm, or with a mounting error a copy of it with the nominal pusher."""
+        arm = self.world.arm
+        assert arm is not None
+        if pusher == pusher.nominal:
+            return arm
+        nominal = load_arm(ArmConfig(name=self.scenario.arm, pusher=pusher.nominal))
+        nominal.set_gravity(self.scenario.gravity)
+        return nominal
+
+    def controller_terms(self) -> ArmTerms:
+        """The arm's terms at the world's current state as the controller's model computes
+        them: the world's own (:attr:`World.arm_terms`) unless the pusher has a mounting
+        error, then the nominal pusher's frame, Jacobian and g(q) (the prongs' true
+        positions are the world's business)."""
+        world = self.world
+        terms = world.arm_terms
+        assert terms is not None
+        if self.controller_arm is world.arm:
+            return terms
+        return self.controller_arm.compute(world.q, world.v)
 
     @property
     def n_steps(self) -> int:
@@ -177,10 +215,11 @@ class Episode:
         return self._n >= self.n_steps
 
     def reset(self) -> StepResult:
-        """Put the arm at its ready configuration and the object at the plan's start, run
-        the approach, and return the state at the start of the push (t = 0)."""
-        world, trajectory = self.world, self.plan.trajectory
-        world.reset(object_pose=trajectory.pose[0])
+        """Put the arm at its ready configuration (the controller's) and the object at its
+        true start (the plan's, unless placed with an error), run the approach, and return
+        the state at the start of the push (t = 0)."""
+        world = self.world
+        world.reset(object_pose=self.true_start, arm_q=self.controller_arm.q_ready)
         self._start_proxy()
         self._offset.reset()
         result = self._approach()
@@ -198,8 +237,7 @@ class Episode:
         if self._n >= self.n_steps:
             raise StateError(f"the push is over: all {self.n_steps} steps have been taken")
         n, world, ref = self._n, self.world, self.reference
-        terms = world.arm_terms
-        assert terms is not None
+        terms = self.controller_terms()
         position, yaw, twist = ref.position[n], ref.yaw[n], self._twists[n]
         if self.residual_path == "reference":
             checked = None if residual is None else finite_vector("residual", residual, 3)
@@ -293,8 +331,7 @@ class Episode:
     def _approach(self) -> StepResult:
         """Ready pose → standoff → touching at the plan's offset → settle."""
         world, settings, dt = self.world, self.approach, self.scenario.dt
-        terms = world.arm_terms
-        assert terms is not None
+        terms = self.controller_terms()
         contact_position = self.reference.position[0]
         yaw = float(self.reference.yaw[0])
         normal = np.array([math.cos(yaw), math.sin(yaw), 0.0])
@@ -311,8 +348,7 @@ class Episode:
         twists = reference.twist
         result = None
         for n in range(len(reference) - 1):
-            terms = world.arm_terms
-            assert terms is not None
+            terms = self.controller_terms()
             command = self.controller.command(
                 terms, world.q, reference.position[n], reference.yaw[n], twists[n]
             )

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from pushctl.config import GRAVITY
+from pushctl.episode.unknowns import PlantUnknowns
 from pushctl.errors import ConfigError
 from pushctl.planning.profiles import PROFILE_NAMES
 from pushctl.types import PlanarPose
@@ -61,8 +62,11 @@ class Scenario:
     """One episode's set-up. ``start`` None: the default start in front of the arm's ready
     pose (:func:`pushctl.planning.workspace.default_start`). ``goal``: absolute pose.
     ``nominal``: the parameters the planner and controller assume; ``plant``: the ones the
-    simulated world has (the same unless randomised). ``seed``: where it was drawn from
-    (recorded with results), None when it was given by hand."""
+    simulated world has (the same unless randomised). ``unknowns``: the plant unknowns the
+    world has and the planner and controller do not know (DESIGN.md §9; none by default).
+    ``start`` is where the planner believes the object starts; the world puts it at
+    ``unknowns.true_start(start)``. ``seed``: where it was drawn from (recorded with
+    results), None when it was given by hand."""
 
     object: str
     profile: str
@@ -75,8 +79,11 @@ class Scenario:
     dt: float = 0.01
     arm: str = "kinova-gen2-7dof"
     gravity: float = GRAVITY
+    unknowns: PlantUnknowns = field(default_factory=PlantUnknowns)
 
     def __post_init__(self) -> None:
+        if not isinstance(self.unknowns, PlantUnknowns):
+            raise ConfigError(f"unknowns must be PlantUnknowns, got {type(self.unknowns).__name__}")
         if self.profile not in PROFILE_NAMES:
             raise ConfigError(
                 f"unknown profile {self.profile!r}; accepted: {', '.join(PROFILE_NAMES)}"
@@ -88,6 +95,9 @@ class Scenario:
 
     def with_plant(self, plant: PhysicalParameters) -> Scenario:
         return replace(self, plant=plant)
+
+    def with_unknowns(self, unknowns: PlantUnknowns) -> Scenario:
+        return replace(self, unknowns=unknowns)
 
 
 @dataclass(frozen=True)

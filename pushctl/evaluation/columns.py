@@ -2,6 +2,25 @@
 so that :mod:`pushctl.report` can check its inputs against them without loading the
 simulator or torch."""
 
+UNKNOWN_COLUMNS = (
+    "placement_along",
+    "placement_across",
+    "placement_theta",
+    "mount_yaw",
+    "prong_1_along",
+    "prong_1_across",
+    "prong_2_along",
+    "prong_2_across",
+    "pressure_n",
+    "pressure_t",
+    "ground_variation",
+    "ground_length",
+    "ground_seed",
+)
+"""The plant unknowns of a trial (:meth:`pushctl.episode.unknowns.PlantUnknowns.as_dict` of
+the two-prong pusher): SI units and radians; ``pressure_*`` are fractions of the half-extents,
+``ground_variation`` of μ_g."""
+
 TRIAL_COLUMNS = (
     "object",
     "profile",
@@ -18,6 +37,7 @@ TRIAL_COLUMNS = (
     "mu_contact",
     "object_mass",
     "pusher_mass",
+    *UNKNOWN_COLUMNS,
     "gate_open_fraction",
 )
 """The leading columns of ``trials.csv``; the :class:`EpisodeMetrics` fields follow."""

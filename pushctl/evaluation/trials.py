@@ -194,7 +194,8 @@ def _row(
 ) -> dict[str, Any]:
     """One ``trials.csv`` row: the job, the policy's training seed (``rl`` rows; empty
     elsewhere), the draw (goal relative to the start, world frame [m, m, rad]; the plant's
-    parameters [1, 1, kg, kg]), the gate's share and the metrics."""
+    parameters [1, 1, kg, kg]; its unknowns, ``UNKNOWN_COLUMNS``), the gate's share and the
+    metrics."""
     scenario = env.scenario
     start = scenario.start
     assert start is not None  # the draw always sets the default start
@@ -215,6 +216,7 @@ def _row(
         "mu_contact": plant.mu_contact,
         "object_mass": plant.object_mass,
         "pusher_mass": plant.pusher_mass,
+        **scenario.unknowns.as_dict(n_prongs=2),
         "gate_open_fraction": gate_share,
         **compute_metrics(trace).as_dict(),
     }

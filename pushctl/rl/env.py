@@ -93,7 +93,9 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         self._last = self.episode.reset()
         self._error = self._pose_error(0)
         self._measured = self.episode.measured_forces(self._last.contact_forces)
-        info = {"scenario": scenario, "goals_redrawn": redrawn}
+        # the plant unknowns (DESIGN.md §9) drawn for this episode, for logs: never observed
+        unknowns = scenario.unknowns.as_dict(self.episode.plan.pusher.n_prongs)
+        info = {"scenario": scenario, "goals_redrawn": redrawn, "unknowns": unknowns}
         return self.observation(), info
 
     def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:

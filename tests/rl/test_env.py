@@ -15,6 +15,7 @@ from gymnasium.utils.env_checker import check_env
 import pushctl.rl
 from pushctl.episode.runner import Episode
 from pushctl.episode.trace import prong_torques
+from pushctl.episode.unknowns import NO_UNKNOWNS
 from pushctl.errors import ConfigError, StateError
 from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
@@ -158,8 +159,9 @@ def test_finishing_with_a_policy_is_step_after_step_with_the_actor_only_behind_a
         calls.append(env.episode.step_index)
         return np.array([1.0, -0.5, 0.2]) * math.cos(1e3 * float(obs.sum()))
 
-    # on the proxy the gate reads the camera (σ = 1 mm): a threshold of 1.5 mm shuts it often
-    config = replace(SHORT, plant=plant, gate_threshold=2e-5 if plant == "sim" else 1.5e-3)
+    # Shut at the start (the placement error of this seed is 2-3 mm; on the proxy the gate
+    # reads the camera, σ = 1 mm), open once the push falls behind its 2 s plan.
+    config = replace(SHORT, plant=plant, gate_threshold=5e-3)
     env = PushEnv(config)
     obs, _ = env.reset(options=OPTIONS)
     opened = []
@@ -210,6 +212,8 @@ def test_the_reference_path_keeps_the_offset_the_residual_built(path: str) -> No
     config = replace(SHORT, duration=20.0, gate_threshold=0.0, residual_path=path)
     env = PushEnv(config)
     env.reset(options=OPTIONS)
+    # without plant unknowns: the object sits square on the prongs and moves with them
+    env.reset(options={"scenario": replace(env.scenario, unknowns=NO_UNKNOWNS)})
     assert env.episode is not None
     baseline = Episode(env.scenario, env.gains, plan=env.plan)
     baseline.reset()
