@@ -1,6 +1,7 @@
 """The ``pushctl`` command line. Each command parses, validates, calls the core, renders.
 
-Commands: ``pushctl info``, ``plan``, ``simulate``, ``tune-pd``, ``train``
+Commands: ``pushctl info``, ``plan``, ``simulate``, ``tune-pd``, ``tune-feedback``
+(:mod:`pushctl.cli_tune_feedback`), ``train``
 (:mod:`pushctl.cli_train`), ``evaluate`` (:mod:`pushctl.cli_evaluate`) and ``report``
 (:mod:`pushctl.cli_report`).
 """
@@ -179,7 +180,13 @@ def simulate(
         int | None,
         typer.Option(help="draw the goal (and with --randomize the plant) from this seed"),
     ] = None,
-    controller: Annotated[str, typer.Option(help="pd (rl comes with the policy)")] = "pd",
+    controller: Annotated[
+        str, typer.Option(help="pd (PD-only), feedback (PD + PI on the pose) or rl (PD + policy)")
+    ] = "pd",
+    policy: Annotated[
+        Path | None,
+        typer.Option(help="rl's policy (default: the shipped results/training/policy.pt)"),
+    ] = None,
     randomize: Annotated[
         bool,
         typer.Option(
@@ -200,16 +207,16 @@ def simulate(
     plot: Annotated[Path | None, typer.Option(help="save a figure (.png, .pdf, .svg)")] = None,
     force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
 ) -> None:
-    """Run one push with the PD baseline: approach, push, metrics, trace and figure."""
+    """Run one push with a controller: approach, push, metrics, trace and figure."""
     from pushctl.cli_plan import PLOT_SUFFIXES, check_output, parse_pose
     from pushctl.cli_simulate import (
         check_controller,
         metrics_table,
+        push,
         scenario_table,
         simulate_scenario,
     )
     from pushctl.control import load_gains
-    from pushctl.episode import Episode
     from pushctl.episode.metrics import compute_metrics
 
     try:
@@ -223,9 +230,8 @@ def simulate(
         scenario, redrawn = simulate_scenario(
             object_name, profile, goal_pose, seed, randomize, overrides, duration, arm
         )
-        episode = Episode(scenario, gains=pd_gains)
-        console.print(scenario_table(scenario, episode.plan.trajectory.start, redrawn))
-        trace = episode.run()
+        trace, made = push(scenario, controller, pd_gains, policy)
+        console.print(scenario_table(scenario, made.trajectory.start, redrawn))
         metrics = compute_metrics(trace)
     except PushctlError as error:
         _fail(error)
@@ -317,6 +323,30 @@ def tune_pd_command(
     _write_text(target, text)
 
 
+@app.command("tune-feedback")
+def tune_feedback_command(
+    ctx: typer.Context,
+    seed: Annotated[int, typer.Option(help="first scenario seed of the tuning set")] = 0,
+    per_case: Annotated[int, typer.Option(help="scenarios per object × profile")] = 2,
+    duration: Annotated[float, typer.Option(help="push duration [s]")] = 20.0,
+    out: Annotated[
+        Path | None,
+        typer.Option(help="gains file to write; default experiments/feedback_gains.toml"),
+    ] = None,
+) -> None:
+    """Search the feedback baseline's gains (k, k_i) on the tuning stream; write the file."""
+    from pushctl.cli_plan import check_output
+    from pushctl.cli_tune_feedback import run_search
+
+    try:
+        check_output("--out", out, (".toml",))
+        target, text, table = run_search(seed, per_case, duration, out, _invocation(ctx), console)
+    except PushctlError as error:
+        _fail(error)
+    console.print(table)
+    _write_text(target, text)
+
+
 @app.command()
 def train(
     ctx: typer.Context,
@@ -371,9 +401,9 @@ def evaluate(
     object_name: Annotated[str, typer.Option("--object", help="cube, wedge or all")] = "all",
     profile: Annotated[str, typer.Option(help="constant, trapezoid, chirp or all")] = "all",
     trials: Annotated[int, typer.Option(help="trials per object × profile")] = 50,
-    controller: Annotated[str, typer.Option(help="pd (PD-only), rl (RL-assisted) or both")] = (
-        "both"
-    ),
+    controller: Annotated[
+        str, typer.Option(help="pd (PD-only), feedback (PD + PI on the pose), rl or all")
+    ] = "all",
     plant: Annotated[str, typer.Option(help="sim, proxy (the reality proxy) or both")] = "both",
     policy: Annotated[
         Path | None,
@@ -386,8 +416,9 @@ def evaluate(
     out: Annotated[Path, typer.Option(help="output directory")] = Path("results/evaluation"),
     force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
 ) -> None:
-    """Paired trials, PD-only and RL-assisted on the same held-out targets and plants;
-    write trials.csv (one row per trial) and steps.csv (per-step means) to --out."""
+    """Paired trials, PD-only, feedback and RL-assisted on the same held-out targets and
+    plants; write trials.csv (one row per trial and controller) and steps.csv (per-step
+    means) to --out."""
     from pushctl.cli_evaluate import prepare, run_with_progress, summary_table
     from pushctl.evaluation.evaluate import STEPS_FILE, TRIALS_FILE, write_evaluation
     from pushctl.provenance import provenance_line

@@ -19,6 +19,7 @@ from rich.progress import (
 )
 from rich.table import Table
 
+from pushctl.control.feedback import load_feedback_gains
 from pushctl.episode.ranges import PLANTS
 from pushctl.errors import ConfigError
 from pushctl.evaluation.evaluate import (
@@ -70,14 +71,14 @@ def prepare(
     workers: int,
     out: Path,
 ) -> tuple[TrialSpec, TrainedPolicy | None, Path]:
-    """The trial spec, the policy (None when RL does not run: PD-only needs no file) and its
-    path, from the options; ConfigError (one line) for anything that cannot run or whose
-    results could not be written. Nothing is written."""
+    """The trial spec, the policy (None when RL does not run: PD-only and feedback need no
+    file) and its path, from the options; ConfigError (one line) for anything that cannot run
+    or whose results could not be written. Nothing is written."""
     spec = TrialSpec(
         objects=choose("--object", object_name, OBJECT_NAMES, "all"),
         profiles=choose("--profile", profile, PROFILE_NAMES, "all"),
         plants=choose("--plant", plant, PLANTS, "both"),
-        controllers=choose("--controller", controller, CONTROLLERS, "both"),
+        controllers=choose("--controller", controller, CONTROLLERS, "all"),
         trials=trials,
         seed=seed,
     )
@@ -85,6 +86,8 @@ def prepare(
     check_out(out)
     policy_path = policy if policy is not None else DEFAULT_POLICY
     loaded = load_evaluation_policy(policy_path) if "rl" in spec.controllers else None
+    if "feedback" in spec.controllers:
+        load_feedback_gains()  # a missing or bad gains file fails here, before any trial
     if policy_path.is_absolute() and policy_path.is_relative_to(Path.cwd()):
         policy_path = policy_path.relative_to(Path.cwd())  # as the provenance line shows it
     return spec, loaded, policy_path

@@ -148,14 +148,21 @@ def _bytes_step(path: Path, data: bytes) -> Callable[[Callable[[], None]], None]
 
 
 def counts_table(report: Report) -> Table:
-    """Trials behind the tables, per (object, profile): Table III's sim PD/RL and Table
-    IV's sim and proxy PD/RL (the smallest count of each group of columns)."""
+    """Trials behind the tables, per (object, profile): Table III's sim and Table IV's sim
+    and proxy columns (the smallest count of each group's columns that have trials)."""
     table = Table(title="trials per table cell")
     for column in ("object", "profile", "Table III (sim)", "Table IV (sim + proxy)"):
         table.add_column(column, justify="left" if column in ("object", "profile") else "right")
     c3, c4 = report.table3.counts, report.table4.counts
     for i in range(len(c3)):
-        n3 = min(int(c3[c].iloc[i]) for c in report.table3.value_columns)
-        n4 = min(int(c4[c].iloc[i]) for c in report.table4.value_columns)
+        n3 = _fewest([int(c3[c].iloc[i]) for c in report.table3.value_columns])
+        n4 = _fewest([int(c4[c].iloc[i]) for c in report.table4.value_columns])
         table.add_row(str(c3["object"].iloc[i]), str(c3["profile"].iloc[i]), str(n3), str(n4))
     return table
+
+
+def _fewest(counts: list[int]) -> int:
+    """The smallest count of the columns that have trials (an evaluation without, say, the
+    feedback controller leaves its columns at 0); 0 if none has."""
+    present = [n for n in counts if n > 0]
+    return min(present) if present else 0

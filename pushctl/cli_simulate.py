@@ -5,28 +5,66 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from pathlib import Path
 
 from rich.table import Table
 
-from pushctl.control.gains import gains_toml
+from pushctl.control.gains import PDGains, gains_toml
 from pushctl.episode.draw import draw_scenario
 from pushctl.episode.metrics import METRIC_UNITS, EpisodeMetrics
+from pushctl.episode.runner import Episode
 from pushctl.episode.scenario import PhysicalParameters, Scenario
+from pushctl.episode.trace import Trace
 from pushctl.episode.unknowns import PlantUnknowns
 from pushctl.errors import ConfigError
 from pushctl.evaluation.tune_pd import BOUNDS, GRID, Candidate
 from pushctl.objects import resolve_object
+from pushctl.planning import Plan
 from pushctl.planning.profiles import PROFILE_NAMES
 from pushctl.provenance import provenance_line
 from pushctl.types import PlanarPose
 
-CONTROLLERS = ("pd",)
-"""Controllers ``pushctl simulate`` can run (the residual policy adds ``rl``)."""
+CONTROLLERS = ("pd", "feedback", "rl")
+"""Controllers ``pushctl simulate`` can run: PD-only, PD + the PI feedback law, PD + the
+residual policy."""
 
 
 def check_controller(name: str) -> None:
     if name not in CONTROLLERS:
         raise ConfigError(f"unknown controller {name!r}; accepted: {', '.join(CONTROLLERS)}")
+
+
+def push(
+    scenario: Scenario, controller: str, gains: PDGains, policy: Path | None = None
+) -> tuple[Trace, Plan]:
+    """Run ``scenario`` with ``controller`` on the simulator; the trace and the plan.
+    ``feedback`` pushes with the gains of ``experiments/feedback_gains.toml`` and today's
+    residual settings, ``rl`` with the policy at ``policy`` (default: the shipped one) and
+    the settings it was trained with; both through :class:`~pushctl.rl.env.PushEnv`."""
+    check_controller(controller)
+    if controller == "pd":
+        episode = Episode(scenario, gains=gains)
+        return episode.run(), episode.plan
+    # torch and the environment load only for the controllers that need them
+    from pushctl.control.feedback import load_feedback_gains
+    from pushctl.evaluation.controllers import FeedbackActor
+    from pushctl.evaluation.evaluate import DEFAULT_POLICY, load_evaluation_policy
+    from pushctl.rl.env import PushEnv
+    from pushctl.rl.env_config import EnvConfig
+    from pushctl.rl.policy import finish_with_policy
+
+    if controller == "rl":
+        trained = load_evaluation_policy(policy if policy is not None else DEFAULT_POLICY)
+        config, actor = trained.env, trained.actor
+    else:
+        config = EnvConfig()
+    env = PushEnv(replace(config, plant="sim", duration=scenario.duration, dt=scenario.dt), gains)
+    env.reset(options={"scenario": scenario})
+    if controller == "feedback":
+        actor = FeedbackActor(env, load_feedback_gains())
+    finish_with_policy(env, actor)
+    assert env.episode is not None
+    return env.episode.trace(), env.plan
 
 
 def check_profile(name: str) -> None:

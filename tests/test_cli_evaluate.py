@@ -50,7 +50,7 @@ def test_two_workers_write_the_same_bytes_as_one(tmp_path: Path, policy: Path) -
         assert first.replace(b"/one;", b"/two;") == (tmp_path / "two" / name).read_bytes()
     trials = pd.read_csv(tmp_path / "one" / "trials.csv", comment="#")
     assert list(trials["plant"]) == ["sim", "sim", "proxy", "proxy"]
-    assert list(trials["controller"]) == ["pd", "rl", "pd", "rl"]
+    assert list(trials["controller"]) == ["pd", "feedback", "rl"] * 2
     made_by = (tmp_path / "one" / "trials.csv").read_text().splitlines()[0]
     assert "--workers" not in made_by and "scenario seeds 0-0 (evaluation stream)" in made_by
     assert f"policy {policy}, made by: a test run" in made_by
@@ -80,7 +80,7 @@ def test_pd_only_needs_no_policy_and_the_seed_moves_the_targets(tmp_path: Path) 
         (["--object", "sphere"], "unknown --object 'sphere'; accepted: cube, wedge or all"),
         (["--profile", "sine"], "accepted: constant, trapezoid, chirp or all"),
         (["--plant", "real"], "accepted: sim, proxy or both"),
-        (["--controller", "ppo"], "accepted: pd, rl or both"),
+        (["--controller", "ppo"], "accepted: pd, feedback, rl or all"),
         (["--trials", "0"], "--trials must be an integer in 1"),
         (["--workers", "0"], "--workers must be an integer in 1 … 8"),
         (["--workers", "9"], "--workers must be an integer in 1 … 8"),

@@ -52,12 +52,14 @@ def test_tables_carry_provenance_naming_their_input(report_run):
     # the input's own line, its pushctl version left out
     assert "[pushctl evaluate --trials 4; commit abc1234; seed 7]" in first
     table = pd.read_csv(out / "table3.csv", comment="#")
-    assert list(table.columns[:6]) == [
+    assert list(table.columns[:8]) == [
         "object",
         "profile",
         "translation_error_pd",
+        "translation_error_feedback",
         "translation_error_rl",
         "angle_error_pd",
+        "angle_error_feedback",
         "angle_error_rl",
     ]
     assert len(table) == 6
@@ -170,5 +172,7 @@ def test_readme_names_every_output_and_table_column():
     section = readme.split("## Tables and figures: `pushctl report`")[1].split("\n## ")[0]
     for name in OUTPUTS:
         assert f"`{name}`" in section
-    assert ", ".join(["object", "profile", *TABLE3_COLUMNS]) in section
-    assert "`force_error_{pd,rl}_{sim,proxy}`" in section
+    # the tables' columns, the feedback controller's included: its docs page
+    docs = (Path(__file__).resolve().parents[1] / "docs" / "residual-and-feedback.md").read_text()
+    assert ", ".join(["object", "profile", *TABLE3_COLUMNS]) in docs
+    assert "`force_error_{pd,feedback,rl}_{sim,proxy}`" in docs

@@ -10,6 +10,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from pushctl.control.feedback import FeedbackGains
 from pushctl.episode.metrics import EpisodeMetrics
 from pushctl.episode.ranges import load_ranges
 from pushctl.episode.scenario import STREAMS
@@ -53,7 +54,13 @@ def policy_file(tmp_path: Path, gate_threshold: float, n_obs: int | None = None)
 
 
 def _spec(**kwargs) -> TrialSpec:
-    options = {"objects": ("cube",), "profiles": ("trapezoid",), "plants": ("sim",), "trials": 1}
+    options = {
+        "objects": ("cube",),
+        "profiles": ("trapezoid",),
+        "plants": ("sim",),
+        "controllers": ("pd", "rl"),
+        "trials": 1,
+    }
     return TrialSpec(**{**options, **kwargs})
 
 
@@ -65,7 +72,7 @@ def test_the_seed_scheme_gives_disjoint_scenarios_per_evaluation_seed() -> None:
     last = TrialSpec(seed=0, trials=SEEDS_PER_EVALUATION).scenario_seed(SEEDS_PER_EVALUATION - 1)
     assert last < second.scenario_seed(0)
     jobs = first.jobs()
-    assert len(jobs) == 2 * 3 * 2 * 50 and first.n_episodes == 2 * len(jobs)
+    assert len(jobs) == 2 * 3 * 2 * 50 and first.n_episodes == 3 * len(jobs)  # pd, feedback, rl
     # every cell and plant of one trial pushes the same scenario seed
     assert {(j.seed) for j in jobs if j.trial == 7} == {7}
 
@@ -76,7 +83,7 @@ def test_the_seed_scheme_gives_disjoint_scenarios_per_evaluation_seed() -> None:
         ({"objects": ("sphere",)}, "cube, wedge"),
         ({"profiles": ("sine",)}, "constant, trapezoid, chirp"),
         ({"plants": ("real",)}, "sim, proxy"),
-        ({"controllers": ("ppo",)}, "pd, rl"),
+        ({"controllers": ("ppo",)}, "pd, feedback, rl"),
         ({"objects": ()}, "(none)"),
         ({"plants": ("sim", "sim")}, "named once"),
         ({"trials": 0}, "--trials"),
@@ -198,6 +205,33 @@ def test_bad_policies_and_workers_are_refused(tmp_path: Path) -> None:
         load_evaluation_policy(policy_file(tmp_path, 0.0, n_obs=14))
     with pytest.raises(ConfigError, match="need a policy"):
         evaluate(_spec())
+    with pytest.raises(ConfigError, match="need a policy"):
+        evaluate(TrialSpec())  # every controller by default, rl among them
     for workers in (0, 9):
         with pytest.raises(ConfigError, match="--workers"):
             evaluate(_spec(controllers=("pd",)), workers=workers)
+
+
+def test_a_zero_feedback_law_is_pd_only_and_rl_rows_name_the_policy_seed(tmp_path: Path) -> None:
+    """k = k_i = 0: the law's action is zero, the reference path adds nothing, and the push
+    is PD-only's to the bit; the rl row carries the policy's training seed, the others none."""
+    path = tmp_path / "policy.pt"
+    agent = DDPGAgent(len(observation_entries(2)), 3, DDPGConfig(hidden=(4, 4)), seed=0)
+    env = EnvConfig(duration=DURATION, gate_threshold=0.0)
+    write_policy(path, agent.actor_state(), env, "# made by: x; seed 5 (training stream)")
+    spec = _spec(controllers=("pd", "feedback", "rl"), plants=("sim", "proxy"))
+    result = evaluate(spec, load_evaluation_policy(path), feedback_gains=FeedbackGains(0.0, 0.0))
+    trials = result.trials
+    assert list(trials["controller"]) == ["pd", "feedback", "rl"] * 2
+    assert [None if pd.isna(s) else s for s in trials["policy_seed"]] == [None, None, 5] * 2
+    metrics = list(EpisodeMetrics.__dataclass_fields__)
+    for plant in ("sim", "proxy"):
+        rows = trials[trials["plant"] == plant].set_index("controller")
+        np.testing.assert_array_equal(rows.loc["pd", metrics], rows.loc["feedback", metrics])
+    steps = result.steps
+    for plant in ("sim", "proxy"):
+        cell = steps[steps["plant"] == plant]
+        np.testing.assert_array_equal(
+            cell[cell["controller"] == "pd"][list(STEP_COLUMNS)].to_numpy(),
+            cell[cell["controller"] == "feedback"][list(STEP_COLUMNS)].to_numpy(),
+        )

@@ -41,7 +41,7 @@ OBJECTS = ("cube", "wedge")
 PROFILES = ("constant", "trapezoid", "chirp")
 TRIALS = 4
 STEPS = 10
-GROUPS = list(itertools.product(OBJECTS, PROFILES, ("sim", "proxy"), ("pd", "rl")))
+GROUPS = list(itertools.product(OBJECTS, PROFILES, ("sim", "proxy"), ("pd", "feedback", "rl")))
 """Every (object, profile, plant, controller) of the synthetic inputs, in file order."""
 EPISODES = 40
 PD_EVERY = 4
@@ -56,8 +56,10 @@ CI_234 = 4.3026527297 / math.sqrt(3.0)
 
 
 def factor(plant: str, controller: str) -> float:
-    """The synthetic metrics are (trial + 1) × this: RL half of PD, proxy 1.5 × sim."""
-    return (2.0 if controller == "pd" else 1.0) * (1.5 if plant == "proxy" else 1.0)
+    """The synthetic metrics are (trial + 1) × this: RL half of PD and 0.8 of feedback,
+    proxy 1.5 × sim."""
+    scale = {"pd": 2.0, "feedback": 1.25, "rl": 1.0}[controller]
+    return scale * (1.5 if plant == "proxy" else 1.0)
 
 
 def trials_frame() -> pd.DataFrame:
@@ -164,6 +166,7 @@ def test_table3_columns_values_and_ci_match_a_hand_computation():
     # sim plant only: PD factor 2, RL factor 1 (the proxy's 1.5 × must not leak in)
     assert _cell(frame, "wedge", "chirp", "translation_error_pd") == pytest.approx(5.0)
     assert _cell(frame, "wedge", "chirp", "translation_error_rl") == pytest.approx(2.5)
+    assert _cell(frame, "wedge", "chirp", "translation_error_feedback") == pytest.approx(3.125)
     ci = _cell(frame, "wedge", "chirp", "translation_error_pd_ci95")
     assert ci == pytest.approx(2.0 * CI_1234, rel=1e-10)
     assert _cell(frame, "cube", "trapezoid", "angle_error_rl_ci95") == pytest.approx(
@@ -184,9 +187,11 @@ def test_nan_angle_errors_are_left_out_of_the_mean_and_its_count():
 def test_table4_columns_and_plants():
     result = table4(trials_frame())
     values = list(TABLE4_COLUMNS)
-    assert values[:4] == [
+    assert values[:6] == [
         "force_error_pd_sim",
         "force_error_pd_proxy",
+        "force_error_feedback_sim",
+        "force_error_feedback_proxy",
         "force_error_rl_sim",
         "force_error_rl_proxy",
     ]
@@ -236,10 +241,10 @@ def test_paper_values_are_in_si_and_cover_every_cell():
         (paper_values.TABLE4, TABLE4_COLUMNS),
     ):
         assert set(table) == {(o, p) for o in OBJECTS for p in PROFILES}
-        # every column but our force error against the plant's needs, which the paper lacks
+        # the paper has no feedback baseline and no force error against the plant's needs
         ours_only = {c for c in columns if c.startswith("force_error_") and "plan" not in c}
         for row in table.values():
-            assert set(row) == set(columns) - ours_only
+            assert set(row) == {c for c in columns if "feedback" not in c} - ours_only
     assert paper_values.TABLE3[("wedge", "chirp")]["translation_error_pd"] == 29.6
     cube = paper_values.TABLE4[("cube", "constant")]
     assert cube["force_error_plan_pd_sim"] == pytest.approx(0.171)  # printed 1.71 × 10⁻¹ N
@@ -255,15 +260,17 @@ def test_markdown_shows_ours_beside_the_papers_values():
     assert lines[0] == "<!-- made by: pushctl report -->"
     assert "- trials.csv [x]" in lines
     (cube_constant,) = [
-        line for line in lines if line.startswith("| cube | constant | 4 / 4 / 3 / 4 |")
+        line for line in lines if line.startswith("| cube | constant | 4 / 4 / 4 / 3 / 4 / 4 |")
     ]
-    # n differs (3 angle values for PD), ours ± CI then the paper's 22.3 and 4.0
-    assert f"| 5 ± {2 * CI_1234:.2g} | 22.3 |" in cube_constant
+    # n differs (3 angle values for PD), ours ± CI then the paper's 22.3; feedback without a
+    # paper column; RL and the paper's 4.0
+    assert f"| 5 ± {2 * CI_1234:.2g} | 22.3 | 3.12 ± {1.25 * CI_1234:.2g} | 2.5 ±" in cube_constant
     assert "| 4.0 |" in cube_constant
     assert "| 256 |" in text  # wedge trapezoid PD real force, 2.56 × 10⁻¹ N in mN
     assert "| 8.33 |" in text  # wedge chirp PD real torque [mN·m]
-    # RL/PD ratio: ours 0.5 everywhere, the paper's translation on cube constant 4.0/22.3
-    assert "| cube | constant | 0.50 | 0.18 |" in text
+    # RL/PD ratio: ours 0.5 everywhere, the paper's translation on cube constant 4.0/22.3;
+    # RL/feedback: ours 0.8, no paper column; angle RL/PD 0.25 / 0.6 (PD's NaN left out)
+    assert "| cube | constant | 0.50 | 0.18 | 0.80 | 0.42 |" in text
     assert "real robot" in text and "10⁻¹ N" in text
 
 
@@ -276,8 +283,8 @@ def test_table4_shows_force_error_against_the_plan_beside_the_paper_and_the_plan
     # cube chirp PD sim: plan 3 × 5 mN beside the paper's 205 mN; the plant's 5 mN alone
     assert "| cube | chirp | 4 | 15 ± " in plan_part and "| 205 |" in plan_part
     (row,) = [line for line in plant_part.splitlines() if line.startswith("| cube | chirp |")]
-    assert row.startswith("| cube | chirp | 4 | 5 ± ") and row.count("|") == 8  # no paper
-    assert "| force vs plan sim (ours) | paper |" in text
+    assert row.startswith("| cube | chirp | 4 | 5 ± ") and row.count("|") == 10  # six controller × plant cells, no paper
+    assert "| force vs plan sim RL/PD (ours) | paper |" in text
     # an older trials.csv without the column still makes the table (NaN: "–")
     older = table4(trials_frame())
     assert np.isnan(older.values["force_error_plan_pd_sim"]).all()
@@ -390,9 +397,9 @@ def test_tracking_figure_has_a_column_per_profile_and_draws_the_sim_plant():
     assert [axes[c].get_title() for c in range(3)] == [f"{p} profile" for p in PROFILES]
     error_panel = axes[len(PROFILES)]  # translation error, constant profile
     drawn = {float(np.asarray(line.get_ydata())[-1]) for line in error_panel.get_lines()}
-    assert drawn == {2.0, 1.0}  # sim PD and RL lags; the proxy's 3.0 and 1.5 are not drawn
+    assert drawn == {2.0, 1.25, 1.0}  # sim PD, feedback and RL lags; no proxy line drawn
     legend = [t.get_text() for t in fig.legends[0].get_texts()]
-    assert legend == ["desired", "PD-only", "RL-assisted", "cube", "wedge"]
+    assert legend == ["desired", "PD-only", "feedback (PD + PI)", "RL-assisted", "cube", "wedge"]
 
 
 def test_tracking_figure_of_one_cell_and_proxy_only():

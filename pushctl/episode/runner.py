@@ -28,6 +28,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from pushctl.arm import ArmConfig, ArmModel, ArmTerms, load_arm
+from pushctl.checks import finite_vector
 from pushctl.config import PusherConfig
 from pushctl.contact.build import make_world
 from pushctl.contact.ground_field import FrictionField
@@ -41,6 +42,7 @@ from pushctl.control.reference import (
     minimum_jerk,
     push_reference,
 )
+from pushctl.control.residual import ReferenceOffset, check_residual_path
 from pushctl.episode.proxy import (
     ProxyActuators,
     ProxyEffects,
@@ -90,6 +92,9 @@ class Episode:
     optional residual planar twist (3,) (vx [m/s], vy [m/s], ω_z [rad/s]); :meth:`trace`
     returns what has been recorded. ``effects``: the reality proxy's (None: the simulator as
     it is); its random draws restart from the scenario's seed at every :meth:`reset`.
+    ``residual_path``: how the residual reaches the PD (:mod:`pushctl.control.residual`):
+    ``reference`` (integrated into an offset of the pusher reference) or ``velocity`` (the
+    paper's form, added to v_e only).
     """
 
     def __init__(
@@ -99,8 +104,10 @@ class Episode:
         approach: ApproachSettings | None = None,
         plan: Plan | None = None,
         effects: ProxyEffects | None = None,
+        residual_path: str = "reference",
     ) -> None:
         self.scenario = scenario
+        self.residual_path = check_residual_path(residual_path)
         self.effects = effects
         self.gains = gains if gains is not None else load_gains()
         self.approach = approach or ApproachSettings()
@@ -155,6 +162,7 @@ class Episode:
         self.true_start: np.ndarray = unknowns.true_start(self.plan.trajectory.pose[0])
         self.controller = self._controller(self.gains)
         self.reference: PusherReference = push_reference(self.plan)
+        self._offset = ReferenceOffset(scenario.dt)
         self._allocate()
         # The proxy's state, fresh at every reset() (see _start_proxy).
         self._actuators: ProxyActuators | None = None
@@ -235,6 +243,7 @@ class Episode:
         world = self.world
         world.reset(object_pose=self.true_start, arm_q=self.controller_arm.q_ready)
         self._start_proxy()
+        self._offset.reset()
         result = self._approach()
         self._n = 0
         self._started = True
@@ -242,21 +251,52 @@ class Episode:
         return result
 
     def step(self, residual: np.ndarray | None = None) -> StepResult:
-        """One push step from t_n to t_{n+1}; ``residual`` (3,) is added to the commanded
-        pusher twist (Algorithm 1). StateError after the last step."""
+        """One push step from t_n to t_{n+1}; ``residual`` (3,) a planar pusher twist (vx
+        [m/s], vy [m/s], ω_z [rad/s], world axes) taken by the episode's residual path
+        (Algorithm 1). StateError after the last step."""
         if not self._started:
             raise StateError("call reset() before step(): the approach has not run")
         if self._n >= self.n_steps:
             raise StateError(f"the push is over: all {self.n_steps} steps have been taken")
         n, world, ref = self._n, self.world, self.reference
         terms = self.controller_terms()
-        command = self.controller.command(
-            terms, world.q, ref.position[n], ref.yaw[n], self._twists[n], residual
-        )
+        position, yaw, twist = ref.position[n], ref.yaw[n], self._twists[n]
+        if self.residual_path == "reference":
+            checked = None if residual is None else finite_vector("residual", residual, 3)
+            position, yaw, twist = self._offset.shifted(position, yaw, twist, checked)
+            residual = None
+        command = self.controller.command(terms, world.q, position, yaw, twist, residual)
         result, tau = self._actuate(command)
         self._n = n + 1
         self._record(self._n, result, tau)
         return result
+
+    @property
+    def reference_offset(self) -> np.ndarray:
+        """The ``reference`` path's offset of the pusher reference from the plan so far (3,)
+        [m, m, rad], world x, y and yaw (zeros on the ``velocity`` path)."""
+        return self._offset.offset.copy()
+
+    def measured_pose(self) -> np.ndarray:
+        """The object pose (3,) [m, m, rad] at the current step as a controller can know it:
+        exact on the simulator; on the proxy the camera's latest frame (the pose at the
+        frame's time plus its noise, as :func:`~pushctl.episode.proxy.camera_poses` gives
+        the trace's ``measured_pose``)."""
+        n = self._n
+        pose = self._pose[n]
+        if self.effects is None:
+            return pose.copy()
+        t = self.plan.trajectory.t
+        rate = self.effects.camera_rate
+        frame = math.floor(float(t[n]) * rate + 1e-9)
+        taken = frame / rate
+        # the last sample at or before the frame's time, and the next one (interpolated)
+        k = min(int(np.searchsorted(t, taken, side="right")) - 1, n)
+        pose = self._pose[k]
+        if k < n and taken != t[k]:  # np.interp's arithmetic
+            slope = (self._pose[k + 1] - pose) / (t[k + 1] - t[k])
+            pose = slope * (taken - t[k]) + pose
+        return pose + self._camera[frame]
 
     def measured_forces(self, forces: np.ndarray) -> np.ndarray:
         """Contact forces ``forces`` [N] as the force estimate reads them: on the proxy with

@@ -28,6 +28,7 @@ TRIAL_COLUMNS = (
     "controller",
     "trial",
     "seed",
+    "policy_seed",
     "redrawn",
     "goal_dx",
     "goal_dy",

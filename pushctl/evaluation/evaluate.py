@@ -1,7 +1,7 @@
 """``pushctl evaluate``'s core: every trial of a :class:`~pushctl.evaluation.trials.TrialSpec`,
 in this process or in worker processes, gathered into the two tables it writes.
 
-Workers: ``workers`` > 1 runs the jobs (one trial on one plant, PD-only and RL-assisted) in
+Workers: ``workers`` > 1 runs the jobs (one trial on one plant, every controller) in
 that many spawned processes, each building its environments and policy once. A job's result
 depends on the job alone (the scenario comes from its seed, every episode starts from a fresh
 world, the proxy's noise is seeded from the scenario), and results are gathered in job order,
@@ -28,10 +28,12 @@ import pandas as pd
 import torch
 
 from pushctl.config import PusherConfig
+from pushctl.control.feedback import FeedbackGains, load_feedback_gains
 from pushctl.control.gains import PDGains, load_gains
 from pushctl.episode.metrics import EpisodeMetrics
 from pushctl.errors import ConfigError
 from pushctl.evaluation.columns import STEP_COLUMNS, TRIAL_COLUMNS
+from pushctl.evaluation.controllers import feedback_config
 from pushctl.evaluation.trials import (
     Job,
     TrialResult,
@@ -104,21 +106,32 @@ def evaluate(
     workers: int = 1,
     env_config: EnvConfig | None = None,
     on_trial: OnTrial | None = None,
+    feedback_gains: FeedbackGains | None = None,
 ) -> Evaluation:
     """Run every trial of ``spec`` and gather the tables.
 
     ``policy``: needed when ``spec.controllers`` holds ``rl``; its environment settings
-    (push duration, step, residual scale, gate) are the evaluation's. Without one,
-    ``env_config`` (default :class:`EnvConfig`'s) sets the push. ``gains``: the PD
-    baseline's (default ``experiments/pd_gains.toml``). ``workers``: 1 … 8 processes.
+    (push duration, step, residual path, scale, gate) are RL's, and its push (duration,
+    step) everyone's. Without one, ``env_config`` (default :class:`EnvConfig`'s) sets the
+    push. ``gains``: the PD baseline's (default ``experiments/pd_gains.toml``).
+    ``feedback_gains``: the feedback law's (default ``experiments/feedback_gains.toml``,
+    read only when ``feedback`` runs); it pushes with today's default residual settings
+    (:func:`~pushctl.evaluation.controllers.feedback_config`). ``workers``: 1 … 8 processes.
     """
     check_workers(workers)
     if "rl" in spec.controllers and policy is None:
-        raise ConfigError("RL-assisted trials need a policy: pass --policy or --controller pd")
+        raise ConfigError(
+            "RL-assisted trials need a policy: pass --policy or --controller pd|feedback"
+        )
     gains = gains if gains is not None else load_gains()
+    if "feedback" in spec.controllers and feedback_gains is None:
+        feedback_gains = load_feedback_gains()
     config = policy.env if policy is not None else (env_config or EnvConfig())
     actor_state = portable(policy.actor.state()) if policy is not None else None
-    setup = (config, gains, actor_state, spec.plants, spec.controllers)
+    policy_seed = policy.seed if policy is not None else None
+    setup = (
+        config, gains, actor_state, spec.plants, spec.controllers, feedback_gains, policy_seed
+    )  # fmt: skip
     jobs = spec.jobs()
     gathered = _Gathered(spec)
     for done, result in enumerate(_results(jobs, setup, workers), start=1):
@@ -173,18 +186,34 @@ class _Context:
         actor_state: dict[str, Any] | None,
         plants: tuple[str, ...],
         controllers: tuple[str, ...],
+        feedback_gains: FeedbackGains | None = None,
+        policy_seed: int | None = None,
     ) -> None:
         self.envs = {
             plant: PushEnv(replace(config, stream="evaluation", plant=plant), gains)
             for plant in plants
         }
+        self.feedback = {}
+        if "feedback" in controllers:
+            assert feedback_gains is not None
+            for plant in plants:
+                own = feedback_config(replace(config, stream="evaluation", plant=plant))
+                self.feedback[plant] = (PushEnv(own, gains), feedback_gains)
         self.actor = (
             ActorPolicy.from_state(tensors(actor_state)) if actor_state is not None else None
         )
         self.controllers = controllers
+        self.policy_seed = policy_seed
 
     def run(self, job: Job) -> TrialResult:
-        return run_trial(self.envs[job.plant], self.actor, job, self.controllers)
+        return run_trial(
+            self.envs[job.plant],
+            self.actor,
+            job,
+            self.controllers,
+            self.feedback.get(job.plant),
+            self.policy_seed,
+        )
 
 
 def _results(jobs: list[Job], setup: tuple, workers: int) -> Iterator[TrialResult]:

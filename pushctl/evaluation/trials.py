@@ -10,30 +10,31 @@ trial i is ``pushctl simulate --seed i``'s scenario. The draw
 infeasible and counts them. The ``sim`` and ``proxy`` plants of one trial use the same seed:
 the same goal, their parameters from the same uniforms scaled to each plant's ranges.
 
-Paired: PD-only and RL-assisted push the same scenario with the same plan (and, on the proxy,
-the same camera noise), one after the other on the same environment.
+Paired: PD-only, feedback and RL-assisted push the same scenario with the same plan (and, on
+the proxy, the same camera noise), one after the other.
 """
 
 from __future__ import annotations
 
 import copy
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from pushctl.control.feedback import FeedbackGains
 from pushctl.episode.metrics import compute_metrics
 from pushctl.episode.ranges import PLANTS
 from pushctl.episode.trace import Trace
 from pushctl.errors import ConfigError
+from pushctl.evaluation.controllers import CONTROLLERS, FeedbackActor
 from pushctl.objects import OBJECT_NAMES
 from pushctl.planning import PROFILE_NAMES
 from pushctl.rl.env import PushEnv
 from pushctl.rl.networks import ActorPolicy
 from pushctl.rl.policy import finish_with_policy
 
-CONTROLLERS = ("pd", "rl")
-"""PD-only (the paper's π_H) and RL-assisted (PD plus the trained residual)."""
 SEEDS_PER_EVALUATION = 100_000
 """Scenario seeds reserved for one evaluation seed: S × this + trial."""
 
@@ -125,27 +126,41 @@ class TrialResult:
 
 
 def run_trial(
-    env: PushEnv, actor: ActorPolicy | None, job: Job, controllers: tuple[str, ...]
+    env: PushEnv,
+    actor: ActorPolicy | None,
+    job: Job,
+    controllers: tuple[str, ...],
+    feedback: tuple[PushEnv, FeedbackGains] | None = None,
+    policy_seed: int | None = None,
 ) -> TrialResult:
     """Run ``controllers`` (a subset of :data:`CONTROLLERS`) on ``job``'s scenario.
 
     ``env``: a :class:`PushEnv` on the evaluation stream with ``job.plant``'s ranges (it
     draws, plans and, for RL, pushes); ``actor``: the residual policy (None only without
-    ``rl``). The reset draws the scenario even when only PD runs, so PD-only's rows are the
-    same with and without RL.
+    ``rl``); ``feedback``: the environment the feedback law pushes in (the same stream and
+    plant, its own residual settings) and its gains (None only without ``feedback``);
+    ``policy_seed``: the policy's training seed, for the ``rl`` row. The reset draws the
+    scenario even when only PD runs, so PD-only's rows are the same with and without the
+    others.
     """
     options = {"object": job.object, "profile": job.profile, "scenario_seed": job.seed}
     traces: dict[str, tuple[Trace, float]] = {}
     _, info = env.reset(options=options)
     assert env.episode is not None
-    # Both controllers start from the end of the same approach: PD-only pushes from a copy
+    # Every controller starts from the end of the same approach: PD-only pushes from a copy
     # of the episode as the reset left it (9 % of a trial's CPU time saved; the same trace
     # as a fresh Episode's run(), tested).
     pd_episode = copy.deepcopy(env.episode) if "pd" in controllers else None
     if "rl" in controllers:
         if actor is None:
             raise ConfigError("RL-assisted trials need a policy")
-        traces["rl"] = _push_with_policy(env, actor)
+        traces["rl"] = _push_with(env, actor)
+    if "feedback" in controllers:
+        if feedback is None:
+            raise ConfigError("feedback trials need the feedback law's gains")
+        feedback_env, gains = feedback
+        feedback_env.reset(options=options)  # the same scenario: the options fix the draw
+        traces["feedback"] = _push_with(feedback_env, FeedbackActor(feedback_env, gains))
     if pd_episode is not None:
         traces["pd"] = (pd_episode.finish(), 0.0)
     redrawn = int(info["goals_redrawn"])
@@ -153,26 +168,34 @@ def run_trial(
     for controller in CONTROLLERS:
         if controller in traces:
             trace, gate_share = traces[controller]
-            rows.append(_row(env, job, controller, redrawn, gate_share, trace))
+            seed = policy_seed if controller == "rl" else None
+            rows.append(_row(env, job, controller, redrawn, gate_share, trace, seed))
             steps[controller] = step_quantities(trace)
     t = next(iter(traces.values()))[0].t
     return TrialResult(job, tuple(rows), steps, np.asarray(t, dtype=float), redrawn)
 
 
-def _push_with_policy(env: PushEnv, actor: ActorPolicy) -> tuple[Trace, float]:
-    """The push of the episode ``env`` was just reset to, with the deterministic ``actor``,
-    and the share of its steps the gate was open."""
+def _push_with(env: PushEnv, actor: Callable[[np.ndarray], np.ndarray]) -> tuple[Trace, float]:
+    """The push of the episode ``env`` was just reset to, with the deterministic ``actor``
+    (a policy or the feedback law), and the share of its steps the gate was open."""
     assert env.episode is not None
     opened = finish_with_policy(env, actor)
     return env.episode.trace(), opened / max(env.episode.n_steps, 1)
 
 
 def _row(
-    env: PushEnv, job: Job, controller: str, redrawn: int, gate_share: float, trace: Trace
+    env: PushEnv,
+    job: Job,
+    controller: str,
+    redrawn: int,
+    gate_share: float,
+    trace: Trace,
+    policy_seed: int | None = None,
 ) -> dict[str, Any]:
-    """One ``trials.csv`` row: the job, the draw (goal relative to the start, world frame
-    [m, m, rad]; the plant's parameters [1, 1, kg, kg]; its unknowns, ``UNKNOWN_COLUMNS``),
-    the gate's share and the metrics."""
+    """One ``trials.csv`` row: the job, the policy's training seed (``rl`` rows; empty
+    elsewhere), the draw (goal relative to the start, world frame [m, m, rad]; the plant's
+    parameters [1, 1, kg, kg]; its unknowns, ``UNKNOWN_COLUMNS``), the gate's share and the
+    metrics."""
     scenario = env.scenario
     start = scenario.start
     assert start is not None  # the draw always sets the default start
@@ -184,6 +207,7 @@ def _row(
         "controller": controller,
         "trial": job.trial,
         "seed": job.seed,
+        "policy_seed": policy_seed,
         "redrawn": redrawn,
         "goal_dx": scenario.goal.x - start.x,
         "goal_dy": scenario.goal.y - start.y,

@@ -31,9 +31,10 @@ PD = "#1f77b4"
 RL = "#d62728"
 PD_PROXY = "#7fb8e6"
 RL_PROXY = "#f29a4a"
-CONTROLLER_COLOURS = {"pd": PD, "rl": RL}
-CONTROLLER_NAMES = {"pd": "PD-only", "rl": "RL-assisted"}
-CONTROLLER_WIDTHS = {"pd": 2.6, "rl": 1.2}
+FEEDBACK = "#9467bd"
+CONTROLLER_COLOURS = {"pd": PD, "feedback": FEEDBACK, "rl": RL}
+CONTROLLER_NAMES = {"pd": "PD-only", "feedback": "feedback (PD + PI)", "rl": "RL-assisted"}
+CONTROLLER_WIDTHS = {"pd": 2.6, "feedback": 1.8, "rl": 1.2}
 """Line widths [pt]: PD-only wide underneath, RL-assisted narrow on top, so where the two
 coincide (a residual that never acts) both stay visible."""
 OBJECT_STYLES = ("-", "--", ":", "-.")
@@ -151,8 +152,9 @@ _TRACKING_ROWS = (
 def tracking_figure(steps: pd.DataFrame, plant: str = "sim") -> Figure:
     """Fig. 6 from ``steps`` (the columns of ``evaluation/steps.csv``) on ``plant``: rows
     translation [mm], translation error [mm], rotation [deg] and angle error [deg] over t
-    [s]; one column per profile; desired green, PD-only blue, RL-assisted red; one line
-    style per object. Each line is the mean over the trials of its (object, profile)."""
+    [s]; one column per profile; desired green, PD-only blue, feedback purple, RL-assisted
+    red; one line style per object. Each line is the mean over the trials of its (object,
+    profile)."""
     rows, plant_text = _pick_plant(steps, plant)
     profiles = ordered_names(rows["profile"], PROFILE_ORDER)
     styles = _object_styles(rows)
@@ -173,14 +175,14 @@ def tracking_figure(steps: pd.DataFrame, plant: str = "sim") -> Figure:
     for ax in axes.flat:
         _style_axes(ax)
     fig.legend(
-        handles=_tracking_handles(styles),
+        handles=_tracking_handles(styles, set(rows["controller"])),
         loc="outside lower center",
-        ncol=3 + len(styles),
+        ncol=4 + len(styles),
         fontsize=FONT["legend"] + 1,
     )
     fig.suptitle(
         f"Fig. 6 · tracking, mean over the trials ({plant_text}): desired vs PD-only vs "
-        "RL-assisted",
+        "feedback vs RL-assisted",
         fontsize=FONT["title"],
     )
     return fig
@@ -189,9 +191,9 @@ def tracking_figure(steps: pd.DataFrame, plant: str = "sim") -> Figure:
 def _draw_tracking(
     ax: Axes, cell: pd.DataFrame, actual: str, desired: str | None, style: str
 ) -> None:
-    """One object's PD-only and RL-assisted ``actual`` curves (and the ``desired`` one, if
-    named, once) in ``ax``."""
-    for controller in ("pd", "rl"):
+    """One object's PD-only, feedback and RL-assisted ``actual`` curves (and the ``desired``
+    one, if named, once) in ``ax``."""
+    for controller in ("pd", "feedback", "rl"):
         line = cell[cell["controller"] == controller].sort_values("step")
         if line.empty:
             continue
@@ -202,16 +204,18 @@ def _draw_tracking(
 
 
 def _first_controller(cell: pd.DataFrame) -> str:
-    """The controller whose rows draw the desired curve (both controllers track the same
-    paired plans): PD-only if present."""
-    return "pd" if (cell["controller"] == "pd").any() else "rl"
+    """The controller whose rows draw the desired curve (every controller tracks the same
+    paired plans): the first present of PD-only, feedback, RL-assisted."""
+    present = set(cell["controller"])
+    return next(c for c in ("pd", "feedback", "rl") if c in present)
 
 
-def _tracking_handles(styles: dict[str, str]) -> list[Line2D]:
-    handles = [
-        Line2D([], [], color=DESIRED, lw=4.5, alpha=0.45, label="desired"),
-        Line2D([], [], color=PD, lw=CONTROLLER_WIDTHS["pd"], label=CONTROLLER_NAMES["pd"]),
-        Line2D([], [], color=RL, lw=CONTROLLER_WIDTHS["rl"], label=CONTROLLER_NAMES["rl"]),
+def _tracking_handles(styles: dict[str, str], controllers: set[str]) -> list[Line2D]:
+    handles = [Line2D([], [], color=DESIRED, lw=4.5, alpha=0.45, label="desired")]
+    handles += [
+        Line2D([], [], color=CONTROLLER_COLOURS[c], lw=CONTROLLER_WIDTHS[c], label=name)
+        for c, name in CONTROLLER_NAMES.items()
+        if c in controllers
     ]
     handles += [Line2D([], [], color="0.3", ls=s, lw=1.3, label=o) for o, s in styles.items()]
     return handles

@@ -1,6 +1,7 @@
 """``tables.md``: Tables III and IV in Markdown, ours (mean ± 95 % CI half-width) beside the
 paper's published values, with the trial counts, the RL/PD ratios (the one comparison that
-survives the differences of units and normalisation) and notes on what differs.
+survives the differences of units and normalisation), the RL/feedback ratios (the paper has
+no feedback baseline) and notes on what differs.
 
 Force and torque errors are shown in mN and mN·m, ours and the paper's alike (the CSVs hold
 N and N·m; the paper prints 10⁻¹ N and 10⁻³ N·m).
@@ -104,31 +105,41 @@ def _ratio_table(
     paper: dict[tuple[str, str], dict[str, float]],
     pairs: list[tuple[str, str, str]],
 ) -> list[str]:
-    """RL mean / PD mean per (heading, rl column, pd column), ours and the paper's."""
+    """Ratio of means per (heading, numerator column, denominator column), ours and, for
+    RL/PD, the paper's (the paper has no feedback baseline: RL/feedback is ours only)."""
     header = ["object", "profile"]
-    for heading, _, _ in pairs:
-        header += [f"{heading} (ours)", "paper"]
+    for heading, _, below in pairs:
+        header += [f"{heading} (ours)"] + (["paper"] if below.endswith(_PD_SUFFIXES) else [])
     rows = []
     for i, (obj, profile) in enumerate(_cells(table)):
         published = paper.get((obj, profile), {})
         row = [obj, profile]
-        for _, rl, pd in pairs:
-            ours = _ratio(float(table.values[rl].iloc[i]), float(table.values[pd].iloc[i]))
-            theirs = _ratio(published.get(rl, math.nan), published.get(pd, math.nan))
-            row += [ours, theirs]
+        for _, above, below in pairs:
+            row.append(
+                _ratio(float(table.values[above].iloc[i]), float(table.values[below].iloc[i]))
+            )
+            if below.endswith(_PD_SUFFIXES):
+                row.append(_ratio(published.get(above, math.nan), published.get(below, math.nan)))
         rows.append(row)
     return _grid(header, rows)
 
 
+_PD_SUFFIXES = ("_pd", "_pd_sim", "_pd_proxy")
+
+
 _T3: list[tuple[str, str, str | None]] = [
     ("translation_error_pd", "translation PD-only", "paper"),
+    ("translation_error_feedback", "translation feedback", None),
     ("translation_error_rl", "translation RL", "paper"),
     ("angle_error_pd", "angle PD-only", "paper"),
+    ("angle_error_feedback", "angle feedback", None),
     ("angle_error_rl", "angle RL", "paper"),
 ]
 _T3_RATIOS = [
-    ("translation", "translation_error_rl", "translation_error_pd"),
-    ("angle", "angle_error_rl", "angle_error_pd"),
+    ("translation RL/PD", "translation_error_rl", "translation_error_pd"),
+    ("translation RL/feedback", "translation_error_rl", "translation_error_feedback"),
+    ("angle RL/PD", "angle_error_rl", "angle_error_pd"),
+    ("angle RL/feedback", "angle_error_rl", "angle_error_feedback"),
 ]
 
 
@@ -141,18 +152,34 @@ def _t4(metric: str) -> list[tuple[str, str, str | None]]:
     return [
         (f"{metric}_pd_sim", "PD-only sim", "paper sim"),
         (f"{metric}_pd_proxy", "PD-only proxy", "paper real"),
+        (f"{metric}_feedback_sim", "feedback sim", None),
+        (f"{metric}_feedback_proxy", "feedback proxy", None),
         (f"{metric}_rl_sim", "RL sim", "paper sim"),
         (f"{metric}_rl_proxy", "RL proxy", "paper real"),
     ]
 
 
 _T4_RATIOS = [
-    ("force vs plan sim", "force_error_plan_rl_sim", "force_error_plan_pd_sim"),
-    ("force vs plan proxy (paper: real)", "force_error_plan_rl_proxy", "force_error_plan_pd_proxy"),
-    ("force vs plant sim", "force_error_rl_sim", "force_error_pd_sim"),
-    ("force vs plant proxy", "force_error_rl_proxy", "force_error_pd_proxy"),
-    ("torque sim", "torque_error_rl_sim", "torque_error_pd_sim"),
-    ("torque proxy (paper: real)", "torque_error_rl_proxy", "torque_error_pd_proxy"),
+    ("force vs plan sim RL/PD", "force_error_plan_rl_sim", "force_error_plan_pd_sim"),
+    (
+        "force vs plan proxy RL/PD (paper: real)",
+        "force_error_plan_rl_proxy",
+        "force_error_plan_pd_proxy",
+    ),
+    ("force vs plan sim RL/feedback", "force_error_plan_rl_sim", "force_error_plan_feedback_sim"),
+    (
+        "force vs plan proxy RL/feedback",
+        "force_error_plan_rl_proxy",
+        "force_error_plan_feedback_proxy",
+    ),
+    ("force vs plant sim RL/PD", "force_error_rl_sim", "force_error_pd_sim"),
+    ("force vs plant proxy RL/PD", "force_error_rl_proxy", "force_error_pd_proxy"),
+    ("force vs plant sim RL/feedback", "force_error_rl_sim", "force_error_feedback_sim"),
+    ("force vs plant proxy RL/feedback", "force_error_rl_proxy", "force_error_feedback_proxy"),
+    ("torque sim RL/PD", "torque_error_rl_sim", "torque_error_pd_sim"),
+    ("torque proxy RL/PD (paper: real)", "torque_error_rl_proxy", "torque_error_pd_proxy"),
+    ("torque sim RL/feedback", "torque_error_rl_sim", "torque_error_feedback_sim"),
+    ("torque proxy RL/feedback", "torque_error_rl_proxy", "torque_error_feedback_proxy"),
 ]
 
 
@@ -177,7 +204,8 @@ def tables_markdown(
         "",
         *_value_table(table3, paper_values.TABLE3, _T3, 1.0, ".1f"),
         "",
-        "RL-assisted / PD-only, the ratio of the means (< 1: RL-assisted better):",
+        "RL-assisted / PD-only and RL-assisted / feedback, the ratios of the means (< 1: "
+        "RL-assisted better; the paper has no feedback baseline):",
         "",
         *_ratio_table(table3, paper_values.TABLE3, _T3_RATIOS),
         "",
@@ -196,7 +224,8 @@ def tables_markdown(
         "",
         *_value_table(table4, paper_values.TABLE4, _t4("torque_error"), MILLI, ".2f"),
         "",
-        "RL-assisted / PD-only, the ratio of the means (< 1: RL-assisted better):",
+        "RL-assisted / PD-only and RL-assisted / feedback, the ratios of the means (< 1: "
+        "RL-assisted better):",
         "",
         *_ratio_table(table4, paper_values.TABLE4, _T4_RATIOS),
         "",

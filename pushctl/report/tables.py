@@ -29,18 +29,20 @@ CONFIDENCE = 0.95
 Source = tuple[str, str, str]
 """(metric column of trials.csv, plant, controller) a table column is the mean of."""
 
+CONTROLLER_ORDER = ("pd", "feedback", "rl")
+"""The tables' controllers: PD-only, PD + the PI feedback law, RL-assisted."""
+
 TABLE3_COLUMNS: dict[str, Source] = {
-    "translation_error_pd": ("translation_error_pct", "sim", "pd"),
-    "translation_error_rl": ("translation_error_pct", "sim", "rl"),
-    "angle_error_pd": ("angle_error_pct", "sim", "pd"),
-    "angle_error_rl": ("angle_error_pct", "sim", "rl"),
+    f"{name}_error_{controller}": (f"{name}_error_pct", "sim", controller)
+    for name in ("translation", "angle")
+    for controller in CONTROLLER_ORDER
 }
 """Columns of ``table3.csv`` [%] and where each comes from."""
 
 TABLE4_COLUMNS: dict[str, Source] = {
     f"{metric}_{controller}_{plant}": (metric, plant, controller)
     for metric in ("force_error", "force_error_plan", "torque_error")
-    for controller in ("pd", "rl")
+    for controller in CONTROLLER_ORDER
     for plant in ("sim", "proxy")
 }
 """Columns of ``table4.csv`` (force against the plant's needs and against the nominal plan
@@ -120,12 +122,12 @@ def summarise(trials: pd.DataFrame, columns: dict[str, Source]) -> ResultTable:
 
 
 def table3(trials: pd.DataFrame) -> ResultTable:
-    """The paper's Table III from ``trials``: translation and angle error [%], PD-only and
-    RL-assisted, ``sim`` plant."""
+    """The paper's Table III from ``trials``: translation and angle error [%], PD-only,
+    feedback and RL-assisted, ``sim`` plant."""
     return summarise(trials, TABLE3_COLUMNS)
 
 
 def table4(trials: pd.DataFrame) -> ResultTable:
     """The paper's Table IV from ``trials``: force error [N] and torque error [N·m],
-    PD-only and RL-assisted, ``sim`` and ``proxy`` plants."""
+    PD-only, feedback and RL-assisted, ``sim`` and ``proxy`` plants."""
     return summarise(trials, TABLE4_COLUMNS)

@@ -2,14 +2,16 @@
 
 A reset draws an object, a profile and a scenario (goal and plant parameters, DESIGN.md §6)
 from the environment's seeded ``np_random``, plans it with the nominal parameters and runs
-the approach; each step is one 10 ms push step of the PD baseline plus the residual twist of
-the action (Algorithm 1), 2000 steps per episode. Observation and action: the tables of
+the approach; each step is one 10 ms push step of the PD baseline with the residual twist of
+the action taken by the config's residual path (Algorithm 1; ``reference``: integrated into
+an offset of the pusher reference), 2000 steps per episode. Observation and action: the tables of
 :mod:`pushctl.rl.spaces`. Reward: eq. 17 against the force plan recomputed with the episode's
 true (plant) parameters, which the observation never sees.
 
 With ``plant = "proxy"`` the episodes run on the reality proxy (:mod:`pushctl.episode.proxy`):
-latency and joint friction in the world, and the observation's measured contact forces are
-noisy estimates (the reward, the gate and the observation's pose error stay exact).
+latency and joint friction in the world, the observation's measured contact forces are
+noisy estimates and, with ``observe_camera`` (the default), the observation's pose error and
+the gate read the 30 Hz camera (DESIGN.md §7); the reward stays exact.
 """
 
 from __future__ import annotations
@@ -31,9 +33,11 @@ from pushctl.planning import Plan
 from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.spaces import ACTION_ENTRIES, observation_entries
 
-RESET_OPTIONS = ("object", "profile", "scenario_seed")
+RESET_OPTIONS = ("object", "profile", "scenario_seed", "scenario")
 """Keys of ``reset(options=…)`` that fix a draw: the object, the profile, and the integer seed
-of the scenario in the environment's stream (:func:`~pushctl.episode.draw.draw_scenario`)."""
+of the scenario in the environment's stream (:func:`~pushctl.episode.draw.draw_scenario`);
+or ``scenario``, a :class:`~pushctl.episode.scenario.Scenario` to push as it is (planned at
+the reset; ``pushctl simulate``'s)."""
 
 
 class PushEnv(gym.Env[np.ndarray, np.ndarray]):
@@ -65,6 +69,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         """The reality proxy's effects of the episodes (None on the sim plant): a paired
         PD-only run is ``Episode(env.scenario, env.gains, plan=env.plan, effects=env.effects)``."""
         self.episode: Episode | None = None
+        self._exact_pose = self.effects is None or not self.config.observe_camera
 
     # ------------------------------------------------------------------ gymnasium API
 
@@ -73,7 +78,14 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
     ) -> tuple[np.ndarray, dict[str, Any]]:
         super().reset(seed=seed)
         scenario, redrawn, plan = self._draw(options or {})
-        self.episode = Episode(scenario, self.gains, plan=plan, effects=self.effects)
+        self.episode = Episode(
+            scenario,
+            self.gains,
+            plan=plan,
+            effects=self.effects,
+            residual_path=self.config.residual_path,
+        )
+        plan = self.episode.plan
         self._plan_pose = plan.trajectory.pose
         self._plan_forces = plan.forces.forces
         self._true_forces = self.episode.plant_forces.forces
@@ -97,7 +109,9 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         deviation = self._deviation()
         residual = self.advance(action)
         active = residual is not None
-        terms = (*self._reward_terms(n + 1), -self.config.w_pose * self._deviation())
+        exact = self._error if self._exact_pose else self._pose_error(n + 1, exact=True)
+        pose_term = -self.config.w_pose * self._deviation(exact)
+        terms = (*self._reward_terms(n + 1), pose_term)
         terminated = episode.done
         info = {
             "reward_normal": terms[0],
@@ -173,7 +187,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
 
     # ------------------------------------------------------------------ internals
 
-    def _draw(self, options: dict[str, Any]) -> tuple[Scenario, int, Plan]:
+    def _draw(self, options: dict[str, Any]) -> tuple[Scenario, int, Plan | None]:
         unknown = sorted(set(options) - set(RESET_OPTIONS))
         if unknown:
             raise ConfigError(
@@ -184,6 +198,8 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         drawn_object = config.objects[int(rng.integers(len(config.objects)))]
         drawn_profile = config.profiles[int(rng.integers(len(config.profiles)))]
         drawn_seed = int(rng.integers(2**31 - 1))
+        if "scenario" in options:
+            return options["scenario"], 0, None
         return draw_planned_scenario(
             int(options.get("scenario_seed", drawn_seed)),
             config.stream,
@@ -194,17 +210,25 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
             dt=config.dt,
         )
 
-    def _pose_error(self, n: int) -> np.ndarray:
-        """Planned minus actual object pose at step ``n``, plan frame (3,) [m, m, rad]."""
-        desired, actual = self._plan_pose[n], self._last.object_pose
+    def _pose_error(self, n: int, exact: bool = False) -> np.ndarray:
+        """Planned minus actual object pose at step ``n``, plan frame (3,) [m, m, rad]; the
+        actual pose as the controller reads it (the camera's, on the proxy with
+        ``observe_camera``), or the true one if ``exact``."""
+        episode = self.episode
+        assert episode is not None
+        desired = self._plan_pose[n]
+        if exact or self._exact_pose:
+            actual = self._last.object_pose
+        else:
+            actual = episode.measured_pose()
         c, s = math.cos(desired[2]), math.sin(desired[2])
         dx, dy = desired[0] - actual[0], desired[1] - actual[1]
         angle = math.remainder(desired[2] - actual[2], math.tau)
         return np.array([c * dx + s * dy, -s * dx + c * dy, angle])
 
-    def _deviation(self) -> float:
-        """The gate's pose deviation [m] of the current pose error."""
-        error = self._error
+    def _deviation(self, error: np.ndarray | None = None) -> float:
+        """The gate's pose deviation [m] of ``error`` (default: the current pose error)."""
+        error = self._error if error is None else error
         return math.hypot(error[0], error[1], self.config.gate_length * error[2])
 
     def _world_twist(self, action: np.ndarray, n: int) -> np.ndarray:

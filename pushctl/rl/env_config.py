@@ -8,6 +8,7 @@ from collections.abc import Mapping
 from dataclasses import asdict, dataclass, fields
 from typing import Any
 
+from pushctl.control.residual import check_residual_path
 from pushctl.episode.ranges import PLANTS
 from pushctl.episode.scenario import STREAMS
 from pushctl.errors import ConfigError
@@ -25,14 +26,20 @@ class EnvConfig:
         randomisation ranges of the world's parameters (``sim`` for training). ``stream``:
         the random stream the scenarios are drawn from (``training``; evaluation draws from
         its own). ``duration`` [s] and ``dt`` [s] of the push.
-    Residual (Algorithm 1)
+    Residual (Algorithm 1; docs/residual-and-feedback.md)
+        ``residual_path``: how the residual twist reaches the PD
+        (:mod:`pushctl.control.residual`): ``reference`` integrates it into an offset of
+        the pusher reference, which the PD servoes (a bounded twist builds an offset of any
+        size); ``velocity`` (the paper's form) adds it to v_e = v_ff + K_x (x_des − x) only,
+        whose position term pulls back: a held twist v moves the pusher v / K_x off its
+        reference (0.47 mm at 20 mm/s and the tuned K_x of 42.4 /s).
         ``action_scale_linear`` [m/s] and ``action_scale_angular`` [rad/s]: the residual
-        twist at an action of ±1. The residual adds to the PD's v_e = v_ff + K_x (x_des − x),
-        whose position term pulls back: a held residual v moves the pusher v / K_x off its
-        reference (0.47 mm at the default 20 mm/s and the tuned K_x of 42.4 /s), which is
-        the residual's reach in position. ``gate_threshold`` [m]: the residual acts only while the
-        object's pose deviation from the plan, √(e_x² + e_y² + (gate_length·e_θ)²), exceeds
-        it; ``gate_length`` [m] turns the angle error into a distance.
+        twist at an action of ±1 (on the ``reference`` path: the fastest the offset grows).
+        ``gate_threshold`` [m]: the residual acts only while the object's pose deviation
+        from the plan, √(e_x² + e_y² + (gate_length·e_θ)²), exceeds it; ``gate_length`` [m]
+        turns the angle error into a distance. ``observe_camera``: on the ``proxy`` plant the
+        observation's pose error and the gate read the 30 Hz camera (DESIGN.md §7), as a
+        real arm must; False reads the exact pose (how policies were trained before).
     Reward (eq. 17)
         ``w_normal`` [1/N], ``w_tangential`` [1/N], ``w_torque`` [1/(N·m)]: per-step reward
         −Σ_i (w1 |ΔF_n,i| + w2 |ΔF_t,i| + w3 |Δτ_z,i|), dimensionless. The default w3 of
@@ -49,19 +56,27 @@ class EnvConfig:
     stream: str = "training"
     duration: float = 20.0
     dt: float = 0.01
-    action_scale_linear: float = 0.02
+    residual_path: str = "reference"
+    # Sized from the offsets the plant unknowns cause (docs/residual-and-feedback.md).
+    action_scale_linear: float = 0.005
     action_scale_angular: float = 0.05
     # Above PD-only's steady tracking error (at most 0.04 mm on sim; medians to 0.10 mm and
     # maxima to 0.15 mm on the proxy, tuning stream), below the 0.4-0.7 mm of a failed
     # break-away: the residual acts on failures, not on steady pushes (README "Gate").
     gate_threshold: float = 1.5e-4
     gate_length: float = 0.05
+    observe_camera: bool = True
     w_normal: float = 1.0
     w_tangential: float = 1.0
     w_torque: float = 25.0
     w_pose: float = 0.0
 
     def __post_init__(self) -> None:
+        check_residual_path(self.residual_path)
+        if not isinstance(self.observe_camera, bool):
+            raise ConfigError(
+                f"env observe_camera must be true or false, got {self.observe_camera!r}"
+            )
         _check_choice("objects", self.objects, OBJECT_NAMES)
         _check_choice("profiles", self.profiles, PROFILE_NAMES)
         if self.plant not in PLANTS:
@@ -91,11 +106,23 @@ class EnvConfig:
         }
         return cls(**converted)
 
+    @classmethod
+    def from_saved(cls, values: Mapping[str, Any]) -> EnvConfig:
+        """From the settings saved with a policy or a checkpoint: a key the file lacks takes
+        its value from before that key existed (:data:`LEGACY_VALUES`), not today's default,
+        so a policy keeps pushing as it was trained to."""
+        return cls.from_mapping({**LEGACY_VALUES, **values})
+
     def to_dict(self) -> dict[str, Any]:
         return {
             key: list(value) if isinstance(value, tuple) else value
             for key, value in asdict(self).items()
         }
+
+
+LEGACY_VALUES: dict[str, Any] = {"residual_path": "velocity", "observe_camera": False}
+"""Settings of the keys added by issue 16 as every policy trained before them used them: the
+residual added to v_e, and the exact object pose in the observation and the gate."""
 
 
 def _check_choice(name: str, chosen: object, accepted: tuple[str, ...]) -> None:

@@ -7,6 +7,8 @@ that made it.
 
 from __future__ import annotations
 
+import re
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -33,6 +35,12 @@ class TrainedPolicy:
     actor: ActorPolicy
     env: EnvConfig
     made_by: str
+
+    @property
+    def seed(self) -> int | None:
+        """The training run's seed, read from its provenance line (None if it names none)."""
+        found = re.search(r"seed (\d+) \(training stream\)", self.made_by)
+        return int(found.group(1)) if found else None
 
 
 def save_atomic(path: Path, state: dict[str, Any]) -> None:
@@ -62,7 +70,7 @@ def load_policy(path: str | Path) -> TrainedPolicy:
             raise ValueError(f"format {state.get('format') if isinstance(state, dict) else None}")
         return TrainedPolicy(
             actor=ActorPolicy.from_state(state["actor"]),
-            env=EnvConfig.from_mapping(state["env"]),
+            env=EnvConfig.from_saved(state["env"]),
             made_by=str(state["made_by"]),
         )
     except ConfigError as exc:
@@ -86,9 +94,10 @@ def run_policy(env: PushEnv, actor: ActorPolicy, options: dict[str, Any]) -> Tra
     return env.episode.trace()
 
 
-def finish_with_policy(env: PushEnv, actor: ActorPolicy) -> int:
-    """Push the rest of ``env``'s episode with the deterministic ``actor``; return the number
-    of steps its gate was open.
+def finish_with_policy(env: PushEnv, actor: Callable[[np.ndarray], np.ndarray]) -> int:
+    """Push the rest of ``env``'s episode with the deterministic ``actor`` (observation →
+    action; a policy, or any controller of that form); return the number of steps its gate
+    was open.
 
     The same push as step() after step() with the actor's actions, but the actor, and the
     observation it reads, run only while the gate is open: the step ignores the action

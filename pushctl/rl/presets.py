@@ -81,7 +81,7 @@ class Preset:
         return cls(
             name=str(values["name"]),
             train=_train_config(values["train"]),
-            env=EnvConfig.from_mapping(values["env"]),
+            env=EnvConfig.from_saved(values["env"]),
             ddpg=DDPGConfig.from_mapping(values["ddpg"]),
         )
 

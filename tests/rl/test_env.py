@@ -15,6 +15,7 @@ from gymnasium.utils.env_checker import check_env
 import pushctl.rl
 from pushctl.episode.runner import Episode
 from pushctl.episode.trace import prong_torques
+from pushctl.episode.unknowns import NO_UNKNOWNS
 from pushctl.errors import ConfigError, StateError
 from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
@@ -158,8 +159,8 @@ def test_finishing_with_a_policy_is_step_after_step_with_the_actor_only_behind_a
         calls.append(env.episode.step_index)
         return np.array([1.0, -0.5, 0.2]) * math.cos(1e3 * float(obs.sum()))
 
-    # Shut at the start (the placement error of this seed is 2-3 mm), open once the push
-    # falls behind its 2 s plan.
+    # Shut at the start (the placement error of this seed is 2-3 mm; on the proxy the gate
+    # reads the camera, σ = 1 mm), open once the push falls behind its 2 s plan.
     config = replace(SHORT, plant=plant, gate_threshold=5e-3)
     env = PushEnv(config)
     obs, _ = env.reset(options=OPTIONS)
@@ -184,9 +185,10 @@ def test_finishing_with_a_policy_is_step_after_step_with_the_actor_only_behind_a
 
 
 def test_an_open_gate_shifts_the_pusher_by_the_residual_over_k_x() -> None:
-    """The residual adds to v_e = v_ff + K_x (x_des − x): a constant residual v moves the
-    pusher v / K_x ahead of its reference once the loop settles (time constant 1 / K_x)."""
-    env = PushEnv(replace(SHORT, gate_threshold=0.0))
+    """On the ``velocity`` path (the paper's form) the residual adds to v_e = v_ff + K_x
+    (x_des − x): a constant residual v moves the pusher v / K_x ahead of its reference once
+    the loop settles (time constant 1 / K_x)."""
+    env = PushEnv(replace(SHORT, gate_threshold=0.0, residual_path="velocity"))
     env.reset(options=OPTIONS)
     for _ in range(30):
         env.step(np.array([1.0, 0.0, 0.0]))
@@ -200,6 +202,38 @@ def test_an_open_gate_shifts_the_pusher_by_the_residual_over_k_x() -> None:
     along, _ = _rotate_to(env.plan.trajectory.pose[0, 2], ahead[0], ahead[1])
     expected = SHORT.action_scale_linear / env.gains.kx_linear
     assert along == pytest.approx(expected, rel=0.1)
+
+
+@pytest.mark.parametrize("path", ["reference", "velocity"])
+def test_the_reference_path_keeps_the_offset_the_residual_built(path: str) -> None:
+    """30 steps at the full action along the push, then 120 at zero: the ``reference`` path
+    has moved the pusher and the object scale × 0.3 s ahead of PD-only's for good (the PD
+    servoes the shifted reference); on the ``velocity`` path the shift decays to nothing."""
+    config = replace(SHORT, duration=20.0, gate_threshold=0.0, residual_path=path)
+    env = PushEnv(config)
+    env.reset(options=OPTIONS)
+    # without plant unknowns: the object sits square on the prongs and moves with them
+    env.reset(options={"scenario": replace(env.scenario, unknowns=NO_UNKNOWNS)})
+    assert env.episode is not None
+    baseline = Episode(env.scenario, env.gains, plan=env.plan)
+    baseline.reset()
+    for n in range(150):
+        env.step(np.array([1.0 if n < 30 else 0.0, 0.0, 0.0]))
+        baseline.step()
+    pushed, alone = env.episode.trace(), baseline.trace()
+    yaw = env.plan.trajectory.pose[0, 2]
+    built = config.action_scale_linear * 30 * config.dt  # 1.5 mm
+    for quantity in ("pusher_position", "object_pose"):
+        ahead = getattr(pushed, quantity)[150] - getattr(alone, quantity)[150]
+        along, across = _rotate_to(yaw, ahead[0], ahead[1])
+        if path == "reference":
+            assert along == pytest.approx(built, rel=0.01)
+            assert abs(across) < 0.01 * built
+        else:
+            assert abs(along) < 0.01 * built
+    offset = env.episode.reference_offset
+    expected = built * np.array([math.cos(yaw), math.sin(yaw), 0.0]) if path == "reference" else 0
+    np.testing.assert_allclose(offset, expected, atol=1e-3 * built)  # the plan turns a little
 
 
 def test_one_seed_draws_one_episode_and_another_seed_another() -> None:

@@ -1,0 +1,83 @@
+"""The ``feedback`` baseline's law (DESIGN.md §5): a PI law on the object's pose error.
+
+With e = (e_x [m], e_y [m], e_θ [rad]) the planned minus the actual object pose in the plan
+frame (x along the push), the law asks the object for the twist u = k e + k_i ∫ e dt
+(u_x, u_y [m/s], u_θ [rad/s]) and carries it to the pusher origin as a point of the object,
+v = (u_x − u_θ r_y, u_y + u_θ r_x, u_θ), with r the pusher origin's lever from the object's
+centre in the plan frame [m]: with both prongs sticking the object moves with the pusher.
+The integral is frozen while any prong's measured normal force is below ``contact_force``
+(10 mN): an object placed ahead of the plan is not touched yet, and integrating its error
+would back the pusher away from it.
+
+The output is a residual twist like a policy's: it goes through the same residual path
+(:mod:`pushctl.control.residual`). On the ``reference`` path it is the rate of the reference
+offset, so the offset is k ∫ e + k_i ∬ e: integral and double-integral action on the pose.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from pushctl.errors import ConfigError
+from pushctl.toml_files import check_keys, read_toml
+
+DEFAULT_FEEDBACK_FILE = Path(__file__).resolve().parents[2] / "experiments" / "feedback_gains.toml"
+"""The tuned gains (``python -m pushctl.evaluation.tune_feedback`` writes them)."""
+
+
+@dataclass(frozen=True)
+class FeedbackGains:
+    """``k`` [1/s] and ``k_i`` [1/s²]: the proportional and integral gains, one each for the
+    translation and the angle error; ``contact_force`` [N]: the integral is frozen while a
+    prong's measured normal force is below it."""
+
+    k: float = 0.5
+    k_i: float = 0.0
+    contact_force: float = 0.01
+
+    def __post_init__(self) -> None:
+        for name in ("k", "k_i", "contact_force"):
+            value = getattr(self, name)
+            ok = isinstance(value, int | float) and not isinstance(value, bool)
+            if not ok or not math.isfinite(value) or value < 0.0:
+                raise ConfigError(f"feedback {name} must be a finite number >= 0, got {value!r}")
+
+
+def load_feedback_gains(path: str | Path | None = None) -> FeedbackGains:
+    """The ``[feedback]`` table of ``path`` (default :data:`DEFAULT_FEEDBACK_FILE`);
+    ConfigError (one line) for a missing file, a missing table or a bad key."""
+    path = Path(path) if path is not None else DEFAULT_FEEDBACK_FILE
+    data: dict[str, Any] = read_toml(path, "feedback gains file")
+    table = data.get("feedback")
+    if not isinstance(table, dict):
+        raise ConfigError(f"{path}: no [feedback] table; expected k, k_i and contact_force")
+    check_keys(table, ["k", "k_i", "contact_force"], f"{path} [feedback]", all_required=False)
+    return FeedbackGains(**table)
+
+
+class FeedbackLaw:
+    """The PI law of one push (state: the error's integral). ``lever`` (2,) [m]: the pusher
+    origin from the object's centre, plan frame; ``dt`` [s]: the time each call covers."""
+
+    def __init__(self, gains: FeedbackGains, lever: np.ndarray, dt: float) -> None:
+        self.gains = gains
+        self.lever = np.asarray(lever, dtype=float).copy()
+        self.dt = float(dt)
+        self.integral = np.zeros(3)
+
+    def twist(self, error: np.ndarray, normal_forces: np.ndarray) -> np.ndarray:
+        """The pusher twist (3,) [m/s, m/s, rad/s], plan frame, for the pose ``error`` (3,)
+        [m, m, rad] (planned minus actual) and the prongs' measured ``normal_forces`` (k,) [N];
+        integrates the error unless a prong is below the contact threshold."""
+        gains = self.gains
+        error = np.asarray(error, dtype=float)
+        if np.min(normal_forces) >= gains.contact_force:
+            self.integral = self.integral + self.dt * error
+        u = gains.k * error + gains.k_i * self.integral
+        r_x, r_y = self.lever
+        return np.array([u[0] - u[2] * r_y, u[1] + u[2] * r_x, u[2]])

@@ -1,0 +1,65 @@
+"""How a residual planar twist reaches the PD baseline (Algorithm 1, DESIGN.md §5).
+
+A residual is a planar pusher twist v_θ = (vx [m/s], vy [m/s], ω_z [rad/s]), world axes. Two
+paths carry it into the PD law ``v_e = v_ff + K_x (x_ref − x)``:
+
+- ``reference`` (the default): the twist moves the reference. It is integrated into an
+  offset of the pusher reference, x_ref = x_plan + ∫ v_θ dt (x, y and yaw), and the reference
+  moves at v_ff + v_θ, so the PD servoes the shifted reference. A bounded twist builds an
+  offset of any size, and the offset stays when the twist stops (a shut gate freezes it).
+- ``velocity`` (the paper's form): the twist is added to v_e only. Against the position gain
+  K_x a held twist v shifts the pusher by v / K_x only (0.47 mm at 20 mm/s, K_x = 42.4 /s),
+  and the shift decays within ~1 / K_x once the twist stops.
+
+Both give the PD the same commanded twist in the step the residual is applied; they differ
+in what the reference remembers afterwards.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from pushctl.errors import ConfigError
+
+RESIDUAL_PATHS = ("reference", "velocity")
+"""The residual paths: the default first."""
+
+
+def check_residual_path(path: object) -> str:
+    """``path`` if it is one of :data:`RESIDUAL_PATHS`; ConfigError (one line) otherwise."""
+    if path not in RESIDUAL_PATHS:
+        raise ConfigError(f"residual_path must be one of {', '.join(RESIDUAL_PATHS)}, got {path!r}")
+    return str(path)
+
+
+class ReferenceOffset:
+    """The pusher reference's offset from the plan built by the ``reference`` path:
+    ``offset`` (3,) [m, m, rad], world x, y and yaw. ``dt`` [s]: the control step."""
+
+    def __init__(self, dt: float) -> None:
+        self.dt = float(dt)
+        self.offset = np.zeros(3)
+
+    def reset(self) -> None:
+        self.offset = np.zeros(3)
+
+    def shifted(
+        self, position: np.ndarray, yaw: float, twist_ff: np.ndarray, residual: np.ndarray | None
+    ) -> tuple[np.ndarray, float, np.ndarray]:
+        """The reference of this step: the planned ``position`` (3,) [m] and ``yaw`` [rad]
+        plus the offset so far, the feed-forward ``twist_ff`` (6,) plus ``residual`` (3,) (the
+        reference's own rate), and the offset advanced by ``residual`` · dt for the next step.
+        Returns (position (3,), yaw, twist (6,))."""
+        offset = self.offset
+        shifted_position = position.copy()
+        shifted_position[0] += offset[0]
+        shifted_position[1] += offset[1]
+        shifted_yaw = float(yaw) + float(offset[2])
+        if residual is None:
+            return shifted_position, shifted_yaw, twist_ff
+        twist = twist_ff.copy()
+        twist[0] += residual[0]
+        twist[1] += residual[1]
+        twist[5] += residual[2]
+        self.offset = offset + self.dt * residual
+        return shifted_position, shifted_yaw, twist

@@ -1,0 +1,61 @@
+"""The feedback baseline's PI law (pushctl.control.feedback): the P and I terms, the integral
+frozen off contact, the twist carried to the pusher origin, and its gains file."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pushctl.control.feedback import FeedbackGains, FeedbackLaw, load_feedback_gains
+from pushctl.errors import ConfigError
+
+LEVER = np.array([-0.03, 0.0])  # the pusher 30 mm behind the object's centre
+TOUCHING = np.array([0.2, 0.3])  # both prongs above the 10 mN threshold [N]
+
+
+def test_the_p_term_and_the_integral_of_a_constant_error() -> None:
+    law = FeedbackLaw(FeedbackGains(k=0.5, k_i=0.2), LEVER, dt=0.01)
+    error = np.array([1e-3, -2e-3, 0.0])
+    for _ in range(100):  # 1 s
+        twist = law.twist(error, TOUCHING)
+    np.testing.assert_allclose(law.integral, error * 1.0, rtol=1e-12)
+    np.testing.assert_allclose(twist[:2], (0.5 + 0.2 * 1.0) * error[:2], rtol=1e-12)
+    assert twist[2] == 0.0
+
+
+def test_the_integral_is_frozen_while_a_prong_carries_under_10_mN() -> None:
+    law = FeedbackLaw(FeedbackGains(k=0.5, k_i=1.0), LEVER, dt=0.01)
+    error = np.array([2e-3, 0.0, 0.0])  # an object ahead of the plan, not touched yet
+    twist = law.twist(error, np.array([0.2, 0.009]))
+    np.testing.assert_array_equal(law.integral, np.zeros(3))
+    assert twist[0] == pytest.approx(0.5 * 2e-3)  # the P term still acts
+    law.twist(error, np.array([0.01, 0.01]))
+    np.testing.assert_allclose(law.integral, 0.01 * error)
+
+
+def test_an_angle_correction_moves_the_pusher_origin_as_a_point_of_the_object() -> None:
+    """u_θ about the object's centre: the pusher origin at r moves at u_θ ẑ × r."""
+    lever = np.array([-0.03, 0.01])
+    law = FeedbackLaw(FeedbackGains(k=1.0, k_i=0.0), lever, dt=0.01)
+    twist = law.twist(np.array([0.0, 0.0, 0.02]), TOUCHING)
+    omega = 0.02
+    np.testing.assert_allclose(twist, [-omega * lever[1], omega * lever[0], omega], rtol=1e-12)
+
+
+def test_gains_file_round_trip_and_bad_values(tmp_path: Path) -> None:
+    path = tmp_path / "gains.toml"
+    path.write_text("[feedback]\nk = 0.7\nk_i = 0.1\ncontact_force = 0.01\n")
+    assert load_feedback_gains(path) == FeedbackGains(0.7, 0.1, 0.01)
+    path.write_text("[feedback]\nk = -1.0\n")
+    with pytest.raises(ConfigError, match="feedback k must be a finite number >= 0"):
+        load_feedback_gains(path)
+    path.write_text("[feedback]\ngain = 1.0\n")
+    with pytest.raises(ConfigError, match="unknown keys"):
+        load_feedback_gains(path)
+    path.write_text("[pd]\nk = 1.0\n")
+    with pytest.raises(ConfigError, match="no \\[feedback\\] table"):
+        load_feedback_gains(path)
+    with pytest.raises(ConfigError, match="does not exist"):
+        load_feedback_gains(tmp_path / "none.toml")
