@@ -2,10 +2,19 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from pushctl.arm import ArmConfig, load_arm
 from pushctl.config import GRAVITY, PusherConfig
 from pushctl.contact.world import World, WorldConfig
+from pushctl.errors import ConfigError
 from pushctl.objects import ObjectSpec, resolve_object, with_masses
+
+if TYPE_CHECKING:
+    from pushctl.mujoco import MujocoWorld
+
+ENGINES = ("ours", "mujoco")
+"""Physics engines of :func:`make_world`: our box-friction MLCP world, or MuJoCo."""
 
 
 def make_world(
@@ -21,7 +30,8 @@ def make_world(
     damping=None,
     substeps: int = 1,
     gravity: float = GRAVITY,
-) -> World:
+    engine: str = "ours",
+) -> World | MujocoWorld:
     """Build a world. Every argument is validated; bad ones raise a ``ConfigError``.
 
     object: a preset name (``cube``, ``wedge``), the path of a TOML object file, or an
@@ -35,16 +45,26 @@ def make_world(
         (30 g for the cube, 40 g for the wedge).
     armature [kg·m²], damping [N·m·s/rad]: per joint; None uses the arm's defaults.
     gravity [m/s²]: its magnitude; 0 turns it off for arm and ground loads alike.
+    engine: ``ours`` (default: the box-friction MLCP world, a :class:`World`) or ``mujoco``
+        (the same scene in MuJoCo, a :class:`pushctl.mujoco.MujocoWorld`, same interface;
+        ``substeps`` are then MuJoCo steps per ``dt``; see docs/mujoco.md).
     """
+    if engine not in ENGINES:
+        raise ConfigError(f"unknown engine {engine!r}; choose one of {', '.join(ENGINES)}")
     config = WorldConfig(
         dt=dt, mu_ground=mu_ground, mu_contact=mu_contact, substeps=substeps, gravity=gravity
     )
+    if engine == "mujoco":  # imported here: MuJoCo is loaded only when asked for
+        from pushctl.mujoco import MujocoSettings, MujocoWorldConfig
+
+        config = MujocoWorldConfig(dt, mu_ground, mu_contact, gravity, MujocoSettings(substeps))
     if isinstance(object, ObjectSpec):
         spec = object if object_mass is None else with_masses(object, mass=object_mass)
     else:
         spec = resolve_object(object, mass=object_mass)
+    world_class = _world_class(engine)
     if arm is None:
-        return World(spec, None, config)
+        return world_class(spec, None, config)
     if pusher is None:
         pusher = PusherConfig(mass=spec.pusher_mass)
     arm_config = ArmConfig(
@@ -55,7 +75,15 @@ def make_world(
     )
     arm_model = load_arm(arm_config)
     arm_model.set_gravity(gravity)
-    return World(spec, arm_model, config)
+    return world_class(spec, arm_model, config)
 
 
-__all__ = ["make_world"]
+def _world_class(engine: str) -> type[World] | type[MujocoWorld]:
+    if engine == "mujoco":
+        from pushctl.mujoco import MujocoWorld
+
+        return MujocoWorld
+    return World
+
+
+__all__ = ["ENGINES", "make_world"]

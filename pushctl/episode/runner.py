@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -47,6 +48,9 @@ from pushctl.objects import ObjectSpec, resolve_object
 from pushctl.planning import ForcePlan, ForceSettings, Plan, make_plan
 from pushctl.planning.forces import distribute_forces
 from pushctl.types import StepResult
+
+if TYPE_CHECKING:
+    from pushctl.mujoco import MujocoWorld
 
 
 @dataclass(frozen=True)
@@ -80,6 +84,8 @@ class Episode:
     optional residual planar twist (3,) (vx [m/s], vy [m/s], ω_z [rad/s]); :meth:`trace`
     returns what has been recorded. ``effects``: the reality proxy's (None: the simulator as
     it is); its random draws restart from the scenario's seed at every :meth:`reset`.
+    ``engine``: the world's physics, ``ours`` or ``mujoco`` (:func:`make_world`); the
+    controller is the same on either.
     """
 
     def __init__(
@@ -89,6 +95,7 @@ class Episode:
         approach: ApproachSettings | None = None,
         plan: Plan | None = None,
         effects: ProxyEffects | None = None,
+        engine: str = "ours",
     ) -> None:
         self.scenario = scenario
         self.effects = effects
@@ -126,7 +133,7 @@ class Episode:
             scenario.gravity,
             offset=self.plan.forces.offset,
         )
-        self.world: World = make_world(
+        self.world: World | MujocoWorld = make_world(
             self.object,
             arm=scenario.arm,
             mu_ground=plant.mu_ground,
@@ -134,6 +141,7 @@ class Episode:
             dt=scenario.dt,
             pusher=PusherConfig(mass=self.object.pusher_mass),
             gravity=scenario.gravity,
+            engine=engine,  # "mujoco": the same scene on MuJoCo (an independent plant)
         )
         self.controller = self._controller(self.gains)
         self.reference: PusherReference = push_reference(self.plan)
