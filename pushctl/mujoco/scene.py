@@ -167,7 +167,11 @@ def _add_object(spec: mujoco.MjSpec, obj: ObjectSpec) -> None:
         return
     tops = obj.height_at(obj.footprint)
     points = [(x, y, 0.0) for x, y in obj.footprint.tolist()]
-    points += [(x, y, z) for (x, y), z in zip(obj.footprint.tolist(), tops.tolist()) if z > 1e-9]
+    points += [
+        (x, y, z)
+        for (x, y), z in zip(obj.footprint.tolist(), tops.tolist(), strict=True)
+        if z > 1e-9
+    ]
     mesh = spec.add_mesh(name=OBJECT_GEOM)
     mesh.uservert = np.asarray(points, dtype=float).ravel()
     body.add_geom(
@@ -219,7 +223,7 @@ def build_model(
         solimp=settings.solimp_floor,
     )
     if arm is not None:
-        for joint, armature, damping in zip(spec.joints, arm.armature, arm.damping):
+        for joint, armature, damping in zip(spec.joints, arm.armature, arm.damping, strict=True):
             joint.armature = float(armature)
             joint.damping = (float(damping), 0.0, 0.0)  # linear term; no polynomial
             joint.limited = mujoco.mjtLimited.mjLIMITED_FALSE
