@@ -223,7 +223,9 @@ def build_model(
         solimp=settings.solimp_floor,
     )
     if arm is not None:
-        for joint, armature, damping in zip(spec.joints, arm.armature, arm.damping, strict=True):
+        names = list(arm.model.names)[1:]  # Pinocchio's joints, in velocity order
+        for name, armature, damping in zip(names, arm.armature, arm.damping, strict=True):
+            joint = spec.joint(name)
             joint.armature = float(armature)
             joint.damping = (float(damping), 0.0, 0.0)  # linear term; no polynomial
             joint.limited = mujoco.mjtLimited.mjLIMITED_FALSE
