@@ -44,6 +44,18 @@ from pushctl.mujoco.scene import (
 from pushctl.objects import ObjectSpec
 from pushctl.types import StepResult, WorldStats
 
+_BAD_QACC = int(mujoco.mjtWarning.mjWARN_BADQACC)
+_warnings: list[str] = []
+
+
+def _keep_warning(text: str) -> None:
+    """MuJoCo's warnings are kept here, not printed: the core never prints. A divergence
+    becomes a StateError in :meth:`MujocoWorld.step`."""
+    _warnings[:] = [str(text).strip()]
+
+
+mujoco.set_mju_user_warning(_keep_warning)
+
 SETTLE_TIME = 0.5
 """Time [s] the object alone is let settle into its soft floor contact when the world is
 built; :meth:`MujocoWorld.reset` then starts the object at that rest height."""
@@ -105,12 +117,14 @@ class MujocoWorld:
         self._n_prongs = 0 if arm is None else arm.pusher.n_prongs
         joint = model.joint(OBJECT_BODY)
         self._obj_q, self._obj_v = int(joint.qposadr[0]), int(joint.dofadr[0])
+        self._body = model.body(OBJECT_BODY).id
         self._object_geom = model.geom(OBJECT_GEOM).id
         self._floor_geom = model.geom(FLOOR_GEOM).id
         self._prong_geoms = {model.geom(prong_geom_name(i)).id: i for i in range(self._n_prongs)}
         self._prong_sites = [model.site(prong_site_name(i)).id for i in range(self._n_prongs)]
         self._damping = np.zeros(self._nv) if arm is None else np.asarray(arm.damping, float)
         self._wrench = np.zeros(6)
+        self._normals = np.zeros((self._n_prongs, 2))
         self._rest_height = self._settle_height()
         self.reset()
 
@@ -181,10 +195,7 @@ class MujocoWorld:
     def object_velocity(self) -> np.ndarray:
         """(vx, vy [m/s], ω [rad/s]) in the world frame."""
         j = self._obj_v
-        omega_world = (
-            self.data.xmat[self.model.body(OBJECT_BODY).id].reshape(3, 3)
-            @ (self.data.qvel[j + 3 : j + 6])
-        )
+        omega_world = self.data.xmat[self._body].reshape(3, 3) @ (self.data.qvel[j + 3 : j + 6])
         return np.array([self.data.qvel[j], self.data.qvel[j + 1], omega_world[2]])
 
     @property
@@ -228,55 +239,71 @@ class MujocoWorld:
         forces = np.zeros((self._n_prongs, 2))
         iterations = 0
         n_sub = self.config.mujoco.substeps
-        previous = _yaw(data.xquat[model.body(OBJECT_BODY).id])
+        previous = _yaw(data.xquat[self._body])
         for _ in range(n_sub):
             mujoco.mj_step(model, data)
             iterations += int(data.solver_niter[0])
+            if data.warning[_BAD_QACC].number:
+                self._diverged()
             if self._n_prongs:
                 forces += self._prong_forces()
         mujoco.mj_kinematics(model, data)  # positions of the new state (gaps, yaw)
-        yaw = _yaw(data.xquat[model.body(OBJECT_BODY).id])
+        yaw = _yaw(data.xquat[self._body])
         self._theta += math.remainder(yaw - previous, 2.0 * math.pi)
         self._terms = None
         self.stats.steps += 1
         self.stats.solves += n_sub
         return self._result(forces / n_sub, iterations)
 
+    def _diverged(self) -> None:
+        """MuJoCo found a NaN or huge acceleration (and reset its state): stop, saying so."""
+        self.data.warning[_BAD_QACC].number = 0
+        raise StateError(
+            f"the MuJoCo simulation diverged at t = {self.data.time:.3f} s "
+            f"({_warnings.pop() if _warnings else 'bad acceleration'}); check the torques and gains"
+        )
+
     def _prong_forces(self) -> np.ndarray:
-        """(k, 2) [N] each prong's force on the object in its contact frame, from the
-        contacts of the step just taken (MuJoCo's at the step's start state)."""
+        """(k, 2) [N] each prong's force on the object from the contacts of the step just
+        taken, along the inward normal e_n of the footprint face nearest the prong point at
+        the control step's start (:meth:`_geometry`) and e_t = e_z × e_n."""
         data, forces = self.data, np.zeros((self._n_prongs, 2))
-        pose = self.object_pose
-        c, s = math.cos(pose[2]), math.sin(pose[2])
-        wrench = self._wrench
-        for n in range(data.ncon):
-            contact = data.contact[n]
-            g1, g2 = int(contact.geom1), int(contact.geom2)
+        contacts = data.contact
+        geom1, geom2 = contacts.geom1, contacts.geom2
+        touching = np.flatnonzero((geom1 == self._object_geom) | (geom2 == self._object_geom))
+        wrench, frames = self._wrench, contacts.frame
+        elliptic = self.model.opt.cone == mujoco.mjtCone.mjCONE_ELLIPTIC
+        for n in touching.tolist():
+            g1, g2 = int(geom1[n]), int(geom2[n])
             prong = self._prong_geoms.get(g1 if g2 == self._object_geom else g2)
-            if prong is None or self._object_geom not in (g1, g2):
+            if prong is None:  # the floor
                 continue
-            mujoco.mj_contactForce(self.model, data, n, wrench)
-            frame = contact.frame.reshape(3, 3)  # rows: normal (geom1 → geom2), t1, t2
-            force = wrench[:3] @ frame  # on geom2, world axes
+            if elliptic:  # the constraint force is the contact-frame force itself
+                address = int(contacts.efc_address[n])
+                local = data.efc_force[address : address + 3]
+            else:
+                mujoco.mj_contactForce(self.model, data, n, wrench)
+                local = wrench[:3]
+            force = local @ frames[n].reshape(3, 3)  # rows n, t1, t2: on geom2, world axes
             if g1 == self._object_geom:
                 force = -force
-            # The face of the footprint nearest the prong point gives e_n (inward).
-            point = data.site_xpos[self._prong_sites[prong]]
-            px, py = point[0] - pose[0], point[1] - pose[1]
-            _, nx, ny, _, _ = self.object.polygon.query(c * px + s * py, -s * px + c * py)
-            en = (-(c * nx - s * ny), -(s * nx + c * ny))
-            forces[prong, 0] += force[0] * en[0] + force[1] * en[1]
-            forces[prong, 1] += -force[0] * en[1] + force[1] * en[0]
+            en_x, en_y = self._normals[prong]
+            forces[prong, 0] += force[0] * en_x + force[1] * en_y
+            forces[prong, 1] += -force[0] * en_y + force[1] * en_x
         return forces
 
-    def _gaps(self) -> np.ndarray:
-        """(k,) planar signed distance [m] of the prong points to the footprint."""
+    def _geometry(self) -> np.ndarray:
+        """The prong points against the footprint at the current state: their planar signed
+        distances (k,) [m] (returned) and the inward normals of the nearest faces, world
+        axes (kept for the next step's forces)."""
         pose = self.object_pose
         c, s = math.cos(pose[2]), math.sin(pose[2])
         gaps = np.zeros(self._n_prongs)
         for i, site in enumerate(self._prong_sites):
             px, py = self.data.site_xpos[site][:2] - pose[:2]
-            gaps[i] = self.object.polygon.query(c * px + s * py, -s * px + c * py)[0]
+            gap, nx, ny, _, _ = self.object.polygon.query(c * px + s * py, -s * px + c * py)
+            gaps[i] = gap
+            self._normals[i] = (-(c * nx - s * ny), -(s * nx + c * ny))
         return gaps
 
     def _check_command(self, tau, implicit_kv) -> tuple[np.ndarray, np.ndarray]:
@@ -300,7 +327,7 @@ class MujocoWorld:
             object_pose=self.object_pose,
             object_velocity=self.object_velocity,
             contact_forces=forces,
-            prong_gaps=self._gaps(),
+            prong_gaps=self._geometry(),
             arm_q=self.q,
             arm_v=self.v,
             mlcp_residual=0.0,
