@@ -177,8 +177,11 @@ def simulate(
     ] = None,
     controller: Annotated[str, typer.Option(help="pd (rl comes with the policy)")] = "pd",
     randomize: Annotated[
-        bool, typer.Option("--randomize", help="draw μ_g, μ_c and masses from the sim ranges")
+        bool, typer.Option("--randomize", help="draw μ_g, μ_c and masses from the plant's ranges")
     ] = False,
+    plant: Annotated[
+        str, typer.Option(help="sim, proxy (the reality proxy) or mujoco (docs/mujoco.md)")
+    ] = "sim",
     mu_ground: Annotated[float | None, typer.Option(help="plant's object-table μ_g")] = None,
     mu_contact: Annotated[float | None, typer.Option(help="plant's prong-object μ_c")] = None,
     object_mass: Annotated[float | None, typer.Option(help="plant's object mass [kg]")] = None,
@@ -196,6 +199,7 @@ def simulate(
     from pushctl.cli_plan import PLOT_SUFFIXES, check_output, parse_pose
     from pushctl.cli_simulate import (
         check_controller,
+        check_plant,
         metrics_table,
         scenario_table,
         simulate_scenario,
@@ -203,18 +207,23 @@ def simulate(
     from pushctl.control import load_gains
     from pushctl.episode import Episode
     from pushctl.episode.metrics import compute_metrics
+    from pushctl.episode.proxy import effects_for
+    from pushctl.episode.ranges import plant_engine
 
     try:
         check_output("--out", out, (".csv",))
         check_output("--plot", plot, PLOT_SUFFIXES)
         check_controller(controller)
+        check_plant(plant)
         goal_pose = None if goal is None else parse_pose("--goal", goal)
         pd_gains = load_gains(gains)
         overrides = {"mu_ground": mu_ground, "mu_contact": mu_contact, "object_mass": object_mass}
         scenario, redrawn = simulate_scenario(
-            object_name, profile, goal_pose, seed, randomize, overrides, duration, arm
+            object_name, profile, goal_pose, seed, randomize, overrides, duration, arm, plant
         )
-        episode = Episode(scenario, gains=pd_gains)
+        episode = Episode(
+            scenario, gains=pd_gains, effects=effects_for(plant), engine=plant_engine(plant)
+        )
         console.print(scenario_table(scenario, episode.plan.trajectory.start, redrawn))
         trace = episode.run()
         metrics = compute_metrics(trace)
@@ -363,7 +372,13 @@ def evaluate(
     controller: Annotated[str, typer.Option(help="pd (PD-only), rl (RL-assisted) or both")] = (
         "both"
     ),
-    plant: Annotated[str, typer.Option(help="sim, proxy (the reality proxy) or both")] = "both",
+    plant: Annotated[
+        str,
+        typer.Option(
+            help="sim, proxy (the reality proxy), mujoco (MuJoCo, docs/mujoco.md), "
+            "both (sim and proxy) or all"
+        ),
+    ] = "both",
     policy: Annotated[
         Path | None,
         typer.Option(help="residual policy (default: the shipped results/training/policy.pt)"),

@@ -11,6 +11,7 @@ from rich.table import Table
 from pushctl.control.gains import gains_toml
 from pushctl.episode.draw import draw_scenario
 from pushctl.episode.metrics import METRIC_UNITS, EpisodeMetrics
+from pushctl.episode.ranges import PLANTS
 from pushctl.episode.scenario import PhysicalParameters, Scenario
 from pushctl.errors import ConfigError
 from pushctl.evaluation.tune_pd import BOUNDS, GRID, Candidate
@@ -28,6 +29,11 @@ def check_controller(name: str) -> None:
         raise ConfigError(f"unknown controller {name!r}; accepted: {', '.join(CONTROLLERS)}")
 
 
+def check_plant(name: str) -> None:
+    if name not in PLANTS:
+        raise ConfigError(f"unknown plant {name!r}; accepted: {', '.join(PLANTS)}")
+
+
 def check_profile(name: str) -> None:
     if name not in PROFILE_NAMES:
         raise ConfigError(f"unknown profile {name!r}; accepted: {', '.join(PROFILE_NAMES)}")
@@ -42,12 +48,13 @@ def simulate_scenario(
     overrides: dict[str, float | None],
     duration: float,
     arm: str,
+    plant: str = "sim",
 ) -> tuple[Scenario, int]:
     """The scenario ``pushctl simulate`` runs and the goals redrawn to find it.
 
     The goal is ``goal`` if given, else drawn from ``seed`` (evaluation stream). With
-    ``randomize`` the plant is drawn from the ``sim`` ranges of ``seed``. ``overrides``
-    (mu_ground, mu_contact, object_mass; None = keep) then set plant values by hand.
+    ``randomize`` the plant is drawn from ``plant``'s ranges of ``seed`` (mujoco: sim's).
+    ``overrides`` (mu_ground, mu_contact, object_mass; None = keep) then set plant values by hand.
     """
     check_profile(profile)
     if goal is None and seed is None:
@@ -61,7 +68,7 @@ def simulate_scenario(
             "evaluation",
             object_name,
             profile,
-            plant="sim" if randomize else None,
+            plant=plant if randomize else None,
             duration=duration,
             arm=arm,
         )

@@ -100,9 +100,9 @@ def effects_for(plant: str | None) -> ProxyEffects | None:
     ``"nominal"`` and None (the simulator as it is); ConfigError for another name."""
     if plant == "proxy":
         return ProxyEffects()
-    if plant in (None, "sim", "nominal"):
+    if plant in (None, "sim", "nominal", "mujoco"):
         return None
-    raise ConfigError(f"unknown plant {plant!r}; accepted: sim, proxy")
+    raise ConfigError(f"unknown plant {plant!r}; accepted: sim, proxy, mujoco")
 
 
 def proxy_rng(seed: int | None, purpose: str, case: str = "") -> np.random.Generator:

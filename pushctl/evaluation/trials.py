@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from pushctl.episode.metrics import compute_metrics
-from pushctl.episode.ranges import PLANTS
+from pushctl.episode.ranges import DEFAULT_PLANTS, PLANTS
 from pushctl.episode.trace import Trace
 from pushctl.errors import ConfigError
 from pushctl.objects import OBJECT_NAMES
@@ -47,7 +47,7 @@ class TrialSpec:
 
     objects: tuple[str, ...] = OBJECT_NAMES
     profiles: tuple[str, ...] = PROFILE_NAMES
-    plants: tuple[str, ...] = PLANTS
+    plants: tuple[str, ...] = DEFAULT_PLANTS
     controllers: tuple[str, ...] = CONTROLLERS
     trials: int = 50
     seed: int = 0

@@ -71,7 +71,7 @@ class MujocoSettings:
     cone: str = "elliptic"
     impratio: float = 3.0
     solref_prong: tuple[float, float] = (0.02, 1.0)
-    solref_floor: tuple[float, float] = (0.04, 1.0)
+    solref_floor: tuple[float, float] = (0.02, 2.0)
     solref_friction_floor: tuple[float, float] | None = None
     solimp_prong: tuple[float, float, float, float, float] = (0.9, 0.95, 0.001, 0.5, 2.0)
     solimp_floor: tuple[float, float, float, float, float] = (0.9, 0.95, 0.001, 0.5, 2.0)

@@ -24,6 +24,7 @@ from pushctl.config import PusherConfig
 from pushctl.control.gains import PDGains, load_gains
 from pushctl.episode.draw import draw_planned_scenario
 from pushctl.episode.proxy import ProxyEffects, effects_for
+from pushctl.episode.ranges import plant_engine
 from pushctl.episode.runner import Episode
 from pushctl.episode.scenario import Scenario
 from pushctl.errors import ConfigError, StateError
@@ -64,6 +65,8 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         self.effects: ProxyEffects | None = effects_for(self.config.plant)
         """The reality proxy's effects of the episodes (None on the sim plant): a paired
         PD-only run is ``Episode(env.scenario, env.gains, plan=env.plan, effects=env.effects)``."""
+        self.engine = plant_engine(self.config.plant)
+        """The episodes' physics engine: ``mujoco`` on the MuJoCo plant, else ``ours``."""
         self.episode: Episode | None = None
 
     # ------------------------------------------------------------------ gymnasium API
@@ -73,7 +76,9 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
     ) -> tuple[np.ndarray, dict[str, Any]]:
         super().reset(seed=seed)
         scenario, redrawn, plan = self._draw(options or {})
-        self.episode = Episode(scenario, self.gains, plan=plan, effects=self.effects)
+        self.episode = Episode(
+            scenario, self.gains, plan=plan, effects=self.effects, engine=self.engine
+        )
         self._plan_pose = plan.trajectory.pose
         self._plan_forces = plan.forces.forces
         self._true_forces = self.episode.plant_forces.forces
