@@ -243,12 +243,12 @@ def validation_markdown() -> str:
     return "\n".join(parts) + "\n"
 
 
-def replace_block(text: str, block: str) -> str:
-    """``text`` with its generated block (BEGIN … END) replaced by ``block``; appended if
-    the page has none."""
-    if BEGIN in text and END in text:
-        head, rest_ = text.split(BEGIN, 1)
-        tail = rest_.split(END, 1)[1].lstrip("\n")
+def replace_block(text: str, block: str, begin: str = BEGIN, end: str = END) -> str:
+    """``text`` with its generated block (``begin`` … ``end``) replaced by ``block``;
+    appended if the page has none."""
+    if begin in text and end in text:
+        head, rest_ = text.split(begin, 1)
+        tail = rest_.split(end, 1)[1].lstrip("\n")
         return head + block + tail
     return text.rstrip("\n") + "\n\n" + block
 
