@@ -49,3 +49,18 @@ def test_block_puts_mujoco_beside_the_shipped_tables(tmp_path):
     assert cells[8] == f"{sim['translation_sim']:.3g} / 2"
     assert cells[10].endswith("/ 2")
     assert math.isfinite(sim["force_proxy"])
+
+
+def test_report_tables_gain_mujoco_columns_only_with_mujoco_rows():
+    from pushctl.report.tables import table3, table4
+
+    shipped = pd.read_csv("results/evaluation/trials.csv", comment="#")
+    assert not any(c.endswith("_mujoco") for c in table4(shipped).values.columns)
+    cube = shipped[(shipped["object"] == "cube") & (shipped["profile"] == "constant")]
+    mujoco = cube[cube["plant"] == "sim"].assign(plant="mujoco")
+    mujoco = mujoco.assign(translation_error_pct=3.0 * mujoco["translation_error_pct"])
+    both = pd.concat([shipped, mujoco])
+    t3, t4 = table3(both).values, table4(both).values
+    row = t3[(t3["object"] == "cube") & (t3["profile"] == "constant")].iloc[0]
+    assert row["translation_error_pd_mujoco"] == pytest.approx(3.0 * row["translation_error_pd"])
+    assert "force_error_rl_mujoco" in t4.columns and "torque_error_pd_mujoco_ci95" in t4.columns
