@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from pushctl.arm import ArmConfig, load_arm
+from pushctl.arm import ArmConfig, ArmModel, load_arm
 from pushctl.config import GRAVITY, PusherConfig
 from pushctl.contact.world import World, WorldConfig
 from pushctl.errors import ConfigError
@@ -54,17 +54,12 @@ def make_world(
     config = WorldConfig(
         dt=dt, mu_ground=mu_ground, mu_contact=mu_contact, substeps=substeps, gravity=gravity
     )
-    if engine == "mujoco":  # imported here: MuJoCo is loaded only when asked for
-        from pushctl.mujoco import MujocoSettings, MujocoWorldConfig
-
-        config = MujocoWorldConfig(dt, mu_ground, mu_contact, gravity, MujocoSettings(substeps))
     if isinstance(object, ObjectSpec):
         spec = object if object_mass is None else with_masses(object, mass=object_mass)
     else:
         spec = resolve_object(object, mass=object_mass)
-    world_class = _world_class(engine)
     if arm is None:
-        return world_class(spec, None, config)
+        return _build(engine, spec, None, config)
     if pusher is None:
         pusher = PusherConfig(mass=spec.pusher_mass)
     arm_config = ArmConfig(
@@ -75,15 +70,23 @@ def make_world(
     )
     arm_model = load_arm(arm_config)
     arm_model.set_gravity(gravity)
-    return world_class(spec, arm_model, config)
+    return _build(engine, spec, arm_model, config)
 
 
-def _world_class(engine: str) -> type[World] | type[MujocoWorld]:
-    if engine == "mujoco":
-        from pushctl.mujoco import MujocoWorld
+def _build(
+    engine: str, spec: ObjectSpec, arm: ArmModel | None, config: WorldConfig
+) -> World | MujocoWorld:
+    """The world of ``engine`` with ``config``'s parameters (MuJoCo: its substeps as
+    MuJoCo steps per dt, its other settings the measured defaults)."""
+    if engine == "mujoco":  # imported here: MuJoCo is loaded only when asked for
+        from pushctl.mujoco import MujocoSettings, MujocoWorld, MujocoWorldConfig
 
-        return MujocoWorld
-    return World
+        settings = MujocoSettings(config.substeps)
+        mj_config = MujocoWorldConfig(
+            config.dt, config.mu_ground, config.mu_contact, config.gravity, settings
+        )
+        return MujocoWorld(spec, arm, mj_config)
+    return World(spec, arm, config)
 
 
 __all__ = ["ENGINES", "make_world"]

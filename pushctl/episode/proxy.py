@@ -22,12 +22,16 @@ import math
 import zlib
 from collections import deque
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from pushctl.contact.world import World
 from pushctl.errors import ConfigError
 from pushctl.types import StepResult
+
+if TYPE_CHECKING:
+    from pushctl.mujoco import MujocoWorld
 
 PROXY_STREAM = 4
 """First spawn-key entry of the proxy's generators: beside the scenario streams 1–3 of
@@ -171,7 +175,7 @@ class ProxyActuators:
         return -coulomb - self.viscous * v
 
     def step(
-        self, world: World, tau: np.ndarray, implicit_kv: float | np.ndarray
+        self, world: World | MujocoWorld, tau: np.ndarray, implicit_kv: float | np.ndarray
     ) -> tuple[StepResult, np.ndarray]:
         """One world step with the controller's latest command (``tau`` (nv,) [N·m] and its
         implicit gain ``implicit_kv`` [N·m·s/rad]). Returns the step's result and the torque

@@ -83,7 +83,7 @@ def spin_down(engine: str, omega0: float, dt: float, obj: str = "cube") -> dict[
     final = _run_until_rest(world)
     spec = world.object
     loads = spec.support_loads  # [N] at GRAVITY
-    torque = MU_GROUND * float(loads @ np.linalg.norm(spec.support_points, axis=1))
+    torque = MU_GROUND * float(loads @ np.linalg.norm(np.asarray(spec.support_points), axis=1))
     expected = omega0**2 / (2.0 * torque / spec.inertia_z)
     return {"angle": float(final[2]), "expected": expected, "drift": float(np.hypot(*final[:2]))}
 

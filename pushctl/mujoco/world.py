@@ -131,12 +131,22 @@ class MujocoWorld:
     # ------------------------------------------------------------------ state
 
     def _settle_height(self) -> float:
-        """Height [m] of the object's body origin resting on the soft floor (arm away)."""
-        data = self.data
-        data.qpos[self._obj_q : self._obj_q + 7] = (10.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0)
-        for _ in range(round(SETTLE_TIME / self.model.opt.timestep)):
-            mujoco.mj_step(self.model, data)
-        return float(data.qpos[self._obj_q + 2])
+        """Height [m] of the object's body origin resting on the soft floor, from a copy of
+        the scene without the arm (which, unactuated, would fall meanwhile)."""
+        config = self.config
+        model = build_model(
+            self.object,
+            None,
+            dt=config.dt,
+            mu_ground=config.mu_ground,
+            mu_contact=config.mu_contact,
+            gravity=config.gravity,
+            settings=config.mujoco,
+        )
+        data = mujoco.MjData(model)
+        for _ in range(round(SETTLE_TIME / model.opt.timestep)):
+            mujoco.mj_step(model, data)
+        return float(data.qpos[2])
 
     def reset(
         self,
