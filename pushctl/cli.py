@@ -190,9 +190,12 @@ def simulate(
     randomize: Annotated[
         bool,
         typer.Option(
-            "--randomize", help="draw μ_g, μ_c, masses and plant unknowns from the sim ranges"
+            "--randomize", help="draw μ_g, μ_c, masses and plant unknowns from the plant's ranges"
         ),
     ] = False,
+    plant: Annotated[
+        str, typer.Option(help="sim, proxy (the reality proxy) or mujoco (docs/mujoco.md)")
+    ] = "sim",
     mu_ground: Annotated[float | None, typer.Option(help="plant's object-table μ_g")] = None,
     mu_contact: Annotated[float | None, typer.Option(help="plant's prong-object μ_c")] = None,
     object_mass: Annotated[float | None, typer.Option(help="plant's object mass [kg]")] = None,
@@ -211,6 +214,7 @@ def simulate(
     from pushctl.cli_plan import PLOT_SUFFIXES, check_output, parse_pose
     from pushctl.cli_simulate import (
         check_controller,
+        check_plant,
         metrics_table,
         push,
         scenario_table,
@@ -224,13 +228,14 @@ def simulate(
         check_output("--plot", plot, PLOT_SUFFIXES)
         refuse_existing_files("--out/--plot", (out, plot), force)
         check_controller(controller)
+        check_plant(plant)
         goal_pose = None if goal is None else parse_pose("--goal", goal)
         pd_gains = load_gains(gains)
         overrides = {"mu_ground": mu_ground, "mu_contact": mu_contact, "object_mass": object_mass}
         scenario, redrawn = simulate_scenario(
-            object_name, profile, goal_pose, seed, randomize, overrides, duration, arm
+            object_name, profile, goal_pose, seed, randomize, overrides, duration, arm, plant
         )
-        trace, made = push(scenario, controller, pd_gains, policy)
+        trace, made = push(scenario, controller, pd_gains, policy, plant)
         console.print(scenario_table(scenario, made.trajectory.start, redrawn))
         metrics = compute_metrics(trace)
     except PushctlError as error:
@@ -404,7 +409,13 @@ def evaluate(
     controller: Annotated[
         str, typer.Option(help="pd (PD-only), feedback (PD + PI on the pose), rl or all")
     ] = "all",
-    plant: Annotated[str, typer.Option(help="sim, proxy (the reality proxy) or both")] = "both",
+    plant: Annotated[
+        str,
+        typer.Option(
+            help="sim, proxy (the reality proxy), mujoco (MuJoCo, docs/mujoco.md), "
+            "both (sim and proxy) or all"
+        ),
+    ] = "both",
     policy: Annotated[
         Path | None,
         typer.Option(help="residual policy (default: the shipped results/training/policy.pt)"),

@@ -20,7 +20,7 @@ from rich.progress import (
 from rich.table import Table
 
 from pushctl.control.feedback import load_feedback_gains
-from pushctl.episode.ranges import PLANTS
+from pushctl.episode.ranges import DEFAULT_PLANTS, PLANTS
 from pushctl.errors import ConfigError
 from pushctl.evaluation.evaluate import (
     DEFAULT_POLICY,
@@ -60,6 +60,17 @@ def choose(option: str, value: str, names: tuple[str, ...], every: str) -> tuple
     return (value,)
 
 
+def choose_plants(value: str) -> tuple[str, ...]:
+    """The plants ``--plant`` selects: one of PLANTS, ``both`` (sim and proxy) or ``all``."""
+    if value == "both":
+        return DEFAULT_PLANTS
+    if value == "all":
+        return PLANTS
+    if value not in PLANTS:
+        raise ConfigError(f"unknown --plant {value!r}; accepted: {', '.join(PLANTS)}, both or all")
+    return (value,)
+
+
 def prepare(
     object_name: str,
     profile: str,
@@ -77,7 +88,7 @@ def prepare(
     spec = TrialSpec(
         objects=choose("--object", object_name, OBJECT_NAMES, "all"),
         profiles=choose("--profile", profile, PROFILE_NAMES, "all"),
-        plants=choose("--plant", plant, PLANTS, "both"),
+        plants=choose_plants(plant),
         controllers=choose("--controller", controller, CONTROLLERS, "all"),
         trials=trials,
         seed=seed,

@@ -12,6 +12,8 @@ from rich.table import Table
 from pushctl.control.gains import PDGains, gains_toml
 from pushctl.episode.draw import draw_scenario
 from pushctl.episode.metrics import METRIC_UNITS, EpisodeMetrics
+from pushctl.episode.proxy import effects_for
+from pushctl.episode.ranges import PLANTS, plant_engine
 from pushctl.episode.runner import Episode
 from pushctl.episode.scenario import PhysicalParameters, Scenario
 from pushctl.episode.trace import Trace
@@ -35,15 +37,22 @@ def check_controller(name: str) -> None:
 
 
 def push(
-    scenario: Scenario, controller: str, gains: PDGains, policy: Path | None = None
+    scenario: Scenario,
+    controller: str,
+    gains: PDGains,
+    policy: Path | None = None,
+    plant: str = "sim",
 ) -> tuple[Trace, Plan]:
-    """Run ``scenario`` with ``controller`` on the simulator; the trace and the plan.
+    """Run ``scenario`` with ``controller`` on ``plant``; the trace and the plan.
     ``feedback`` pushes with the gains of ``experiments/feedback_gains.toml`` and today's
     residual settings, ``rl`` with the policy at ``policy`` (default: the shipped one) and
     the settings it was trained with; both through :class:`~pushctl.rl.env.PushEnv`."""
     check_controller(controller)
+    check_plant(plant)
     if controller == "pd":
-        episode = Episode(scenario, gains=gains)
+        episode = Episode(
+            scenario, gains=gains, effects=effects_for(plant), engine=plant_engine(plant)
+        )
         return episode.run(), episode.plan
     # torch and the environment load only for the controllers that need them
     from pushctl.control.feedback import load_feedback_gains
@@ -58,13 +67,18 @@ def push(
         config, actor = trained.env, trained.actor
     else:
         config = EnvConfig()
-    env = PushEnv(replace(config, plant="sim", duration=scenario.duration, dt=scenario.dt), gains)
+    env = PushEnv(replace(config, plant=plant, duration=scenario.duration, dt=scenario.dt), gains)
     env.reset(options={"scenario": scenario})
     if controller == "feedback":
         actor = FeedbackActor(env, load_feedback_gains())
     finish_with_policy(env, actor)
     assert env.episode is not None
     return env.episode.trace(), env.plan
+
+
+def check_plant(name: str) -> None:
+    if name not in PLANTS:
+        raise ConfigError(f"unknown plant {name!r}; accepted: {', '.join(PLANTS)}")
 
 
 def check_profile(name: str) -> None:
@@ -81,12 +95,13 @@ def simulate_scenario(
     overrides: dict[str, float | None],
     duration: float,
     arm: str,
+    plant: str = "sim",
 ) -> tuple[Scenario, int]:
     """The scenario ``pushctl simulate`` runs and the goals redrawn to find it.
 
     The goal is ``goal`` if given, else drawn from ``seed`` (evaluation stream). With
-    ``randomize`` the plant is drawn from the ``sim`` ranges of ``seed``. ``overrides``
-    (mu_ground, mu_contact, object_mass; None = keep) then set plant values by hand.
+    ``randomize`` the plant is drawn from ``plant``'s ranges of ``seed`` (mujoco: sim's).
+    ``overrides`` (mu_ground, mu_contact, object_mass; None = keep) then set plant values by hand.
     """
     check_profile(profile)
     if goal is None and seed is None:
@@ -100,7 +115,7 @@ def simulate_scenario(
             "evaluation",
             object_name,
             profile,
-            plant="sim" if randomize else None,
+            plant=plant if randomize else None,
             duration=duration,
             arm=arm,
         )

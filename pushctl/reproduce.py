@@ -8,8 +8,8 @@ user would type, run as a subprocess with its own output on the terminal:
    run is not trained again);
 2. the run's ``policy.pt``, ``policy_last.pt``, ``curve.csv`` and ``validation.csv`` copied to
    ``results/training/`` (the shipped policy and the Fig. 5 input);
-3. ``pushctl evaluate`` (50 trials per object × profile, both controllers, both plants,
-   2 workers) into ``results/evaluation/``;
+3. ``pushctl evaluate`` (50 trials per object × profile, both controllers, the plants
+   sim, proxy and mujoco, 2 workers) into ``results/evaluation/``;
 4. ``pushctl report`` (tables, ``tables.md``, figures) into ``results/``;
 5. ``python -m pushctl.bench`` into ``results/bench.csv``.
 
@@ -90,6 +90,7 @@ def steps(setup: Setup) -> list[tuple[str, list[str]]]:
         (
             "evaluate",
             [*pushctl_cli, "evaluate", "--trials", str(setup.trials), "--workers", "2"]
+            + ["--plant", "all"]  # sim, proxy and mujoco (docs/mujoco.md)
             + ["--seed", str(SEED), "--policy", str(training / "policy.pt")]
             + ["--out", str(setup.results / "evaluation"), "--force"],
         ),

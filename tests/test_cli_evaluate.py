@@ -79,7 +79,7 @@ def test_pd_only_needs_no_policy_and_the_seed_moves_the_targets(tmp_path: Path) 
     [
         (["--object", "sphere"], "unknown --object 'sphere'; accepted: cube, wedge or all"),
         (["--profile", "sine"], "accepted: constant, trapezoid, chirp or all"),
-        (["--plant", "real"], "accepted: sim, proxy or both"),
+        (["--plant", "real"], "accepted: sim, proxy, mujoco, both or all"),
         (["--controller", "ppo"], "accepted: pd, feedback, rl or all"),
         (["--trials", "0"], "--trials must be an integer in 1"),
         (["--workers", "0"], "--workers must be an integer in 1 … 8"),

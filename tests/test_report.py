@@ -283,7 +283,9 @@ def test_table4_shows_force_error_against_the_plan_beside_the_paper_and_the_plan
     # cube chirp PD sim: plan 3 × 5 mN beside the paper's 205 mN; the plant's 5 mN alone
     assert "| cube | chirp | 4 | 15 ± " in plan_part and "| 205 |" in plan_part
     (row,) = [line for line in plant_part.splitlines() if line.startswith("| cube | chirp |")]
-    assert row.startswith("| cube | chirp | 4 | 5 ± ") and row.count("|") == 10  # six controller × plant cells, no paper
+    assert (
+        row.startswith("| cube | chirp | 4 | 5 ± ") and row.count("|") == 10
+    )  # six controller × plant cells, no paper
     assert "| force vs plan sim RL/PD (ours) | paper |" in text
     # an older trials.csv without the column still makes the table (NaN: "–")
     older = table4(trials_frame())

@@ -22,7 +22,7 @@ def test_the_full_setup_is_the_issue_s_protocol(
     train = commands["train"]
     assert train[3:] == ["train", "--preset", "paper", "--seed", "0", "--out", "runs/paper"]
     evaluate = " ".join(commands["evaluate"])
-    assert "--trials 50 --workers 2" in evaluate
+    assert "--trials 50 --workers 2 --plant all" in evaluate
     assert "--policy results/training/policy.pt --out results/evaluation" in evaluate
     assert commands["report"][3:] == ["report", "--in", "results", "--out", "results", "--force"]
 

@@ -2,11 +2,20 @@
 
 from __future__ import annotations
 
-from pushctl.arm import ArmConfig, load_arm
+from typing import TYPE_CHECKING
+
+from pushctl.arm import ArmConfig, ArmModel, load_arm
 from pushctl.config import GRAVITY, PusherConfig
 from pushctl.contact.ground_field import FrictionField
 from pushctl.contact.world import World, WorldConfig
+from pushctl.errors import ConfigError
 from pushctl.objects import ObjectSpec, resolve_object, with_masses
+
+if TYPE_CHECKING:
+    from pushctl.mujoco import MujocoWorld
+
+ENGINES = ("ours", "mujoco")
+"""Physics engines of :func:`make_world`: our box-friction MLCP world, or MuJoCo."""
 
 
 def make_world(
@@ -23,7 +32,8 @@ def make_world(
     substeps: int = 1,
     gravity: float = GRAVITY,
     friction_field: FrictionField | None = None,
-) -> World:
+    engine: str = "ours",
+) -> World | MujocoWorld:
     """Build a world. Every argument is validated; bad ones raise a ``ConfigError``.
 
     object: a preset name (``cube``, ``wedge``), the path of a TOML object file, or an
@@ -39,7 +49,12 @@ def make_world(
     gravity [m/s²]: its magnitude; 0 turns it off for arm and ground loads alike.
     friction_field: μ(p)/μ_g over the table, a
         :class:`~pushctl.contact.ground_field.FrictionField`; None: μ_g everywhere.
+    engine: ``ours`` (default: the box-friction MLCP world, a :class:`World`) or ``mujoco``
+        (the same scene in MuJoCo, a :class:`pushctl.mujoco.MujocoWorld`, same interface;
+        ``substeps`` are then MuJoCo steps per ``dt``; see docs/mujoco.md).
     """
+    if engine not in ENGINES:
+        raise ConfigError(f"unknown engine {engine!r}; choose one of {', '.join(ENGINES)}")
     config = WorldConfig(
         dt=dt, mu_ground=mu_ground, mu_contact=mu_contact, substeps=substeps, gravity=gravity
     )
@@ -48,7 +63,7 @@ def make_world(
     else:
         spec = resolve_object(object, mass=object_mass)
     if arm is None:
-        return World(spec, None, config, friction_field)
+        return _build(engine, spec, None, config, friction_field)
     if pusher is None:
         pusher = PusherConfig(mass=spec.pusher_mass)
     arm_config = ArmConfig(
@@ -59,7 +74,33 @@ def make_world(
     )
     arm_model = load_arm(arm_config)
     arm_model.set_gravity(gravity)
-    return World(spec, arm_model, config, friction_field)
+    return _build(engine, spec, arm_model, config, friction_field)
 
 
-__all__ = ["make_world"]
+def _build(
+    engine: str,
+    spec: ObjectSpec,
+    arm: ArmModel | None,
+    config: WorldConfig,
+    friction_field: FrictionField | None,
+) -> World | MujocoWorld:
+    """The world of ``engine`` with ``config``'s parameters (MuJoCo: its substeps as
+    MuJoCo steps per dt, its other settings the measured defaults; its ground friction is
+    uniform, so a ``friction_field`` is refused there)."""
+    if engine == "mujoco":
+        if friction_field is not None:
+            raise ConfigError(
+                "a ground friction field is not available on the mujoco engine; "
+                "accepted there: uniform mu_ground (friction_field=None)"
+            )  # imported here: MuJoCo is loaded only when asked for
+        from pushctl.mujoco import MujocoSettings, MujocoWorld, MujocoWorldConfig
+
+        settings = MujocoSettings(config.substeps)
+        mj_config = MujocoWorldConfig(
+            config.dt, config.mu_ground, config.mu_contact, config.gravity, settings
+        )
+        return MujocoWorld(spec, arm, mj_config)
+    return World(spec, arm, config, friction_field)
+
+
+__all__ = ["ENGINES", "make_world"]

@@ -22,12 +22,16 @@ import math
 import zlib
 from collections import deque
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from pushctl.contact.world import World
 from pushctl.errors import ConfigError
 from pushctl.types import StepResult
+
+if TYPE_CHECKING:
+    from pushctl.mujoco import MujocoWorld
 
 PROXY_STREAM = 4
 """First spawn-key entry of the proxy's generators: beside the scenario streams 1–3 of
@@ -100,9 +104,9 @@ def effects_for(plant: str | None) -> ProxyEffects | None:
     ``"nominal"`` and None (the simulator as it is); ConfigError for another name."""
     if plant == "proxy":
         return ProxyEffects()
-    if plant in (None, "sim", "nominal"):
+    if plant in (None, "sim", "nominal", "mujoco"):
         return None
-    raise ConfigError(f"unknown plant {plant!r}; accepted: sim, proxy")
+    raise ConfigError(f"unknown plant {plant!r}; accepted: sim, proxy, mujoco")
 
 
 def proxy_rng(seed: int | None, purpose: str, case: str = "") -> np.random.Generator:
@@ -171,7 +175,7 @@ class ProxyActuators:
         return -coulomb - self.viscous * v
 
     def step(
-        self, world: World, tau: np.ndarray, implicit_kv: float | np.ndarray
+        self, world: World | MujocoWorld, tau: np.ndarray, implicit_kv: float | np.ndarray
     ) -> tuple[StepResult, np.ndarray]:
         """One world step with the controller's latest command (``tau`` (nv,) [N·m] and its
         implicit gain ``implicit_kv`` [N·m·s/rad]). Returns the step's result and the torque

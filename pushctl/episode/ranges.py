@@ -21,8 +21,21 @@ from pushctl.toml_files import check_keys, read_toml
 
 DEFAULT_RANGES_FILE = Path(__file__).resolve().parents[2] / "experiments" / "randomisation.toml"
 
-PLANTS = ("sim", "proxy")
-"""Plants with parameter ranges: the training simulator and the held-out reality proxy."""
+PLANTS = ("sim", "proxy", "mujoco")
+"""Plants: the training simulator, the held-out reality proxy, and MuJoCo (the same scene on
+another engine, evaluation only, parameters from the ``sim`` ranges; docs/mujoco.md)."""
+
+DEFAULT_PLANTS = ("sim", "proxy")
+"""The plants an evaluation runs by default (``--plant both``)."""
+
+_RANGES_OF = {"mujoco": "sim"}
+"""Plants that draw their parameters from another plant's ranges."""
+
+
+def plant_engine(plant: str | None) -> str:
+    """The physics engine of ``plant`` (see :func:`pushctl.make_world`): ``mujoco`` for the
+    MuJoCo plant, ``ours`` for every other."""
+    return "mujoco" if plant == "mujoco" else "ours"
 
 
 @dataclass(frozen=True)
@@ -39,7 +52,7 @@ class Randomisation:
         """The ranges of plant ``name`` (one of :data:`PLANTS`)."""
         if name not in PLANTS:
             raise ConfigError(f"unknown plant {name!r}; accepted: {', '.join(PLANTS)}")
-        ranges: ParameterRanges = getattr(self, name)
+        ranges: ParameterRanges = getattr(self, _RANGES_OF.get(name, name))
         return ranges
 
     def unknowns(self, name: str) -> UnknownRanges:

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -60,6 +61,9 @@ from pushctl.planning import ForcePlan, ForceSettings, Plan, make_plan
 from pushctl.planning.forces import distribute_forces
 from pushctl.types import StepResult
 
+if TYPE_CHECKING:
+    from pushctl.mujoco import MujocoWorld
+
 
 @dataclass(frozen=True)
 class ApproachSettings:
@@ -95,6 +99,8 @@ class Episode:
     ``residual_path``: how the residual reaches the PD (:mod:`pushctl.control.residual`):
     ``reference`` (integrated into an offset of the pusher reference) or ``velocity`` (the
     paper's form, added to v_e only).
+    ``engine``: the world's physics, ``ours`` or ``mujoco`` (:func:`make_world`); the
+    controller is the same on either.
     """
 
     def __init__(
@@ -105,6 +111,7 @@ class Episode:
         plan: Plan | None = None,
         effects: ProxyEffects | None = None,
         residual_path: str = "reference",
+        engine: str = "ours",
     ) -> None:
         self.scenario = scenario
         self.residual_path = check_residual_path(residual_path)
@@ -146,7 +153,7 @@ class Episode:
                 prong_errors=unknowns.prong_errors_for(pusher.n_prongs),
             )
         self.plant_forces: ForcePlan = self._plant_forces(pusher)
-        self.world: World = make_world(
+        self.world: World | MujocoWorld = make_world(
             self.object,
             arm=scenario.arm,
             mu_ground=plant.mu_ground,
@@ -154,7 +161,9 @@ class Episode:
             dt=scenario.dt,
             pusher=pusher,
             gravity=scenario.gravity,
-            friction_field=self.friction_field,
+            # MuJoCo's ground friction is uniform: the field is our engine's only
+            friction_field=self.friction_field if engine == "ours" else None,
+            engine=engine,  # "mujoco": the same scene on MuJoCo (an independent plant)
         )
         # The controller's model of the arm: the world's own unless the pusher is mounted
         # other than the controller believes (then the nominal pusher, same mass).

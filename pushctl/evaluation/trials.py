@@ -25,7 +25,7 @@ import numpy as np
 
 from pushctl.control.feedback import FeedbackGains
 from pushctl.episode.metrics import compute_metrics
-from pushctl.episode.ranges import PLANTS
+from pushctl.episode.ranges import DEFAULT_PLANTS, PLANTS
 from pushctl.episode.trace import Trace
 from pushctl.errors import ConfigError
 from pushctl.evaluation.controllers import CONTROLLERS, FeedbackActor
@@ -48,7 +48,7 @@ class TrialSpec:
 
     objects: tuple[str, ...] = OBJECT_NAMES
     profiles: tuple[str, ...] = PROFILE_NAMES
-    plants: tuple[str, ...] = PLANTS
+    plants: tuple[str, ...] = DEFAULT_PLANTS
     controllers: tuple[str, ...] = CONTROLLERS
     trials: int = 50
     seed: int = 0

@@ -230,6 +230,8 @@ _SERIES = (
     ("pd", "proxy", PD_PROXY, "--"),
     ("rl", "sim", RL, "-"),
     ("rl", "proxy", RL_PROXY, "--"),
+    ("pd", "mujoco", PD, ":"),  # drawn only when the steps have mujoco rows
+    ("rl", "mujoco", RL, ":"),
 )
 
 
@@ -250,6 +252,8 @@ def _force_panel(ax: Axes, cell: pd.DataFrame, metric: str, smooth: float) -> No
     drawn = [np.array([], dtype=float)]
     for controller, plant, colour, style in _SERIES:
         line = cell[(cell["controller"] == controller) & (cell["plant"] == plant)]
+        if plant == "mujoco" and line.empty:
+            continue
         line = line[line["step"] > 0].sort_values("step")
         t, values = line["t"].to_numpy(float), MILLI * line[metric].to_numpy(float)
         ax.plot(t, values, color=colour, lw=0.5, alpha=0.3)
@@ -285,6 +289,7 @@ def force_error_figure(steps: pd.DataFrame, smooth: float = SMOOTH_S) -> Figure:
     handles = [
         Line2D([], [], color=c, ls=s, lw=CONTROLLER_WIDTHS[k], label=f"{CONTROLLER_NAMES[k]}, {p}")
         for k, p, c, s in _SERIES
+        if p != "mujoco" or (steps["plant"] == "mujoco").any()
     ]
     handles.append(Line2D([], [], color="0.4", lw=0.5, alpha=0.5, label="each step (faint)"))
     fig.legend(handles=handles, loc="outside lower center", ncol=5, fontsize=FONT["legend"] + 1)

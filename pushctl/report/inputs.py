@@ -27,7 +27,7 @@ TRIALS = Path("evaluation") / "trials.csv"
 STEPS = Path("evaluation") / "steps.csv"
 CURVE = Path("training") / "curve.csv"
 
-PLANTS = ("sim", "proxy")
+PLANTS = ("sim", "proxy", "mujoco")
 CONTROLLERS = ("pd", "feedback", "rl")
 CURVE_METRICS = ("force_n_error", "force_t_error", "torque_error")
 """The per-episode errors of Fig. 5 [N, N, N·m], each as ``rl_<m>`` and ``pd_<m>``."""

@@ -121,13 +121,28 @@ def summarise(trials: pd.DataFrame, columns: dict[str, Source]) -> ResultTable:
     return ResultTable(values=pd.DataFrame(rows), counts=pd.DataFrame(counts))
 
 
+def _mujoco_columns(trials: pd.DataFrame, columns: dict[str, Source]) -> dict[str, Source]:
+    """``columns`` for the ``mujoco`` plant (named ``<column>_mujoco``, sim's sources with
+    the plant swapped) when ``trials`` has mujoco rows, else none: tables of a sim/proxy
+    evaluation keep their columns."""
+    if not (trials["plant"] == "mujoco").any():
+        return {}
+    sim = {name: source for name, source in columns.items() if source[1] == "sim"}
+    return {
+        f"{name.removesuffix('_sim')}_mujoco": (metric, "mujoco", controller)
+        for name, (metric, _, controller) in sim.items()
+    }
+
+
 def table3(trials: pd.DataFrame) -> ResultTable:
     """The paper's Table III from ``trials``: translation and angle error [%], PD-only,
-    feedback and RL-assisted, ``sim`` plant."""
-    return summarise(trials, TABLE3_COLUMNS)
+    feedback and RL-assisted, ``sim`` plant (and ``mujoco``, ``…_mujoco`` columns, if it
+    was run)."""
+    return summarise(trials, TABLE3_COLUMNS | _mujoco_columns(trials, TABLE3_COLUMNS))
 
 
 def table4(trials: pd.DataFrame) -> ResultTable:
     """The paper's Table IV from ``trials``: force error [N] and torque error [N·m],
-    PD-only, feedback and RL-assisted, ``sim`` and ``proxy`` plants."""
-    return summarise(trials, TABLE4_COLUMNS)
+    PD-only, feedback and RL-assisted, ``sim`` and ``proxy`` plants (and ``mujoco`` if it
+    was run)."""
+    return summarise(trials, TABLE4_COLUMNS | _mujoco_columns(trials, TABLE4_COLUMNS))

@@ -26,6 +26,7 @@ from pushctl.config import PusherConfig
 from pushctl.control.gains import PDGains, load_gains
 from pushctl.episode.draw import draw_planned_scenario
 from pushctl.episode.proxy import ProxyEffects, effects_for
+from pushctl.episode.ranges import plant_engine
 from pushctl.episode.runner import Episode
 from pushctl.episode.scenario import Scenario
 from pushctl.errors import ConfigError, StateError
@@ -68,6 +69,8 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         self.effects: ProxyEffects | None = effects_for(self.config.plant)
         """The reality proxy's effects of the episodes (None on the sim plant): a paired
         PD-only run is ``Episode(env.scenario, env.gains, plan=env.plan, effects=env.effects)``."""
+        self.engine = plant_engine(self.config.plant)
+        """The episodes' physics engine: ``mujoco`` on the MuJoCo plant, else ``ours``."""
         self.episode: Episode | None = None
         self._exact_pose = self.effects is None or not self.config.observe_camera
 
@@ -84,6 +87,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
             plan=plan,
             effects=self.effects,
             residual_path=self.config.residual_path,
+            engine=self.engine,
         )
         plan = self.episode.plan
         self._plan_pose = plan.trajectory.pose

@@ -81,6 +81,11 @@ class EnvConfig:
         _check_choice("profiles", self.profiles, PROFILE_NAMES)
         if self.plant not in PLANTS:
             raise ConfigError(f"env plant must be one of {', '.join(PLANTS)}, got {self.plant!r}")
+        if self.plant == "mujoco" and self.stream == "training":
+            raise ConfigError(
+                "the mujoco plant is for evaluation only: training runs on our engine "
+                "(env plant sim or proxy)"
+            )
         if self.stream not in STREAMS:
             raise ConfigError(
                 f"env stream must be one of {', '.join(STREAMS)}, got {self.stream!r}"
