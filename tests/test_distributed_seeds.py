@@ -3,6 +3,11 @@ with that seed, resumable per seed; and its bad input."""
 
 from __future__ import annotations
 
+import os
+import signal
+import subprocess
+import sys
+import time
 from pathlib import Path
 
 import pandas as pd
@@ -147,3 +152,52 @@ def test_bad_seed_options_give_one_line_errors(tiny: str, tmp_path: Path) -> Non
     _one_line_error(runner.invoke(app, [*base, "--seeds", "0,1", "--resume"]), "no checkpoint")
     assert (occupied / "notes.txt").read_text() == "keep me"
     assert not (tmp_path / "runs" / "seed-0").exists()
+
+
+def _task_processes() -> list[int]:
+    """Ray worker processes running a seed's training task (Ray titles them ``ray::_task``)."""
+    found = []
+    for cmdline in Path("/proc").glob("[0-9]*/cmdline"):
+        try:
+            if cmdline.read_bytes().startswith(b"ray::_task"):
+                found.append(int(cmdline.parent.name))
+        except OSError:
+            continue
+    return found
+
+
+def test_a_killed_worker_is_retried_from_its_checkpoint(tiny: str, tmp_path: Path) -> None:
+    """kill -9 to the worker process training a seed: Ray reruns the task, which continues
+    from the last checkpoint (never from an earlier episode) to the run a worker that was
+    never killed writes."""
+    out = tmp_path / "runs"
+    command = [sys.executable, "-m", "pushctl.cli", "train", "--preset", tiny, "--seeds", "3"]
+    process = subprocess.Popen(
+        [*command, "--episodes", "8", "--out", str(out)],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    checkpoint = out / "seed-3" / CHECKPOINT
+    deadline = time.monotonic() + 120
+    while not checkpoint.exists() and time.monotonic() < deadline:
+        time.sleep(0.05)
+    workers = _task_processes()
+    assert len(workers) == 1, workers
+    os.kill(workers[0], signal.SIGKILL)
+    killed_at = read_checkpoint(checkpoint)["next_episode"]
+    assert 2 <= killed_at < 8
+    seen = []
+    while process.poll() is None:
+        seen.append(read_checkpoint(checkpoint)["next_episode"])
+        time.sleep(0.1)
+    assert process.returncode == 0, process.stderr.read() if process.stderr else ""
+    assert min(seen) >= killed_at  # resumed, not started over
+    straight = Trainer.start(load_preset(tiny), 3, tmp_path / "straight")
+    made_by = (out / "seed-3" / CURVE).read_text().splitlines()[0]
+    straight.run(8, made_by=made_by)
+    for name in (CURVE, "validation.csv"):
+        assert (out / "seed-3" / name).read_bytes() == (straight.out / name).read_bytes()
+    expected = straight.agent.state_dict()["actor"]
+    for key, value in _actor(out / "seed-3").items():
+        assert torch.equal(value, expected[key]), key
