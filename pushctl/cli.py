@@ -1,8 +1,9 @@
 """The ``pushctl`` command line. Each command parses, validates, calls the core, renders.
 
 Commands: ``pushctl info``, ``plan``, ``simulate``, ``tune-pd``, ``train``
-(:mod:`pushctl.cli_train`), ``evaluate`` (:mod:`pushctl.cli_evaluate`) and ``report``
-(:mod:`pushctl.cli_report`).
+(:mod:`pushctl.cli_train`; ``--seeds``: :mod:`pushctl.cli_seeds`), ``evaluate``
+(:mod:`pushctl.cli_evaluate`), ``report`` (:mod:`pushctl.cli_report`) and ``sweep``
+(:mod:`pushctl.cli_sweep`).
 """
 
 from __future__ import annotations
@@ -367,12 +368,12 @@ def train(
 
 def _train_seeds(ctx, preset, episodes, seed, out, resume, force, seeds, address) -> None:
     """``pushctl train --seeds``: :mod:`pushctl.cli_seeds`."""
-    from pushctl.cli_seeds import prepare_seed_jobs, run_seeds_with_progress, seeds_table
+    from pushctl.cli_seeds import prepare_seed_jobs, run_jobs_with_progress, seeds_table
 
     try:
         command = _invocation(ctx)
         jobs = prepare_seed_jobs(preset, seeds, seed, out, episodes, resume, force, command)
-        results = run_seeds_with_progress(jobs, address, console)
+        results = [r for r, _ in run_jobs_with_progress(jobs, address, console)]
     except PushctlError as error:
         _fail(error)
     except KeyboardInterrupt:
@@ -516,6 +517,15 @@ def _invocation(context: typer.Context) -> str:
             continue
         parts += [param.opts[0]] if value is True else [param.opts[0], str(value)]
     return shlex.join(parts)
+
+
+def _register_sweep() -> None:
+    from pushctl.cli_sweep import sweep  # its own module: the command is long
+
+    app.command()(sweep)
+
+
+_register_sweep()
 
 
 if __name__ == "__main__":

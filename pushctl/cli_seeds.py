@@ -3,7 +3,9 @@ seeds as Ray tasks (:mod:`pushctl.distributed.seeds`) and shows their progress w
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
@@ -21,7 +23,7 @@ from pushctl.distributed.seeds import (
 from pushctl.errors import ConfigError
 from pushctl.provenance import provenance_line
 from pushctl.rl.presets import load_preset
-from pushctl.rl.train import CHECKPOINT, CURVE, LAST_POLICY, POLICY, VALIDATION
+from pushctl.rl.train import CHECKPOINT, CURVE, LAST_POLICY, POLICY, VALIDATION, Trainer
 
 LOG_EVERY = 25
 """Episodes between a seed's plain progress lines when the output is not a terminal."""
@@ -96,40 +98,42 @@ def _check_seed_directory(directory: Path, resume: bool, force: bool) -> None:
         )
 
 
-def run_seeds_with_progress(
-    jobs: list[TrainJob], address: str | None, console: Console
-) -> list[JobResult]:
-    """:func:`~pushctl.distributed.seeds.run_jobs` with one progress bar per seed."""
+def run_jobs_with_progress(
+    jobs: list[TrainJob],
+    address: str | None,
+    console: Console,
+    finish: Callable[[Trainer], Any] | None = None,
+) -> list[tuple[JobResult, Any]]:
+    """:func:`~pushctl.distributed.seeds.run_jobs` with one progress bar per job."""
     columns = (
-        TextColumn("[bold]seed {task.fields[seed]}"),
+        TextColumn("[bold]{task.fields[label]}"),
         MofNCompleteColumn(),
         BarColumn(),
         TextColumn("{task.fields[rates]}"),
         TimeElapsedColumn(),
     )
-    logged: dict[int, int] = {}
+    logged: dict[str, int] = {}
     with Progress(*columns, console=console) as progress:
         bars = {
-            job.seed: progress.add_task(
-                "train", total=job.episodes or job.preset.train.episodes, seed=job.seed, rates=""
+            job.name: progress.add_task(
+                "train", total=job.episodes or job.preset.train.episodes, label=job.name, rates=""
             )
             for job in jobs
         }
 
-        def show(status: dict[int, SeedStatus]) -> None:
+        def show(status: dict[str, SeedStatus]) -> None:
             for key, now in status.items():
                 progress.update(bars[key], completed=now.done, total=now.total, rates=now.rates)
                 due = now.done // LOG_EVERY > logged.get(key, 0) // LOG_EVERY
                 if not console.is_terminal and (due or now.done == now.total):
                     if logged.get(key) != now.done:
                         console.print(
-                            f"seed {key} episode {now.done}/{now.total}  {now.rates}",
+                            f"{key} episode {now.done}/{now.total}  {now.rates}",
                             highlight=False,
                         )
                 logged[key] = now.done
 
-        results = run_jobs(jobs, address, on_progress=show)
-    return [result for result, _ in results]
+        return run_jobs(jobs, address, on_progress=show, finish=finish)
 
 
 def seeds_table(results: list[JobResult]) -> Table:

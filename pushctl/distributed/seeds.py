@@ -68,7 +68,8 @@ class TrainJob:
     """One run: ``preset`` with ``seed`` into ``out`` (absolute: a worker on another node
     writes there, so it must be a shared file system) until ``episodes`` (None: the
     preset's); ``check_preset``: refuse a checkpoint of another preset (False when the
-    user resumes without naming one); ``made_by``: the provenance line."""
+    user resumes without naming one); ``made_by``: the provenance line; ``label``: its
+    name in progress reports (default ``seed K``)."""
 
     preset: Preset
     seed: int
@@ -77,6 +78,11 @@ class TrainJob:
     made_by: str
     gains: PDGains
     check_preset: bool = True
+    label: str = ""
+
+    @property
+    def name(self) -> str:
+        return self.label or f"seed {self.seed}"
 
 
 @dataclass(frozen=True)
@@ -119,7 +125,7 @@ def open_trainer(job: TrainJob) -> Trainer:
 
 def run_job(
     job: TrainJob,
-    report: Callable[[int, SeedStatus], None] | None = None,
+    report: Callable[[str, SeedStatus], None] | None = None,
     finish: Callable[[Trainer], Any] | None = None,
 ) -> tuple[JobResult, Any]:
     """Train ``job`` in this process (its collectors too), reporting each episode to
@@ -133,7 +139,7 @@ def run_job(
     def show(update: Progress) -> None:
         if report is not None:
             rates = f"{update.env_steps_per_s:,.0f} steps/s {update.updates_per_s:,.1f} upd/s"
-            report(job.seed, SeedStatus(update.episodes_done, total, rates))
+            report(job.name, SeedStatus(update.episodes_done, total, rates))
 
     if trainer.next_episode < total:
         trainer.run(total, on_episode=show, made_by=job.made_by)
@@ -154,12 +160,12 @@ class _Board:
     """Where running tasks post their progress and the driver reads it (no core held)."""
 
     def __init__(self) -> None:
-        self.status: dict[int, SeedStatus] = {}
+        self.status: dict[str, SeedStatus] = {}
 
-    def post(self, key: int, status: SeedStatus) -> None:
+    def post(self, key: str, status: SeedStatus) -> None:
         self.status[key] = status
 
-    def read(self) -> dict[int, SeedStatus]:
+    def read(self) -> dict[str, SeedStatus]:
         return self.status
 
 
@@ -173,15 +179,16 @@ def _task(
 def run_jobs(
     jobs: list[TrainJob],
     address: str | None = None,
-    on_progress: Callable[[dict[int, SeedStatus]], None] | None = None,
+    on_progress: Callable[[dict[str, SeedStatus]], None] | None = None,
     finish: Callable[[Trainer], Any] | None = None,
 ) -> list[tuple[JobResult, Any]]:
     """Run every job as a Ray task (see :func:`run_job`), calling ``on_progress`` with
-    every job's last status every :data:`POLL` s; results in the jobs' order. A job that
-    fails raises its error (a PushctlError keeps its one line, prefixed by the seed)."""
+    every job's last status (by :attr:`TrainJob.name`) every :data:`POLL` s; results in the
+    jobs' order. A job that fails raises its error (a PushctlError keeps its one line,
+    prefixed by the job's name)."""
     with session(address):
         board = _Board.remote()  # type: ignore[attr-defined]
-        refs = {_task.remote(job, board, finish): job.seed for job in jobs}
+        refs = {_task.remote(job, board, finish): job.name for job in jobs}
         waiting = list(refs)
         try:
             while waiting:
@@ -196,13 +203,13 @@ def run_jobs(
         return [ray.get(ref) for ref in refs]
 
 
-def _raise_failure(ref: Any, seed: int) -> None:
+def _raise_failure(ref: Any, name: str) -> None:
     """Nothing if the task of ``ref`` succeeded; else its error, a PushctlError keeping its
-    one line (prefixed by the seed)."""
+    one line (prefixed by the job's name)."""
     try:
         ray.get(ref)
     except ray.exceptions.RayTaskError as exc:
         cause = exc.cause
         if isinstance(cause, PushctlError):
-            raise type(cause)(f"seed {seed}: {cause}") from None
+            raise type(cause)(f"{name}: {cause}") from None
         raise
