@@ -28,10 +28,12 @@ lint: $(STAMP)
 bench: $(STAMP)
 	$(PY) -m pushctl.bench --profile --out results/bench.csv
 
-# Train (paper preset), evaluate (50 trials x 2 objects x 3 profiles x 2 controllers x 2 plants),
-# report, bench; QUICK=1: quick preset, 4 trials, into results-quick/ (pushctl/reproduce.py).
+# Train (paper preset, seeds $(SEEDS) on Ray), evaluate (50 trials x 2 objects x 3 profiles x
+# 2 controllers x 2 plants), report, bench; QUICK=1: quick preset, 4 trials, into results-quick/;
+# SEEDS=0: one training seed (pushctl/reproduce.py).
+SEEDS ?= 0,1,2
 reproduce-tables: $(STAMP)
-	$(PY) -m pushctl.reproduce $(if $(filter 1,$(QUICK)),--quick,)
+	$(PY) -m pushctl.reproduce $(if $(filter 1,$(QUICK)),--quick,) --seeds $(SEEDS)
 
 clean:
 	rm -rf $(VENV) .pytest_cache

@@ -3,16 +3,19 @@
 Run as ``python -m pushctl.reproduce [--quick]``. Each step is the ``pushctl`` command a
 user would type, run as a subprocess with its own output on the terminal:
 
-1. ``pushctl train --preset paper --seed 0 --out runs/paper`` (``--resume`` when the run
-   directory holds a checkpoint, so an interrupted reproduction continues, and a finished
-   run is not trained again);
-2. the run's ``policy.pt``, ``policy_last.pt``, ``curve.csv`` and ``validation.csv`` copied to
-   ``results/training/`` (the shipped policy and the Fig. 5 input);
+1. ``pushctl train --preset paper --seeds 0,1,2 --out runs/paper``: one Ray task per seed
+   into ``runs/paper/seed-K/`` (``--resume`` when a seed's directory holds a checkpoint, so
+   an interrupted reproduction continues, and a finished run is not trained again);
+2. each run's ``policy.pt``, ``policy_last.pt``, ``curve.csv`` and ``validation.csv`` copied
+   to ``results/training/seed-K/``, and the first seed's also to ``results/training/`` (the
+   policy the evaluation below runs and the Fig. 5 input, until the report evaluates every
+   seed);
 3. ``pushctl evaluate`` (50 trials per object × profile, both controllers, both plants,
    2 workers) into ``results/evaluation/``;
 4. ``pushctl report`` (tables, ``tables.md``, figures) into ``results/``;
 5. ``python -m pushctl.bench`` into ``results/bench.csv``.
 
+``--seeds 0`` (``make reproduce-tables SEEDS=0``): other training seeds, e.g. one.
 ``--quick``: the ``quick`` preset, 4 trials, no bench, everything under ``results-quick/``
 and ``runs/quick`` (the committed ``results/`` stays as it is). The manifest
 ``provenance.md`` records each step's command, exit code and wall time, the git commit,
@@ -28,7 +31,7 @@ import subprocess
 import sys
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from datetime import datetime, timezone
 from pathlib import Path
 
@@ -36,6 +39,9 @@ import pushctl
 from pushctl.provenance import git_commit, write_atomic
 
 SEED = 0
+"""The evaluation's seed."""
+SEEDS = (0, 1, 2)
+"""The training seeds (issue 16: three seeds of the paper preset)."""
 MANIFEST = "provenance.md"
 TRAINING_FILES = ("policy.pt", "policy_last.pt", "curve.csv", "validation.csv")
 
@@ -50,6 +56,7 @@ class Setup:
     trials: int
     results: Path
     bench: bool
+    seeds: tuple[int, ...] = SEEDS
 
 
 FULL = Setup("paper", Path("runs/paper"), 50, Path("results"), bench=True)
@@ -70,12 +77,13 @@ def steps(setup: Setup) -> list[tuple[str, list[str]]]:
     """The (name, argv) of each subprocess step; copying the training files is done in
     between by :func:`reproduce` itself."""
     pushctl_cli = [sys.executable, "-m", "pushctl.cli"]
-    resume = ["--resume"] if (setup.run / "checkpoint.pt").is_file() else []
+    resume = ["--resume"] if any(c.is_file() for c in _checkpoints(setup)) else []
+    seeds = ",".join(str(seed) for seed in setup.seeds)
     training = setup.results / "training"
     listed: list[tuple[str, list[str]]] = [
         (
             "train",
-            [*pushctl_cli, "train", "--preset", setup.preset, "--seed", str(SEED)]
+            [*pushctl_cli, "train", "--preset", setup.preset, "--seeds", seeds]
             + ["--out", str(setup.run), *resume],
         ),
         (
@@ -111,12 +119,25 @@ def reproduce(setup: Setup) -> list[StepRecord]:
     return records
 
 
+def seed_run(setup: Setup, seed: int) -> Path:
+    """A training seed's run directory (:mod:`pushctl.distributed.seeds`' layout)."""
+    return setup.run / f"seed-{seed}"
+
+
+def _checkpoints(setup: Setup) -> list[Path]:
+    return [seed_run(setup, seed) / "checkpoint.pt" for seed in setup.seeds]
+
+
 def copy_training(setup: Setup) -> None:
-    """The run's policy and curves into ``results/training/`` (each copied atomically)."""
-    target = setup.results / "training"
-    target.mkdir(parents=True, exist_ok=True)
-    for name in TRAINING_FILES:
-        write_atomic(target / name, _copier(setup.run / name))
+    """Each seed's policy and curves into ``results/training/seed-K/``, the first seed's
+    also into ``results/training/`` (each file copied atomically)."""
+    training = setup.results / "training"
+    targets = [(training / f"seed-{seed}", seed) for seed in setup.seeds]
+    targets.append((training, setup.seeds[0]))  # the evaluated policy, Fig. 5's curve
+    for target, seed in targets:
+        target.mkdir(parents=True, exist_ok=True)
+        for name in TRAINING_FILES:
+            write_atomic(target / name, _copier(seed_run(setup, seed) / name))
 
 
 def _copier(source: Path) -> Callable[[Path], object]:
@@ -132,7 +153,9 @@ def write_manifest(setup: Setup, records: list[StepRecord], started: datetime) -
         f"- command: `make reproduce-tables{' QUICK=1' if setup is QUICK else ''}` "
         f"(`python -m pushctl.reproduce{' --quick' if setup is QUICK else ''}`)",
         f"- pushctl {pushctl.__version__}, commit {git_commit()}",
-        f"- seeds: training {SEED} (training stream), evaluation {SEED} (evaluation stream)",
+        f"- seeds: training {','.join(map(str, setup.seeds))} (training stream; "
+        f"`{setup.results}/training/seed-K/`), evaluation {SEED} (evaluation stream) of "
+        f"training seed {setup.seeds[0]}'s policy",
         f"- started {started.strftime('%Y-%m-%d %H:%M:%S')} UTC; wall time {_minutes(total)}",
         f"- outcome: {'failed at ' + failed[0].name if failed else 'all steps succeeded'}",
         "",
@@ -165,8 +188,18 @@ def _minutes(seconds: float) -> str:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m pushctl.reproduce")
     parser.add_argument("--quick", action="store_true", help="quick preset, few trials")
+    parser.add_argument("--seeds", default=None, help="training seeds, e.g. 0,1,2 or 0-2 or 0")
     args = parser.parse_args(argv)
     setup = QUICK if args.quick else FULL
+    if args.seeds is not None:
+        from pushctl.distributed.seeds import parse_seeds
+        from pushctl.errors import ConfigError
+
+        try:
+            setup = replace(setup, seeds=parse_seeds(args.seeds))
+        except ConfigError as error:
+            print(f"reproduce-tables: {error}", file=sys.stderr)
+            return 2
     records = reproduce(setup)
     failed = [r for r in records if r.returncode != 0]
     if failed:
