@@ -109,13 +109,14 @@ class WorkerPool:
 
     def __init__(self, workers: int, factory: Callable[..., Any], args: tuple[Any, ...]) -> None:
         share = cpus_per_worker(workers)
-        self._actors = [_Host.options(num_cpus=share).remote(factory, args) for _ in range(workers)]
+        host: Any = _Host  # a Ray actor class: .options and .remote come from the decorator
+        self._actors = [host.options(num_cpus=share).remote(factory, args) for _ in range(workers)]
         self._turn = cycle(self._actors)
 
     def ordered(self, method: str, items: Iterable[Any]) -> Iterator[Any]:
         """``getattr(held, method)(item)`` for each item, in order."""
         pool = ActorPool(self._actors)
-        return pool.map(lambda actor, item: actor.call.remote(method, item), items)
+        return pool.map(lambda actor, item: actor.call.remote(method, item), list(items))
 
     def submit(self, method: str, *args: Any) -> Future[Any]:
         return next(self._turn).call.remote(method, *args).future()

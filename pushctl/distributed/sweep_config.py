@@ -80,7 +80,7 @@ class Sweep:
         """The configurations to train (key → value), each with every seed: the grid's
         combinations in order (the last key varying fastest), or ``samples`` draws."""
         if self.search == "grid":
-            lists = [self.parameters[key] for key in self.keys]
+            lists = [list(self.parameters[key]) for key in self.keys]  # type: ignore[arg-type]
             return [dict(zip(self.keys, combo, strict=True)) for combo in itertools.product(*lists)]
         rng = np.random.default_rng(self.search_seed)
         return [
@@ -195,12 +195,19 @@ def _spec(key: str, value: Any, search: str) -> list[Any] | Range:
         return value
     if isinstance(value, dict) and search == "random":
         check_keys(value, ["low", "high", "log"], f"parameter {key!r}", all_required=False)
-        low, high, log = value.get("low"), value.get("high"), value.get("log", False)
-        numbers = all(isinstance(v, int | float) and not isinstance(v, bool) for v in (low, high))
-        if not numbers or not low < high or (log and low <= 0) or not isinstance(log, bool):
+        low: Any = value.get("low")
+        high: Any = value.get("high")
+        log = value.get("log", False)
+        if not (_number(low) and _number(high)) or not isinstance(log, bool):
+            raise ConfigError(f"parameter {key!r} needs numbers low < high, got {value}")
+        if not low < high or (log and low <= 0):
             raise ConfigError(
                 f"parameter {key!r} needs numbers low < high (> 0 with log = true), got {value}"
             )
         return Range(low, high, log)
     accepted = "a list of values" + (" or {low, high, log}" if search == "random" else "")
     raise ConfigError(f"parameter {key!r} must be {accepted} for a {search} search, got {value!r}")
+
+
+def _number(value: Any) -> bool:
+    return isinstance(value, int | float) and not isinstance(value, bool)
