@@ -12,6 +12,7 @@ from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, T
 from rich.table import Table
 
 from pushctl.control.gains import load_gains
+from pushctl.distributed.engine import session
 from pushctl.distributed.seeds import (
     JobResult,
     SeedStatus,
@@ -113,7 +114,8 @@ def run_jobs_with_progress(
         TimeElapsedColumn(),
     )
     logged: dict[str, int] = {}
-    with Progress(*columns, console=console) as progress:
+    # Ray first: a cluster that does not answer is a one-line error, with no display drawn
+    with session(address), Progress(*columns, console=console) as progress:
         bars = {
             job.name: progress.add_task(
                 "train", total=job.episodes or job.preset.train.episodes, label=job.name, rates=""

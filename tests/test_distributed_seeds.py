@@ -201,3 +201,12 @@ def test_a_killed_worker_is_retried_from_its_checkpoint(tiny: str, tmp_path: Pat
     expected = straight.agent.state_dict()["actor"]
     for key, value in _actor(out / "seed-3").items():
         assert torch.equal(value, expected[key]), key
+
+
+def test_an_address_where_no_cluster_answers_is_a_one_line_error() -> None:
+    from pushctl.distributed.engine import connect
+
+    clock = time.monotonic()
+    with pytest.raises(ConfigError, match="no Ray cluster answers") as caught:
+        connect("127.0.0.1:1")
+    assert "\n" not in str(caught.value) and time.monotonic() - clock < 10

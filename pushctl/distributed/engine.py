@@ -14,6 +14,7 @@ JIT-compiled kernels, the actor network) is paid once per worker, as with a proc
 from __future__ import annotations
 
 import os
+import socket
 from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import Future
 from contextlib import contextmanager
@@ -26,6 +27,8 @@ from ray.util import ActorPool
 from pushctl.errors import ConfigError
 
 ADDRESS_VARIABLE = "RAY_ADDRESS"
+CONNECT_TIMEOUT = 5.0
+"""Seconds to wait for a cluster's head to accept a connection."""
 LOCAL_OBJECT_STORE = 256 * 1024**2
 """Object-store bytes of a local instance: results here are episodes' transitions and trial
 rows (kilobytes to a few MB), and Ray's default (30 % of the RAM) only reserves /dev/shm."""
@@ -59,6 +62,7 @@ def connect(address: str | None = None, num_cpus: int | None = None) -> None:
     quiet: dict[str, Any] = {"logging_level": "ERROR", "log_to_driver": False}
     target = address_from(address)
     if target is not None:
+        _check_reachable(target)
         try:
             ray.init(address=target, **quiet)
         except (ConnectionError, RuntimeError, ValueError) as exc:
@@ -74,6 +78,23 @@ def connect(address: str | None = None, num_cpus: int | None = None) -> None:
         object_store_memory=LOCAL_OBJECT_STORE,
         **quiet,
     )
+
+
+def _check_reachable(address: str) -> None:
+    """ConfigError (one line) if a ``host:port`` address does not accept a connection within
+    :data:`CONNECT_TIMEOUT` s: ``ray.init`` would retry such an address for minutes.
+    Other forms (``auto``, ``ray://…``) are left to Ray."""
+    host, _, port = address.rpartition(":")
+    if "://" in address or not host or not port.isdigit():
+        return
+    try:
+        socket.create_connection((host, int(port)), timeout=CONNECT_TIMEOUT).close()
+    except OSError as exc:
+        raise ConfigError(
+            f"--address {address}: no Ray cluster answers there ({exc.strerror or exc}); "
+            "start one with `ray start --head` or leave out --address and RAY_ADDRESS "
+            "to run locally"
+        ) from None
 
 
 def cluster_cpus() -> float:
