@@ -210,3 +210,31 @@ def test_an_address_where_no_cluster_answers_is_a_one_line_error() -> None:
     with pytest.raises(ConfigError, match="no Ray cluster answers") as caught:
         connect("127.0.0.1:1")
     assert "\n" not in str(caught.value) and time.monotonic() - clock < 10
+
+
+def test_address_joins_a_running_cluster(tiny: str, tmp_path: Path, ray_local: None) -> None:
+    """This test session's Ray instance stands in for a cluster: a ``pushctl train`` process
+    joins it with ``--address`` and its seed runs there."""
+    import ray
+
+    address = ray.get_runtime_context().gcs_address
+    command = [sys.executable, "-m", "pushctl.cli", "train", "--preset", tiny, "--episodes", "1"]
+    joined = subprocess.run(
+        [*command, "--seeds", "0", "--out", str(tmp_path / "a"), "--address", address],
+        capture_output=True,
+        text=True,
+    )
+    assert joined.returncode == 0, joined.stderr
+    assert read_checkpoint(tmp_path / "a" / "seed-0" / CHECKPOINT)["next_episode"] == 1
+
+
+def test_the_address_comes_from_the_option_then_ray_address(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    from pushctl.distributed.engine import address_from
+
+    monkeypatch.delenv("RAY_ADDRESS", raising=False)
+    assert address_from(None) is None  # start Ray here
+    monkeypatch.setenv("RAY_ADDRESS", "head:6379")
+    assert address_from(None) == "head:6379"
+    assert address_from("other:6379") == "other:6379"
