@@ -154,15 +154,28 @@ def test_bad_seed_options_give_one_line_errors(tiny: str, tmp_path: Path) -> Non
     assert not (tmp_path / "runs" / "seed-0").exists()
 
 
-def _task_processes() -> list[int]:
-    """Ray worker processes running a seed's training task (Ray titles them ``ray::_task``)."""
+def _parent(pid: int) -> int:
+    try:
+        return int(Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[1])
+    except (OSError, ValueError, IndexError):
+        return 0
+
+
+def _task_processes(ancestor: int) -> list[int]:
+    """Ray worker processes below ``ancestor`` (its Ray instance's, not another one's on
+    this machine) running a seed's training task (Ray titles them ``ray::_task``)."""
     found = []
     for cmdline in Path("/proc").glob("[0-9]*/cmdline"):
         try:
-            if cmdline.read_bytes().startswith(b"ray::_task"):
-                found.append(int(cmdline.parent.name))
+            if not cmdline.read_bytes().startswith(b"ray::_task"):
+                continue
         except OSError:
             continue
+        pid = int(cmdline.parent.name)
+        while pid > 1 and pid != ancestor:
+            pid = _parent(pid)
+        if pid == ancestor:
+            found.append(int(cmdline.parent.name))
     return found
 
 
@@ -182,7 +195,7 @@ def test_a_killed_worker_is_retried_from_its_checkpoint(tiny: str, tmp_path: Pat
     deadline = time.monotonic() + 120
     while not checkpoint.exists() and time.monotonic() < deadline:
         time.sleep(0.05)
-    workers = _task_processes()
+    workers = _task_processes(process.pid)
     assert len(workers) == 1, workers
     os.kill(workers[0], signal.SIGKILL)
     killed_at = read_checkpoint(checkpoint)["next_episode"]

@@ -120,6 +120,28 @@ class _Host:
         return getattr(self.held, method)(*args)
 
 
+@ray.remote(num_cpus=0)
+class _Board:
+    """Where running tasks post their progress and the driver reads it. It holds no core,
+    and its process imports only this module (not torch)."""
+
+    def __init__(self) -> None:
+        self.status: dict[str, Any] = {}
+
+    def post(self, key: str, status: Any) -> None:
+        self.status[key] = status
+
+    def read(self) -> dict[str, Any]:
+        return self.status
+
+
+def new_board() -> Any:
+    """A progress board (an actor handle: ``board.post.remote(key, status)`` from tasks,
+    ``ray.get(board.read.remote())`` from the driver). Call inside a :func:`session`."""
+    board: Any = _Board
+    return board.remote()
+
+
 class WorkerPool:
     """``workers`` Ray actors, each holding ``factory(*args)``. Call inside a :func:`session`.
 

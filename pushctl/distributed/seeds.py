@@ -16,14 +16,14 @@ from __future__ import annotations
 import re
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import astuple, dataclass
 from pathlib import Path
 from typing import Any
 
 import ray
 
 from pushctl.control.gains import PDGains
-from pushctl.distributed.engine import session
+from pushctl.distributed.engine import new_board, session
 from pushctl.errors import ConfigError, PushctlError
 from pushctl.rl.presets import Preset
 from pushctl.rl.train import CHECKPOINT, Progress, Trainer
@@ -155,25 +155,12 @@ def run_job(
     return result, extra
 
 
-@ray.remote(num_cpus=0)
-class _Board:
-    """Where running tasks post their progress and the driver reads it (no core held)."""
-
-    def __init__(self) -> None:
-        self.status: dict[str, SeedStatus] = {}
-
-    def post(self, key: str, status: SeedStatus) -> None:
-        self.status[key] = status
-
-    def read(self) -> dict[str, SeedStatus]:
-        return self.status
-
-
 @ray.remote(num_cpus=1, max_retries=RETRIES, retry_exceptions=False)
 def _task(
     job: TrainJob, board: Any, finish: Callable[[Trainer], Any] | None
 ) -> tuple[JobResult, Any]:
-    return run_job(job, lambda key, status: board.post.remote(key, status), finish)
+    # plain tuples on the board: its process then needs none of this module's imports
+    return run_job(job, lambda key, status: board.post.remote(key, astuple(status)), finish)
 
 
 def run_jobs(
@@ -187,7 +174,7 @@ def run_jobs(
     jobs' order. A job that fails raises its error (a PushctlError keeps its one line,
     prefixed by the job's name)."""
     with session(address):
-        board = _Board.remote()  # type: ignore[attr-defined]
+        board = new_board()
         refs = {_task.remote(job, board, finish): job.name for job in jobs}
         waiting = list(refs)
         try:
@@ -196,7 +183,8 @@ def run_jobs(
                 for ref in ready:
                     _raise_failure(ref, refs[ref])
                 if on_progress is not None:
-                    on_progress(ray.get(board.read.remote()))
+                    posted = ray.get(board.read.remote())
+                    on_progress({key: SeedStatus(*value) for key, value in posted.items()})
         finally:
             for ref in waiting:
                 ray.cancel(ref, force=True)
