@@ -192,8 +192,10 @@ def run_jobs(
 
 
 def _raise_failure(ref: Any, name: str) -> None:
-    """Nothing if the task of ``ref`` succeeded; else its error, a PushctlError keeping its
-    one line (prefixed by the job's name)."""
+    """Nothing if the task of ``ref`` succeeded; else its error: a PushctlError keeps its
+    one line (prefixed by the job's name), a task Ray gave up on (its worker died more than
+    :data:`RETRIES` times, its node was lost) becomes one line saying how to continue, and
+    any other error (a bug) is raised as it is."""
     try:
         ray.get(ref)
     except ray.exceptions.RayTaskError as exc:
@@ -201,3 +203,9 @@ def _raise_failure(ref: Any, name: str) -> None:
         if isinstance(cause, PushctlError):
             raise type(cause)(f"{name}: {cause}") from None
         raise
+    except ray.exceptions.RayError as exc:
+        reason = " ".join(str(exc).split())[:160]
+        raise PushctlError(
+            f"{name}: Ray gave up on its task ({type(exc).__name__}: {reason}); "
+            "rerun with --resume to continue from its last checkpoint"
+        ) from None
