@@ -69,7 +69,7 @@ def write_sweep(directory: Path, result, made_by: str) -> list[Path]:
     from pushctl.report.sweep_figure import sweep_figure
 
     directory.mkdir(parents=True, exist_ok=True)
-    figure = sweep_figure(result.trials, result.sweep.keys)
+    figure = sweep_figure(result.trials, result.sweep.keys, grid=result.sweep.search == "grid")
     write_atomic(directory / FIGURE_FILE, lambda tmp: figure.savefig(tmp, format="png", dpi=150))
     write_csv(directory / SUMMARY_FILE, result.summary, made_by)
     write_csv(directory / TRIALS_FILE, result.trials, made_by)
@@ -84,7 +84,7 @@ def summary_table(result):
     keys = result.sweep.keys
     table = Table(title="sweep: validation score (force + translation ratio; PD-only = 2)")
     for heading in ("trial", *keys, "seeds", "score mean", "sd", "min", "max", "beat PD"):
-        table.add_column(heading, justify="right")
+        table.add_column(heading, justify="right", overflow="fold")
     for row in result.summary.to_dict("records"):
         table.add_row(
             f"{int(row['trial']):03d}",
