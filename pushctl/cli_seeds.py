@@ -150,6 +150,6 @@ def seeds_table(results: list[JobResult]) -> Table:
             f"{r.env_steps:,}",
             f"{r.updates:,}",
             f"{r.seconds:,.0f} s",
-            str(r.out),
+            str(r.out.relative_to(Path.cwd()) if r.out.is_relative_to(Path.cwd()) else r.out),
         )
     return table

@@ -141,6 +141,8 @@ def run_job(
             rates = f"{update.env_steps_per_s:,.0f} steps/s {update.updates_per_s:,.1f} upd/s"
             report(job.name, SeedStatus(update.episodes_done, total, rates))
 
+    if report is not None:  # where the run starts (a finished one: where it ended)
+        report(job.name, SeedStatus(min(trainer.next_episode, total), total))
     if trainer.next_episode < total:
         trainer.run(total, on_episode=show, made_by=job.made_by)
     extra = finish(trainer) if finish is not None else None
