@@ -27,6 +27,8 @@ from ray.util import ActorPool
 from pushctl.errors import ConfigError
 
 ADDRESS_VARIABLE = "RAY_ADDRESS"
+RETRIES = 3
+"""Times a worker whose process died is restarted, and its calls rerun."""
 CONNECT_TIMEOUT = 5.0
 """Seconds to wait for a cluster's head to accept a connection."""
 LOCAL_OBJECT_STORE = 256 * 1024**2
@@ -109,9 +111,12 @@ def cpus_per_worker(workers: int) -> float:
     return min(1.0, cluster_cpus() / max(1, workers))
 
 
-@ray.remote(max_restarts=0)
+@ray.remote(max_restarts=RETRIES, max_task_retries=RETRIES)
 class _Host:
-    """One worker process holding ``factory(*args)``; :meth:`call` runs one of its methods."""
+    """One worker process holding ``factory(*args)``; :meth:`call` runs one of its methods.
+    A host whose process dies is restarted (``factory`` runs again) and the calls it had
+    are run again: the pools' calls are pure functions of their arguments (an episode of
+    a seed, an evaluation trial), so a retried call returns what the first would have."""
 
     def __init__(self, factory: Callable[..., Any], args: tuple[Any, ...]) -> None:
         self.held = factory(*args)
