@@ -30,10 +30,12 @@ bench: $(STAMP)
 	$(PY) -m pushctl.bench --profile --out results/bench.csv --force
 	$(PY) -m pushctl.bench_compare --against 551bcac --out results/bench_compare.csv --force
 
-# Train (paper preset), evaluate (50 trials x 2 objects x 3 profiles x 2 controllers x 2 plants),
-# report, bench; QUICK=1: quick preset, 4 trials, into results-quick/ (pushctl/reproduce.py).
+# Train (paper preset, seeds $(SEEDS) on Ray), evaluate (50 trials x 2 objects x 3 profiles x
+# 2 controllers x 2 plants), report, bench; QUICK=1: quick preset, 4 trials, into results-quick/;
+# SEEDS=0: one training seed (pushctl/reproduce.py).
+SEEDS ?= 0,1,2
 reproduce-tables: $(STAMP)
-	$(PY) -m pushctl.reproduce $(if $(filter 1,$(QUICK)),--quick,) $(if $(filter 1,$(FORCE)),--force,)
+	$(PY) -m pushctl.reproduce $(if $(filter 1,$(QUICK)),--quick,) $(if $(filter 1,$(FORCE)),--force,) --seeds $(SEEDS)
 
 clean:
 	rm -rf $(VENV) .pytest_cache

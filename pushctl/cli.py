@@ -1,9 +1,9 @@
 """The ``pushctl`` command line. Each command parses, validates, calls the core, renders.
 
 Commands: ``pushctl info``, ``plan``, ``simulate``, ``tune-pd``, ``tune-feedback``
-(:mod:`pushctl.cli_tune_feedback`), ``train``
-(:mod:`pushctl.cli_train`), ``evaluate`` (:mod:`pushctl.cli_evaluate`) and ``report``
-(:mod:`pushctl.cli_report`).
+(:mod:`pushctl.cli_tune_feedback`), ``train`` (:mod:`pushctl.cli_train`; ``--seeds``:
+:mod:`pushctl.cli_seeds`), ``evaluate`` (:mod:`pushctl.cli_evaluate`), ``report``
+(:mod:`pushctl.cli_report`) and ``sweep`` (:mod:`pushctl.cli_sweep`).
 """
 
 from __future__ import annotations
@@ -368,9 +368,20 @@ def train(
     ] = None,
     resume: Annotated[bool, typer.Option("--resume", help="continue the run in --out")] = False,
     force: Annotated[bool, typer.Option("--force", help="start over in an occupied --out")] = False,
+    seeds: Annotated[
+        str | None,
+        typer.Option(help="several seeds, e.g. 0,1,2 or 0-4: one Ray task each, --out/seed-K"),
+    ] = None,
+    address: Annotated[
+        str | None, typer.Option(help="Ray cluster to join (default: RAY_ADDRESS, else local)")
+    ] = None,
 ) -> None:
     """Train the residual policy (DDPG, eq. 17 reward) on randomised pushes; write the
     checkpoint, the training curves (Fig. 5) and the policy to the run directory."""
+    if seeds is not None:
+        return _train_seeds(ctx, preset, episodes, seed, out, resume, force, seeds, address)
+    if address is not None:
+        _fail(PushctlError("--address needs --seeds (one run's collectors follow RAY_ADDRESS)"))
     from pushctl.cli_train import prepare_trainer, run_with_progress, summary_table
     from pushctl.provenance import provenance_line
     from pushctl.rl.train import CURVE, POLICY
@@ -398,6 +409,28 @@ def train(
         _fail_write(error)
     console.print(summary_table(trainer))
     console.print(f"wrote {trainer.out / CURVE} and {trainer.out / POLICY}")
+
+
+def _train_seeds(ctx, preset, episodes, seed, out, resume, force, seeds, address) -> None:
+    """``pushctl train --seeds``: :mod:`pushctl.cli_seeds`."""
+    from pushctl.cli_seeds import prepare_seed_jobs, run_jobs_with_progress, seeds_table
+
+    try:
+        command = _invocation(ctx)
+        jobs = prepare_seed_jobs(preset, seeds, seed, out, episodes, resume, force, command)
+        results = [r for r, _ in run_jobs_with_progress(jobs, address, console)]
+    except PushctlError as error:
+        _fail(error)
+    except KeyboardInterrupt:
+        root = out if out is not None else f"runs/{preset or 'quick'}-seeds"
+        error_console.print(
+            f"interrupted: `pushctl train --seeds {seeds} --resume --out {root}` continues "
+            "each seed from its last checkpoint"
+        )
+        raise typer.Exit(code=130) from None
+    except OSError as error:
+        _fail_write(error)
+    console.print(seeds_table(results))
 
 
 @app.command()
@@ -547,6 +580,15 @@ def _invocation(context: typer.Context) -> str:
             continue
         parts += [param.opts[0]] if value is True else [param.opts[0], str(value)]
     return shlex.join(parts)
+
+
+def _register_sweep() -> None:
+    from pushctl.cli_sweep import sweep  # its own module: the command is long
+
+    app.command()(sweep)
+
+
+_register_sweep()
 
 
 if __name__ == "__main__":

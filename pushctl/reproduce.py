@@ -3,16 +3,20 @@
 Run as ``python -m pushctl.reproduce [--quick]``. Each step is the ``pushctl`` command a
 user would type, run as a subprocess with its own output on the terminal:
 
-1. ``pushctl train --preset paper --seed 0 --out runs/paper`` (``--resume`` when the run
-   directory holds a checkpoint, so an interrupted reproduction continues, and a finished
-   run is not trained again);
-2. the run's ``policy.pt``, ``policy_last.pt``, ``curve.csv`` and ``validation.csv`` copied to
-   ``results/training/`` (the shipped policy and the Fig. 5 input);
-3. ``pushctl evaluate`` (50 trials per object × profile, both controllers, the plants
-   sim, proxy and mujoco, 2 workers) into ``results/evaluation/``;
+1. ``pushctl train --preset paper --seeds 0,1,2 --out runs/paper``: one Ray task per seed
+   into ``runs/paper/seed-K/`` (``--resume`` when a seed's directory holds a checkpoint, so
+   an interrupted reproduction continues, and a finished run is not trained again);
+2. each run's ``policy.pt``, ``policy_last.pt``, ``curve.csv`` and ``validation.csv`` copied
+   to ``results/training/seed-K/``, and the first seed's also to ``results/training/`` (the
+   policy the evaluation below runs and the Fig. 5 input, until the report evaluates every
+   seed);
+3. ``pushctl evaluate`` (50 trials per object × profile, every controller, the plants sim,
+   proxy and mujoco,
+   2 workers) into ``results/evaluation/``;
 4. ``pushctl report`` (tables, ``tables.md``, figures) into ``results/``;
 5. ``python -m pushctl.bench`` into ``results/bench.csv``.
 
+``--seeds 0`` (``make reproduce-tables SEEDS=0``): other training seeds, e.g. one.
 ``--quick``: the ``quick`` preset, 4 trials, no bench, everything under ``results-quick/``
 and ``runs/quick`` (the committed ``results/`` stays as it is). The manifest
 ``provenance.md`` records each step's command, exit code and wall time, the git commit,
@@ -43,6 +47,9 @@ import pushctl
 from pushctl.provenance import git_commit, write_atomic
 
 SEED = 0
+"""The evaluation's seed."""
+SEEDS = (0, 1, 2)
+"""The training seeds (issue 16: three seeds of the paper preset)."""
 MANIFEST = "provenance.md"
 TRAINING_FILES = ("policy.pt", "policy_last.pt", "curve.csv", "validation.csv")
 
@@ -58,6 +65,7 @@ class Setup:
     results: Path
     bench: bool
     force: bool = False
+    seeds: tuple[int, ...] = SEEDS
 
 
 FULL = Setup("paper", Path("runs/paper"), 50, Path("results"), bench=True)
@@ -80,11 +88,12 @@ def steps(setup: Setup) -> list[tuple[str, list[str]]]:
     :func:`check_owned` has made sure the results directory is this command's."""
     pushctl_cli = [sys.executable, "-m", "pushctl.cli"]
     resume = _train_mode(setup)
+    seeds = ",".join(str(seed) for seed in setup.seeds)
     training = setup.results / "training"
     listed: list[tuple[str, list[str]]] = [
         (
             "train",
-            [*pushctl_cli, "train", "--preset", setup.preset, "--seed", str(SEED)]
+            [*pushctl_cli, "train", "--preset", setup.preset, "--seeds", seeds]
             + ["--out", str(setup.run), *resume],
         ),
         (
@@ -107,10 +116,11 @@ def steps(setup: Setup) -> list[tuple[str, list[str]]]:
 
 
 def _train_mode(setup: Setup) -> list[str]:
-    """``--resume`` for a run with a checkpoint; ``--force`` for a run directory holding
-    files but no checkpoint that this reproduction started (its manifest names it) or when
-    the user passed ``--force``; nothing for a fresh run."""
-    if (setup.run / "checkpoint.pt").is_file():
+    """``--resume`` when any seed's run has a checkpoint (seeds without one then start);
+    ``--force`` for a run directory holding files but no checkpoint that this reproduction
+    started (its manifest names it) or when the user passed ``--force``; nothing for a fresh
+    run."""
+    if any(checkpoint.is_file() for checkpoint in _checkpoints(setup)):
         return ["--resume"]
     occupied = setup.run.is_dir() and any(setup.run.iterdir())
     if occupied and (setup.force or _run_line(setup) in _own_manifest(setup)):
@@ -171,12 +181,25 @@ def reproduce(setup: Setup) -> list[StepRecord]:
     return records
 
 
+def seed_run(setup: Setup, seed: int) -> Path:
+    """A training seed's run directory (:mod:`pushctl.distributed.seeds`' layout)."""
+    return setup.run / f"seed-{seed}"
+
+
+def _checkpoints(setup: Setup) -> list[Path]:
+    return [seed_run(setup, seed) / "checkpoint.pt" for seed in setup.seeds]
+
+
 def copy_training(setup: Setup) -> None:
-    """The run's policy and curves into ``results/training/`` (each copied atomically)."""
-    target = setup.results / "training"
-    target.mkdir(parents=True, exist_ok=True)
-    for name in TRAINING_FILES:
-        write_atomic(target / name, _copier(setup.run / name))
+    """Each seed's policy and curves into ``results/training/seed-K/``, the first seed's
+    also into ``results/training/`` (each file copied atomically)."""
+    training = setup.results / "training"
+    targets = [(training / f"seed-{seed}", seed) for seed in setup.seeds]
+    targets.append((training, setup.seeds[0]))  # the evaluated policy, Fig. 5's curve
+    for target, seed in targets:
+        target.mkdir(parents=True, exist_ok=True)
+        for name in TRAINING_FILES:
+            write_atomic(target / name, _copier(seed_run(setup, seed) / name))
 
 
 def _copier(source: Path) -> Callable[[Path], object]:
@@ -196,7 +219,9 @@ def write_manifest(
         f"- command: `make reproduce-tables{' QUICK=1' if quick else ''}` "
         f"(`python -m pushctl.reproduce{' --quick' if quick else ''}`)",
         f"- pushctl {pushctl.__version__}, commit {git_commit()}",
-        f"- seeds: training {SEED} (training stream), evaluation {SEED} (evaluation stream)",
+        f"- seeds: training {','.join(map(str, setup.seeds))} (training stream; "
+        f"`{setup.results}/training/seed-K/`), evaluation {SEED} (evaluation stream) of "
+        f"training seed {setup.seeds[0]}'s policy",
         f"- started {started.strftime('%Y-%m-%d %H:%M:%S')} UTC; wall time {_minutes(total)}",
         f"- outcome: {'running (or stopped)' if running else outcome}",
         _run_line(setup),
@@ -233,10 +258,20 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--force", action="store_true", help="overwrite a results directory it did not make"
     )
+    parser.add_argument("--seeds", default=None, help="training seeds, e.g. 0,1,2 or 0-2 or 0")
     args = parser.parse_args(argv)
     setup = QUICK if args.quick else FULL
     if args.force:
         setup = replace(setup, force=True)
+    if args.seeds is not None:
+        from pushctl.distributed.seeds import parse_seeds
+        from pushctl.errors import ConfigError
+
+        try:
+            setup = replace(setup, seeds=parse_seeds(args.seeds))
+        except ConfigError as error:
+            print(f"reproduce-tables: {error}", file=sys.stderr)
+            return 2
     refusal = check_owned(setup)
     if refusal is not None:
         print(f"reproduce-tables: {refusal}", file=sys.stderr)

@@ -40,7 +40,9 @@ def _evaluate(out: Path, *args: str):
     return runner.invoke(app, ["evaluate", *tiny, *args])
 
 
-def test_two_workers_write_the_same_bytes_as_one(tmp_path: Path, policy: Path) -> None:
+def test_two_workers_write_the_same_bytes_as_one(
+    tmp_path: Path, policy: Path, ray_local: None
+) -> None:
     one = _evaluate(tmp_path / "one", "--policy", str(policy), "--workers", "1")
     two = _evaluate(tmp_path / "two", "--policy", str(policy), "--workers", "2")
     assert one.exit_code == 0, one.output

@@ -20,7 +20,7 @@ def test_the_full_setup_is_the_issue_s_protocol(
     commands = {name: argv for name, argv in reproduce.steps(FULL)}
     assert list(commands) == ["train", "evaluate", "report", "bench"]
     train = commands["train"]
-    assert train[3:] == ["train", "--preset", "paper", "--seed", "0", "--out", "runs/paper"]
+    assert train[3:] == ["train", "--preset", "paper", "--seeds", "0,1,2", "--out", "runs/paper"]
     evaluate = " ".join(commands["evaluate"])
     assert "--trials 50 --workers 2 --plant all" in evaluate
     assert "--policy results/training/policy.pt --out results/evaluation" in evaluate
@@ -36,9 +36,9 @@ def test_quick_writes_elsewhere_and_skips_the_bench() -> None:
 def test_a_run_with_a_checkpoint_is_resumed(tmp_path: Path) -> None:
     setup = replace(QUICK, run=tmp_path / "run", results=tmp_path / "results")
     assert "--resume" not in reproduce.steps(setup)[0][1]
-    setup.run.mkdir()
-    (setup.run / "checkpoint.pt").write_bytes(b"x")
-    assert reproduce.steps(setup)[0][1][-1] == "--resume"
+    (setup.run / "seed-1").mkdir(parents=True)
+    (setup.run / "seed-1" / "checkpoint.pt").write_bytes(b"x")
+    assert reproduce.steps(setup)[0][1][-1] == "--resume"  # the others start, seed 1 resumes
 
 
 def _fake(setup: Setup, codes: dict[str, int]):
@@ -50,11 +50,15 @@ def _fake(setup: Setup, codes: dict[str, int]):
         for name, code in codes.items():
             script = f"import sys; sys.exit({code})"
             if name == "train":
-                setup.run.mkdir(parents=True, exist_ok=True)
+                runs = [reproduce.seed_run(setup, seed) for seed in setup.seeds]
+                for run in runs:
+                    run.mkdir(parents=True, exist_ok=True)
                 script = (
                     "from pathlib import Path; "
                     + "; ".join(
-                        f"Path({str(setup.run / f)!r}).write_text({f!r})" for f in TRAINING_FILES
+                        f"Path({str(run / f)!r}).write_text({run.name + f!r})"
+                        for run in runs
+                        for f in TRAINING_FILES
                     )
                     + f"; import sys; sys.exit({code})"
                 )
@@ -72,8 +76,12 @@ def test_successful_steps_copy_the_training_files_and_record_each_step(
     records = reproduce.reproduce(setup)
     assert [(r.name, r.returncode) for r in records] == [("train", 0), ("report", 0)]
     for name in TRAINING_FILES:
-        assert (setup.results / "training" / name).read_text() == name
+        assert (setup.results / "training" / name).read_text() == f"seed-0{name}"
+        for seed in (0, 1, 2):
+            copied = setup.results / "training" / f"seed-{seed}" / name
+            assert copied.read_text() == f"seed-{seed}{name}"
     manifest = (setup.results / MANIFEST).read_text()
+    assert "training 0,1,2 (training stream" in manifest
     assert "all steps succeeded" in manifest
     assert manifest.count("| 0 |") == 2
 
@@ -112,3 +120,14 @@ def test_results_written_by_a_run_do_not_make_the_commit_dirty(tmp_path: Path) -
     (tmp_path / "code.py").write_text("a = 2\n")
     assert git_commit(tmp_path) == f"{clean}-dirty"
     assert git_commit(tmp_path.parent / "nowhere") == "unknown"
+
+
+def test_the_training_seeds_are_an_option(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    setup = replace(QUICK, run=tmp_path / "run", results=tmp_path / "results")
+    seen = []
+    monkeypatch.setattr(reproduce, "QUICK", setup)
+    monkeypatch.setattr(reproduce, "reproduce", lambda chosen: seen.append(chosen) or [])
+    assert reproduce.main(["--quick", "--seeds", "4"]) == 0
+    assert seen[0].seeds == (4,)
+    assert "--seeds 4 " in " ".join(reproduce.steps(seen[0])[0][1]) + " "
+    assert reproduce.main(["--quick", "--seeds", "2-0"]) == 2

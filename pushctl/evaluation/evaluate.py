@@ -2,7 +2,9 @@
 in this process or in worker processes, gathered into the two tables it writes.
 
 Workers: ``workers`` > 1 runs the jobs (one trial on one plant, every controller) in
-that many spawned processes, each building its environments and policy once. A job's result
+that many Ray worker processes, each building its environments and policy once (Ray starts
+on this machine unless this process is connected or ``RAY_ADDRESS`` names a cluster). A job's
+result
 depends on the job alone (the scenario comes from its seed, every episode starts from a fresh
 world, the proxy's noise is seeded from the scenario), and results are gathered in job order,
 so any number of workers writes the same bytes.
@@ -13,13 +15,8 @@ README's *Evaluating* section for the columns) are written only once every trial
 
 from __future__ import annotations
 
-import os
-import threading
-import time
 from collections.abc import Callable, Iterator
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, replace
-from multiprocessing import get_context
 from pathlib import Path
 from typing import Any
 
@@ -217,8 +214,9 @@ class _Context:
 
 
 def _results(jobs: list[Job], setup: tuple, workers: int) -> Iterator[TrialResult]:
-    """The jobs' results in job order, from this process or from ``workers`` processes.
-    torch runs the actor on one thread either way (so float sums cannot depend on it)."""
+    """The jobs' results in job order, from this process or from ``workers`` Ray worker
+    processes (:class:`~pushctl.distributed.engine.WorkerPool`). torch runs the actor on one
+    thread either way (so float sums cannot depend on it)."""
     threads = torch.get_num_threads()
     torch.set_num_threads(1)
     try:
@@ -227,40 +225,18 @@ def _results(jobs: list[Job], setup: tuple, workers: int) -> Iterator[TrialResul
             for job in jobs:
                 yield context.run(job)
             return
-        pool = ProcessPoolExecutor(
-            max_workers=workers,
-            mp_context=get_context("spawn"),
-            initializer=_worker_init,
-            initargs=setup,
-        )
-        try:
-            yield from pool.map(_worker_run, jobs)
-        finally:
-            pool.shutdown(wait=True, cancel_futures=True)
+        from pushctl.distributed.engine import WorkerPool, session  # Ray only when used
+
+        with session(), WorkerPool(workers, _worker_context, setup) as pool:
+            yield from pool.ordered("run", jobs)
     finally:
         torch.set_num_threads(threads)
 
 
-_WORKER: _Context | None = None
-
-
-def _worker_init(*setup: Any) -> None:
-    global _WORKER
-    _WORKER = _Context(*setup)
-    threading.Thread(target=_exit_with_parent, args=(os.getppid(),), daemon=True).start()
-
-
-def _worker_run(job: Job) -> TrialResult:
-    assert _WORKER is not None
-    return _WORKER.run(job)
-
-
-def _exit_with_parent(parent: int) -> None:
-    """End the worker when the evaluation's process is gone: one killed outright (SIGKILL)
-    runs no clean-up, and the pool's worker would otherwise wait for work forever."""
-    while os.getppid() == parent:
-        time.sleep(1.0)
-    os._exit(0)
+def _worker_context(*setup: Any) -> _Context:
+    """A worker process's context, torch on one thread."""
+    torch.set_num_threads(1)
+    return _Context(*setup)
 
 
 # ---------------------------------------------------------------------------- gathering

@@ -18,13 +18,11 @@ that beat PD-only on the validation set, or the zero residual if none did; else 
 from __future__ import annotations
 
 import math
-import os
-import threading
 import time
 from collections.abc import Callable
-from concurrent.futures import Future, ProcessPoolExecutor
+from concurrent.futures import Future
+from contextlib import ExitStack
 from dataclasses import dataclass, replace
-from multiprocessing import get_context
 from pathlib import Path
 from typing import Any
 
@@ -89,6 +87,8 @@ class Trainer:
         self.validation: list[dict[str, Any]] = []
         self.best_actor: dict[str, Any] | None = None
         self.made_by = ""
+        self.collectors = preset.train.workers
+        """Collector processes this session (no result depends on it; see TrainConfig)."""
         self._validator: Validator | None = None
         self._pd_env: PushEnv | None = None
 
@@ -137,7 +137,7 @@ class Trainer:
         configure_torch(self.preset.ddpg.torch_threads)
         clock = _Rates(self.agent)
         train = self.preset.train
-        with _Collector(self.preset, self.gains, self.seed) as collector:
+        with _Collector(self.preset, self.gains, self.seed, self.collectors) as collector:
             flight = self._submit_round(collector, self.next_episode, episodes)
             while flight is not None:
                 # The collectors run this round (and queue its validation pushes) while the
@@ -254,7 +254,7 @@ class Trainer:
             train = self.preset.train
             self._validator = Validator(self.preset.env, self.gains, train.validation_per_cell)
         actor = self.agent.actor_state()
-        chunks = self._validator.chunks(3 * max(1, self.preset.train.workers))
+        chunks = self._validator.chunks(3 * max(1, self.collectors))
         futures = [collector.validate(portable(actor), chunk) for chunk in chunks]
         return _PendingValidation(episode, self.agent.n_updates, actor, futures)
 
@@ -375,74 +375,55 @@ class _Rates:
         )
 
 
-_WORKER_ENV: PushEnv | None = None
-_WORKER_VALIDATION_ENV: PushEnv | None = None
+class _CollectorWorker:
+    """What a collector process holds: the training environment and, once needed, the
+    validation one."""
 
+    def __init__(self, preset: Preset, gains: PDGains) -> None:
+        self.env = PushEnv(preset.env, gains)
+        self._validation_env: PushEnv | None = None
 
-def _worker_init(preset: Preset, gains: PDGains) -> None:
-    global _WORKER_ENV
-    torch.set_num_threads(1)
-    _WORKER_ENV = PushEnv(preset.env, gains)
-    threading.Thread(target=_exit_with_parent, args=(os.getppid(),), daemon=True).start()
+    def collect(self, seed: int, episode: int, behaviour: Behaviour) -> EpisodeRecord:
+        env = self.env
+        return collect_episode(env.config, env.gains, seed, episode, behaviour, env=env)
 
-
-def _exit_with_parent(parent: int) -> None:
-    """End the collector when the learner is gone: a learner killed outright (SIGKILL,
-    SIGTERM) runs no clean-up, and the pool's worker would otherwise wait for work forever."""
-    while os.getppid() == parent:
-        time.sleep(1.0)
-    os._exit(0)
-
-
-def _worker_collect(seed: int, episode: int, behaviour: Behaviour) -> EpisodeRecord:
-    assert _WORKER_ENV is not None
-    env = _WORKER_ENV
-    return collect_episode(env.config, env.gains, seed, episode, behaviour, env=env)
-
-
-def _worker_validate(actor_state: dict[str, Any], options: list[dict[str, Any]]) -> list[Metrics]:
-    global _WORKER_VALIDATION_ENV
-    assert _WORKER_ENV is not None
-    if _WORKER_VALIDATION_ENV is None:
-        _WORKER_VALIDATION_ENV = validation_env(_WORKER_ENV.config, _WORKER_ENV.gains)
-    return validation_metrics(_WORKER_VALIDATION_ENV, tensors(actor_state), options)
+    def validate(self, actor_state: dict[str, Any], options: list[dict[str, Any]]) -> list[Metrics]:
+        if self._validation_env is None:
+            self._validation_env = validation_env(self.env.config, self.env.gains)
+        return validation_metrics(self._validation_env, tensors(actor_state), options)
 
 
 class _Collector:
-    """Runs episodes in this process (``workers`` 0) or in ``workers`` spawned processes."""
+    """Runs episodes in this process (``workers`` 0) or in ``workers`` Ray worker processes
+    (:class:`~pushctl.distributed.engine.WorkerPool`; Ray is started here if this process
+    is not connected yet)."""
 
-    def __init__(self, preset: Preset, gains: PDGains, seed: int) -> None:
-        self.preset, self.gains, self.seed = preset, gains, seed
-        self._pool: ProcessPoolExecutor | None = None
-        self._env: PushEnv | None = None
-        self._validation_env: PushEnv | None = None
+    def __init__(self, preset: Preset, gains: PDGains, seed: int, workers: int) -> None:
+        self.preset, self.gains, self.seed, self.workers = preset, gains, seed, workers
+        self._stack = ExitStack()
+        self._pool: Any = None
+        self._local: _CollectorWorker | None = None
 
     def __enter__(self) -> _Collector:
-        if self.preset.train.workers > 0:
-            self._pool = ProcessPoolExecutor(
-                max_workers=self.preset.train.workers,
-                mp_context=get_context("spawn"),
-                initializer=_worker_init,
-                initargs=(self.preset, self.gains),
+        if self.workers > 0:
+            from pushctl.distributed.engine import WorkerPool, session  # Ray only when used
+
+            self._stack.enter_context(session())
+            self._pool = self._stack.enter_context(
+                WorkerPool(self.workers, _collector_process, (self.preset, self.gains))
             )
         else:
-            self._env = PushEnv(self.preset.env, self.gains)
+            self._local = _CollectorWorker(self.preset, self.gains)
         return self
 
     def __exit__(self, *exc: object) -> None:
-        if self._pool is not None:
-            self._pool.shutdown(wait=True, cancel_futures=True)
+        self._stack.close()
 
     def submit(self, episode: int, behaviour: Behaviour) -> Future[EpisodeRecord]:
         if self._pool is not None:
-            return self._pool.submit(_worker_collect, self.seed, episode, behaviour)
-        future: Future[EpisodeRecord] = Future()
-        env = self._env
-        assert env is not None
-        future.set_result(
-            collect_episode(env.config, env.gains, self.seed, episode, behaviour, env=env)
-        )
-        return future
+            return self._pool.submit("collect", self.seed, episode, behaviour)
+        assert self._local is not None
+        return _done(self._local.collect(self.seed, episode, behaviour))
 
     def validate(
         self, actor_state: dict[str, Any], options: list[dict[str, Any]]
@@ -450,9 +431,20 @@ class _Collector:
         """The metrics of the actor of ``actor_state`` (numpy arrays, :func:`portable`) on
         the validation scenarios ``options``."""
         if self._pool is not None:
-            return self._pool.submit(_worker_validate, actor_state, options)
-        if self._validation_env is None:
-            self._validation_env = validation_env(self.preset.env, self.gains)
-        future: Future[list[Metrics]] = Future()
-        future.set_result(validation_metrics(self._validation_env, tensors(actor_state), options))
-        return future
+            return self._pool.submit("validate", actor_state, options)
+        assert self._local is not None
+        return _done(self._local.validate(actor_state, options))
+
+
+def _collector_process(preset: Preset, gains: PDGains) -> _CollectorWorker:
+    """A collector in a worker process of its own: torch on one thread, as the learner's
+    results do not depend on it and the cores are the workers'."""
+    torch.set_num_threads(1)
+    return _CollectorWorker(preset, gains)
+
+
+def _done(value: Any) -> Future[Any]:
+    """A future that already holds ``value``."""
+    future: Future[Any] = Future()
+    future.set_result(value)
+    return future

@@ -83,16 +83,20 @@ def validation_metrics(
 
 
 class Validator:
-    """The validation set of ``per_cell`` scenarios (tuning-stream seeds 0 … per_cell − 1)
-    per object × profile of ``env_config``; PD-only's metrics are computed once."""
+    """The validation set of ``per_cell`` scenarios (tuning-stream seeds first … first +
+    per_cell − 1) per object × profile of ``env_config``; PD-only's metrics are computed
+    once. A run picks its actor on ``first`` 0; a sweep scores the picked actors on the
+    next seeds, a set the pick never saw."""
 
-    def __init__(self, env_config: EnvConfig, gains: PDGains, per_cell: int) -> None:
+    def __init__(
+        self, env_config: EnvConfig, gains: PDGains, per_cell: int, first: int = 0
+    ) -> None:
         self.env = validation_env(env_config, gains)
         self.options = [
             {"object": obj, "profile": profile, "scenario_seed": seed}
             for obj in env_config.objects
             for profile in env_config.profiles
-            for seed in range(per_cell)
+            for seed in range(first, first + per_cell)
         ]
         self._pd: list[Metrics] | None = None
 

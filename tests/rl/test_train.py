@@ -144,7 +144,9 @@ def test_resuming_a_finished_run_changes_nothing(straight: Trainer, tmp_path: Pa
     np.testing.assert_array_equal(load_policy(run / POLICY).actor(obs), expected)
 
 
-def test_the_collector_process_gives_the_same_run(straight: Trainer, tmp_path: Path) -> None:
+def test_the_collector_process_gives_the_same_run(
+    straight: Trainer, tmp_path: Path, ray_local: None
+) -> None:
     preset = load_preset(_preset(tmp_path, workers=1))
     parallel = Trainer.start(preset, 7, tmp_path / "run")
     parallel.run(5, made_by="# made by: test")
@@ -152,7 +154,7 @@ def test_the_collector_process_gives_the_same_run(straight: Trainer, tmp_path: P
 
 
 def test_rounds_of_episodes_give_the_same_run_with_any_number_of_collectors(
-    tmp_path: Path,
+    tmp_path: Path, ray_local: None
 ) -> None:
     runs = []
     for workers in (0, 2):

@@ -1,0 +1,181 @@
+"""Joining or starting Ray, and pools of stateful workers.
+
+A *session* (:func:`session`) connects this process to Ray once: to the cluster at
+``address`` (or ``RAY_ADDRESS``), else to a local instance started on this machine's cores
+with no dashboard and warnings only (on a 2-core laptop Ray's own processes should cost
+little). A session opened inside another (a test's, a command's) reuses it and leaves it
+running.
+
+A :class:`WorkerPool` is ``n`` Ray actors, each holding one object built from a factory
+(an evaluation context, a training collector), so that per-process set-up (environments,
+JIT-compiled kernels, the actor network) is paid once per worker, as with a process pool.
+"""
+
+from __future__ import annotations
+
+import os
+import socket
+from collections.abc import Callable, Iterable, Iterator
+from concurrent.futures import Future
+from contextlib import contextmanager
+from itertools import cycle
+from typing import Any
+
+import ray
+from ray.util import ActorPool
+
+from pushctl.errors import ConfigError
+
+ADDRESS_VARIABLE = "RAY_ADDRESS"
+RETRIES = 3
+"""Times a worker whose process died is restarted, and its calls rerun."""
+CONNECT_TIMEOUT = 5.0
+"""Seconds to wait for a cluster's head to accept a connection."""
+LOCAL_OBJECT_STORE = 256 * 1024**2
+"""Object-store bytes of a local instance: results here are episodes' transitions and trial
+rows (kilobytes to a few MB), and Ray's default (30 % of the RAM) only reserves /dev/shm."""
+
+
+def address_from(option: str | None) -> str | None:
+    """The cluster to join: ``option`` (``--address``), else ``RAY_ADDRESS``, else None
+    (start Ray on this machine)."""
+    return option or os.environ.get(ADDRESS_VARIABLE) or None
+
+
+@contextmanager
+def session(address: str | None = None) -> Iterator[None]:
+    """Ray connected for the block: reused if this process is already connected, else
+    joined at ``address`` (see :func:`address_from`) or started locally, and shut down at
+    the end. ConfigError (one line) if no cluster answers at the address."""
+    if ray.is_initialized():
+        yield
+        return
+    connect(address)
+    try:
+        yield
+    finally:
+        ray.shutdown()
+
+
+def connect(address: str | None = None, num_cpus: int | None = None) -> None:
+    """Connect this process to Ray (see :func:`session`); ``num_cpus`` of a local instance
+    defaults to the machine's cores."""
+    os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")
+    quiet: dict[str, Any] = {"logging_level": "ERROR", "log_to_driver": False}
+    target = address_from(address)
+    if target is not None:
+        _check_reachable(target)
+        try:
+            ray.init(address=target, **quiet)
+        except (ConnectionError, RuntimeError, ValueError) as exc:
+            reason = " ".join(str(exc).split())[:160]
+            raise ConfigError(
+                f"--address {target}: no Ray cluster answers there ({reason}); start one with "
+                "`ray start --head` or leave out --address and RAY_ADDRESS to run locally"
+            ) from None
+        return
+    ray.init(
+        num_cpus=num_cpus or os.cpu_count() or 1,
+        include_dashboard=False,
+        object_store_memory=LOCAL_OBJECT_STORE,
+        **quiet,
+    )
+
+
+def _check_reachable(address: str) -> None:
+    """ConfigError (one line) if a ``host:port`` address does not accept a connection within
+    :data:`CONNECT_TIMEOUT` s: ``ray.init`` would retry such an address for minutes.
+    Other forms (``auto``, ``ray://…``) are left to Ray."""
+    host, _, port = address.rpartition(":")
+    if "://" in address or not host or not port.isdigit():
+        return
+    try:
+        socket.create_connection((host, int(port)), timeout=CONNECT_TIMEOUT).close()
+    except OSError as exc:
+        raise ConfigError(
+            f"--address {address}: no Ray cluster answers there ({exc.strerror or exc}); "
+            "start one with `ray start --head` or leave out --address and RAY_ADDRESS "
+            "to run locally"
+        ) from None
+
+
+def cluster_cpus() -> float:
+    """CPUs of the connected cluster (1 if it reports none)."""
+    return float(ray.cluster_resources().get("CPU", 1.0)) or 1.0
+
+
+def cpus_per_worker(workers: int) -> float:
+    """The CPU share each of ``workers`` actors asks for: one core each while the cluster
+    has enough, else an equal share of it, so that every worker starts (a worker waiting for
+    a core that never frees would hold its share of the work forever)."""
+    return min(1.0, cluster_cpus() / max(1, workers))
+
+
+@ray.remote(max_restarts=RETRIES, max_task_retries=RETRIES)
+class _Host:
+    """One worker process holding ``factory(*args)``; :meth:`call` runs one of its methods.
+    A host whose process dies is restarted (``factory`` runs again) and the calls it had
+    are run again: the pools' calls are pure functions of their arguments (an episode of
+    a seed, an evaluation trial), so a retried call returns what the first would have."""
+
+    def __init__(self, factory: Callable[..., Any], args: tuple[Any, ...]) -> None:
+        self.held = factory(*args)
+
+    def call(self, method: str, *args: Any) -> Any:
+        return getattr(self.held, method)(*args)
+
+
+@ray.remote(num_cpus=0)
+class _Board:
+    """Where running tasks post their progress and the driver reads it. It holds no core,
+    and its process imports only this module (not torch)."""
+
+    def __init__(self) -> None:
+        self.status: dict[str, Any] = {}
+
+    def post(self, key: str, status: Any) -> None:
+        self.status[key] = status
+
+    def read(self) -> dict[str, Any]:
+        return self.status
+
+
+def new_board() -> Any:
+    """A progress board (an actor handle: ``board.post.remote(key, status)`` from tasks,
+    ``ray.get(board.read.remote())`` from the driver). Call inside a :func:`session`."""
+    board: Any = _Board
+    return board.remote()
+
+
+class WorkerPool:
+    """``workers`` Ray actors, each holding ``factory(*args)``. Call inside a :func:`session`.
+
+    :meth:`ordered` runs a method over many inputs, results in input order, each input
+    sent to the first idle worker; :meth:`submit` sends one call to the next worker in turn
+    and returns a :class:`concurrent.futures.Future`.
+    """
+
+    def __init__(self, workers: int, factory: Callable[..., Any], args: tuple[Any, ...]) -> None:
+        share = cpus_per_worker(workers)
+        host: Any = _Host  # a Ray actor class: .options and .remote come from the decorator
+        self._actors = [host.options(num_cpus=share).remote(factory, args) for _ in range(workers)]
+        self._turn = cycle(self._actors)
+
+    def ordered(self, method: str, items: Iterable[Any]) -> Iterator[Any]:
+        """``getattr(held, method)(item)`` for each item, in order."""
+        pool = ActorPool(self._actors)
+        return pool.map(lambda actor, item: actor.call.remote(method, item), list(items))
+
+    def submit(self, method: str, *args: Any) -> Future[Any]:
+        return next(self._turn).call.remote(method, *args).future()
+
+    def close(self) -> None:
+        for actor in self._actors:
+            ray.kill(actor)
+        self._actors = []
+
+    def __enter__(self) -> WorkerPool:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()

@@ -1,0 +1,213 @@
+"""One training run per seed, each a Ray task writing its own ``RUN/seed-K/``.
+
+A task builds its :class:`~pushctl.rl.train.Trainer` from the run directory's checkpoint when
+there is one, else from the job's preset. So a task that Ray retries after its worker died
+(``kill -9``, a node lost) continues from the last checkpoint, and since an episode is a
+pure function of (seed, episode, actor weights) (:mod:`pushctl.rl.collect`), it ends with
+the files of a run that was never interrupted.
+
+Inside a task the episodes run in the task's own process (``collectors`` 0): the seeds are
+the parallel work, one core each, and a task never waits for cores held by its siblings.
+The collectors' number changes no result (:class:`~pushctl.rl.presets.TrainConfig`).
+"""
+
+from __future__ import annotations
+
+import re
+import time
+from collections.abc import Callable
+from dataclasses import astuple, dataclass
+from pathlib import Path
+from typing import Any
+
+import ray
+
+from pushctl.control.gains import PDGains
+from pushctl.distributed.engine import new_board, session
+from pushctl.errors import ConfigError, PushctlError
+from pushctl.rl.presets import Preset
+from pushctl.rl.train import CHECKPOINT, Progress, Trainer
+
+SEED_DIR = "seed-{seed}"
+"""A seed's run directory inside the runs' directory."""
+RETRIES = 3
+"""Times Ray reruns a task whose worker process died (each rerun resumes its checkpoint)."""
+POLL = 0.5
+"""Seconds between progress reports to the caller."""
+MAX_SEEDS = 1000
+
+
+def parse_seeds(text: str) -> tuple[int, ...]:
+    """``"0,1,2"``, ``"0-4"`` or a mix (``"0-2,7"``) → the seeds, in order, each once;
+    ConfigError (one line) for anything else."""
+    seeds: list[int] = []
+    for part in text.split(","):
+        match = re.fullmatch(r"\s*(\d+)\s*(?:-\s*(\d+)\s*)?", part)
+        if match is None:
+            raise ConfigError(
+                f"--seeds {text!r}: expected integers >= 0 and ranges, e.g. 0,1,2 or 0-4"
+            )
+        first = int(match.group(1))
+        last = int(match.group(2)) if match.group(2) is not None else first
+        if last < first:
+            raise ConfigError(f"--seeds {text!r}: the range {part.strip()} runs backwards")
+        seeds.extend(range(first, last + 1))
+    if len(set(seeds)) < len(seeds):
+        raise ConfigError(f"--seeds {text!r}: each seed may be named once")
+    if len(seeds) > MAX_SEEDS:
+        raise ConfigError(f"--seeds {text!r}: at most {MAX_SEEDS} seeds, got {len(seeds)}")
+    return tuple(seeds)
+
+
+def seed_dir(out: Path, seed: int) -> Path:
+    return Path(out) / SEED_DIR.format(seed=seed)
+
+
+@dataclass(frozen=True)
+class TrainJob:
+    """One run: ``preset`` with ``seed`` into ``out`` (absolute: a worker on another node
+    writes there, so it must be a shared file system) until ``episodes`` (None: the
+    preset's); ``check_preset``: refuse a checkpoint of another preset (False when the
+    user resumes without naming one); ``made_by``: the provenance line; ``label``: its
+    name in progress reports (default ``seed K``)."""
+
+    preset: Preset
+    seed: int
+    out: Path
+    episodes: int | None
+    made_by: str
+    gains: PDGains
+    check_preset: bool = True
+    label: str = ""
+
+    @property
+    def name(self) -> str:
+        return self.label or f"seed {self.seed}"
+
+
+@dataclass(frozen=True)
+class JobResult:
+    """A finished run: its seed, directory, episodes in all, env steps, gradient updates,
+    and this session's wall time [s] (for a resumed run, the part after the resume)."""
+
+    seed: int
+    out: Path
+    episodes: int
+    env_steps: int
+    updates: int
+    seconds: float
+
+
+@dataclass(frozen=True)
+class SeedStatus:
+    """A run's progress as last reported: episodes done of in all, and its rates line."""
+
+    done: int
+    total: int
+    rates: str = ""
+
+
+def open_trainer(job: TrainJob) -> Trainer:
+    """The job's trainer: resumed from ``job.out``'s checkpoint if there is one (ConfigError
+    if it was made with another seed, or with another preset when ``check_preset``), else
+    new."""
+    if not (job.out / CHECKPOINT).is_file():
+        return Trainer.start(job.preset, job.seed, job.out, job.gains)
+    trainer = Trainer.resume(job.out, job.gains)
+    saved = trainer.preset.name, trainer.seed
+    if trainer.seed != job.seed or (job.check_preset and saved[0] != job.preset.name):
+        raise ConfigError(
+            f"checkpoint {job.out / CHECKPOINT} is incompatible: it was made with preset "
+            f"{saved[0]!r} and seed {saved[1]}, not {job.preset.name!r} and seed {job.seed}"
+        )
+    return trainer
+
+
+def run_job(
+    job: TrainJob,
+    report: Callable[[str, SeedStatus], None] | None = None,
+    finish: Callable[[Trainer], Any] | None = None,
+) -> tuple[JobResult, Any]:
+    """Train ``job`` in this process (its collectors too), reporting each episode to
+    ``report``; then ``finish(trainer)`` (e.g. a validation score) is returned beside the
+    result."""
+    clock = time.perf_counter()
+    trainer = open_trainer(job)
+    trainer.collectors = 0
+    total = job.episodes if job.episodes is not None else trainer.preset.train.episodes
+
+    def show(update: Progress) -> None:
+        if report is not None:
+            rates = f"{update.env_steps_per_s:,.0f} steps/s {update.updates_per_s:,.1f} upd/s"
+            report(job.name, SeedStatus(update.episodes_done, total, rates))
+
+    if report is not None:  # where the run starts (a finished one: where it ended)
+        report(job.name, SeedStatus(min(trainer.next_episode, total), total))
+    if trainer.next_episode < total:
+        trainer.run(total, on_episode=show, made_by=job.made_by)
+    extra = finish(trainer) if finish is not None else None
+    result = JobResult(
+        seed=job.seed,
+        out=job.out,
+        episodes=trainer.next_episode,
+        env_steps=trainer.agent.env_steps,
+        updates=trainer.agent.n_updates,
+        seconds=time.perf_counter() - clock,
+    )
+    return result, extra
+
+
+@ray.remote(num_cpus=1, max_retries=RETRIES, retry_exceptions=False)
+def _task(
+    job: TrainJob, board: Any, finish: Callable[[Trainer], Any] | None
+) -> tuple[JobResult, Any]:
+    # plain tuples on the board: its process then needs none of this module's imports
+    return run_job(job, lambda key, status: board.post.remote(key, astuple(status)), finish)
+
+
+def run_jobs(
+    jobs: list[TrainJob],
+    address: str | None = None,
+    on_progress: Callable[[dict[str, SeedStatus]], None] | None = None,
+    finish: Callable[[Trainer], Any] | None = None,
+) -> list[tuple[JobResult, Any]]:
+    """Run every job as a Ray task (see :func:`run_job`), calling ``on_progress`` with
+    every job's last status (by :attr:`TrainJob.name`) every :data:`POLL` s; results in the
+    jobs' order. A job that fails raises its error (a PushctlError keeps its one line,
+    prefixed by the job's name)."""
+    with session(address):
+        board = new_board()
+        refs = {_task.remote(job, board, finish): job.name for job in jobs}
+        waiting = list(refs)
+        try:
+            while waiting:
+                ready, waiting = ray.wait(waiting, num_returns=len(waiting), timeout=POLL)
+                for ref in ready:
+                    _raise_failure(ref, refs[ref])
+                if on_progress is not None:
+                    posted = ray.get(board.read.remote())
+                    on_progress({key: SeedStatus(*value) for key, value in posted.items()})
+        finally:
+            for ref in waiting:
+                ray.cancel(ref, force=True)
+        return [ray.get(ref) for ref in refs]
+
+
+def _raise_failure(ref: Any, name: str) -> None:
+    """Nothing if the task of ``ref`` succeeded; else its error: a PushctlError keeps its
+    one line (prefixed by the job's name), a task Ray gave up on (its worker died more than
+    :data:`RETRIES` times, its node was lost) becomes one line saying how to continue, and
+    any other error (a bug) is raised as it is."""
+    try:
+        ray.get(ref)
+    except ray.exceptions.RayTaskError as exc:
+        cause = exc.cause
+        if isinstance(cause, PushctlError):
+            raise type(cause)(f"{name}: {cause}") from None
+        raise
+    except ray.exceptions.RayError as exc:
+        reason = " ".join(str(exc).split())[:160]
+        raise PushctlError(
+            f"{name}: Ray gave up on its task ({type(exc).__name__}: {reason}); "
+            "rerun with --resume to continue from its last checkpoint"
+        ) from None

@@ -1,0 +1,32 @@
+"""The worker pool: results in input order, a worker killed with SIGKILL restarted and the
+calls sent to it run again, and the CPU share of more workers than cores."""
+
+from __future__ import annotations
+
+import os
+import signal
+
+from pushctl.distributed.engine import WorkerPool, cpus_per_worker
+
+
+def test_results_come_in_input_order(ray_local: None) -> None:
+    # The held object is a stdlib one, so the workers need no test module to unpickle it.
+    with WorkerPool(2, bytearray, (b"abcb",)) as pool:
+        needles = [b"a", b"b", b"z", b"bc"] * 5
+        assert list(pool.ordered("count", needles)) == [1, 2, 0, 1] * 5
+
+
+def test_a_killed_worker_is_restarted_and_its_calls_rerun(ray_local: None) -> None:
+    # Each worker holds its own process id (the factory runs in the worker).
+    with WorkerPool(1, os.getpid, ()) as pool:
+        first = pool.submit("__int__").result()
+        assert first != os.getpid()
+        os.kill(first, signal.SIGKILL)
+        calls = [pool.submit("__int__") for _ in range(3)]  # sent to the dead worker
+        answers = {call.result(timeout=60) for call in calls}
+        assert len(answers) == 1 and first not in answers  # a new process answered them all
+
+
+def test_more_workers_than_cores_share_them(ray_local: None) -> None:
+    assert cpus_per_worker(1) == 1.0
+    assert cpus_per_worker(8) == 0.25  # the test instance has 2 CPUs
