@@ -214,7 +214,9 @@ def test_reproduce_resumes_into_what_it_made(
     setup.run.mkdir(parents=True)
     (setup.run / "curve.csv").write_text("partial\n")
     assert reproduce.steps(setup)[0][1][-1] == "--force"
-    (setup.run / "checkpoint.pt").write_bytes(b"x")
+    seed_run = reproduce.seed_run(setup, setup.seeds[0])  # train --seeds: RUN/seed-K/
+    seed_run.mkdir(parents=True)
+    (seed_run / "checkpoint.pt").write_bytes(b"x")
     assert reproduce.steps(setup)[0][1][-1] == "--resume"
     # A run directory the manifest does not name is left to train's own refusal.
     other = replace(setup, run=tmp_path / "runs" / "other")

@@ -56,9 +56,10 @@ class Randomisation:
         return ranges
 
     def unknowns(self, name: str) -> UnknownRanges:
-        """The plant unknowns' ranges of plant ``name`` (one of :data:`PLANTS`)."""
+        """The plant unknowns' ranges of plant ``name`` (one of :data:`PLANTS`; ``mujoco``
+        draws the sim plant's, as it does for the parameters)."""
         self.plant(name)  # the same check
-        ranges: UnknownRanges = getattr(self, f"{name}_unknowns")
+        ranges: UnknownRanges = getattr(self, f"{_RANGES_OF.get(name, name)}_unknowns")
         return ranges
 
 
