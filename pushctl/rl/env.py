@@ -68,7 +68,8 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         )
         self.effects: ProxyEffects | None = effects_for(self.config.plant)
         """The reality proxy's effects of the episodes (None on the sim plant): a paired
-        PD-only run is ``Episode(env.scenario, env.gains, plan=env.plan, effects=env.effects)``."""
+        PD-only run is ``Episode(env.scenario, env.gains, plan=env.plan, effects=env.effects,
+        engine=env.engine)``."""
         self.engine = plant_engine(self.config.plant)
         """The episodes' physics engine: ``mujoco`` on the MuJoCo plant, else ``ours``."""
         self.episode: Episode | None = None

@@ -128,7 +128,9 @@ class Validator:
             env, self._pd = self.env, []
             for options in self.options:
                 env.reset(options=options)
-                baseline = Episode(env.scenario, env.gains, plan=env.plan, effects=env.effects)
+                baseline = Episode(
+                    env.scenario, env.gains, plan=env.plan, effects=env.effects, engine=env.engine
+                )
                 self._pd.append(_metrics(baseline.run()))
         return self._pd
 

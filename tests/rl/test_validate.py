@@ -16,7 +16,12 @@ def test_a_policy_behind_a_shut_gate_scores_exactly_pd_only(plant: str) -> None:
     """With the gate never open the residual never acts, so the policy's pushes are PD-only's,
     proxy effects (latency, friction, noisy estimates, camera) included."""
     config = EnvConfig(
-        objects=("wedge",), profiles=("chirp",), duration=2.0, plant=plant, gate_threshold=1.0
+        objects=("wedge",),
+        profiles=("chirp",),
+        duration=2.0,
+        plant=plant,
+        gate_threshold=1.0,
+        stream="tuning",  # the mujoco plant is refused on the training stream
     )
     validator = Validator(config, load_gains(), per_cell=2)
     n_obs = validator.env.observation_space.shape[0]
