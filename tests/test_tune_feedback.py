@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
 from typer.testing import CliRunner
 
 from pushctl.cli import app
@@ -15,6 +16,7 @@ from pushctl.toml_files import read_toml
 runner = CliRunner()
 
 
+@pytest.mark.slow  # ~30 candidates × 6 pushes of 2 s: about a minute
 def test_the_search_writes_a_gains_file_with_its_record(tmp_path: Path) -> None:
     out = tmp_path / "gains.toml"
     result = runner.invoke(

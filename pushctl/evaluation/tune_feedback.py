@@ -179,7 +179,7 @@ def feedback_toml(
     }
     lines = [f"# {line}" for line in header.splitlines()]
     lines += ["", "[feedback]", f"k = {best.k!r}", f"k_i = {best.k_i!r}"]
-    lines += [f"contact_force = {contact_force!r}", "", "[search]"]
+    lines += [f"contact_force = {contact_force!r}", "hold_off_contact = true", "", "[search]"]
     lines += [f"{key} = {_toml(value)}" for key, value in record.items()]
     return "\n".join(lines) + "\n"
 
