@@ -51,7 +51,7 @@ def test_two_workers_write_the_same_bytes_as_one(
         first = (tmp_path / "one" / name).read_bytes()
         assert first.replace(b"/one;", b"/two;") == (tmp_path / "two" / name).read_bytes()
     trials = pd.read_csv(tmp_path / "one" / "trials.csv", comment="#")
-    assert list(trials["plant"]) == ["sim", "sim", "proxy", "proxy"]
+    assert list(trials["plant"]) == ["sim"] * 3 + ["proxy"] * 3
     assert list(trials["controller"]) == ["pd", "feedback", "rl"] * 2
     made_by = (tmp_path / "one" / "trials.csv").read_text().splitlines()[0]
     assert "--workers" not in made_by and "scenario seeds 0-0 (evaluation stream)" in made_by

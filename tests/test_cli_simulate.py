@@ -255,3 +255,23 @@ def test_tune_pd_rejects_a_non_toml_output(tmp_path):
     result = runner.invoke(app, ["tune-pd", *TUNE_BUDGET, "--out", str(out)])
     _assert_one_line_error(result, "--out must end in .toml")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_the_feedback_controller_pushes_through_the_residual_path(tmp_path, gains):
+    """--controller feedback: the same scenario as PD-only, pushed by PD + the PI law through
+    the environment (on a plant without unknowns the law has little to correct: the push
+    differs from PD-only's, but only a little)."""
+    out_pd, out_fb = tmp_path / "pd.csv", tmp_path / "fb.csv"
+    args = ("--seed", "3", "--randomize")
+    pd_run = _simulate(gains, *args, "--out", str(out_pd))
+    fb_run = _simulate(gains, *args, "--controller", "feedback", "--out", str(out_fb))
+    assert pd_run.exit_code == 0, pd_run.output
+    assert fb_run.exit_code == 0, fb_run.output
+    assert _plant(pd_run.output) == _plant(fb_run.output)
+    import pandas as pd_
+
+    a, b = (pd_.read_csv(p, comment="#") for p in (out_pd, out_fb))
+    assert list(a.columns) == list(b.columns) and len(a) == len(b)
+    assert (a["des_x"] == b["des_x"]).all()
+    assert not a["obj_x"].equals(b["obj_x"])
+    assert (a["obj_x"] - b["obj_x"]).abs().max() < 2e-3

@@ -25,8 +25,16 @@ def test_the_p_term_and_the_integral_of_a_constant_error() -> None:
     assert twist[2] == 0.0
 
 
-def test_the_integral_is_frozen_while_a_prong_carries_under_10_mN() -> None:
+def test_off_contact_the_law_holds_still_by_default() -> None:
+    """On the reference path the output is the offset's rate: zero while a prong is off."""
     law = FeedbackLaw(FeedbackGains(k=0.5, k_i=1.0), LEVER, dt=0.01)
+    np.testing.assert_array_equal(law.twist(np.array([2e-3, 0.0, 0.01]), [0.2, 0.0]), 0.0)
+    np.testing.assert_array_equal(law.integral, np.zeros(3))
+
+
+def test_the_integral_is_frozen_while_a_prong_carries_under_10_mN() -> None:
+    gains = FeedbackGains(k=0.5, k_i=1.0, hold_off_contact=False)
+    law = FeedbackLaw(gains, LEVER, dt=0.01)
     error = np.array([2e-3, 0.0, 0.0])  # an object ahead of the plan, not touched yet
     twist = law.twist(error, np.array([0.2, 0.009]))
     np.testing.assert_array_equal(law.integral, np.zeros(3))
@@ -47,7 +55,7 @@ def test_an_angle_correction_moves_the_pusher_origin_as_a_point_of_the_object() 
 def test_gains_file_round_trip_and_bad_values(tmp_path: Path) -> None:
     path = tmp_path / "gains.toml"
     path.write_text("[feedback]\nk = 0.7\nk_i = 0.1\ncontact_force = 0.01\n")
-    assert load_feedback_gains(path) == FeedbackGains(0.7, 0.1, 0.01)
+    assert load_feedback_gains(path) == FeedbackGains(0.7, 0.1, 0.01, hold_off_contact=True)
     path.write_text("[feedback]\nk = -1.0\n")
     with pytest.raises(ConfigError, match="feedback k must be a finite number >= 0"):
         load_feedback_gains(path)

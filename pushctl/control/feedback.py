@@ -7,7 +7,9 @@ v = (u_x − u_θ r_y, u_y + u_θ r_x, u_θ), with r the pusher origin's lever f
 centre in the plan frame [m]: with both prongs sticking the object moves with the pusher.
 The integral is frozen while any prong's measured normal force is below ``contact_force``
 (10 mN): an object placed ahead of the plan is not touched yet, and integrating its error
-would back the pusher away from it.
+would back the pusher away from it. With ``hold_off_contact`` (the default) the output is
+zero then too: on the ``reference`` path the output is the offset's rate, so its P term is an
+integrator as well.
 
 The output is a residual twist like a policy's: it goes through the same residual path
 (:mod:`pushctl.control.residual`). On the ``reference`` path it is the rate of the reference
@@ -34,13 +36,21 @@ DEFAULT_FEEDBACK_FILE = Path(__file__).resolve().parents[2] / "experiments" / "f
 class FeedbackGains:
     """``k`` [1/s] and ``k_i`` [1/s²]: the proportional and integral gains, one each for the
     translation and the angle error; ``contact_force`` [N]: the integral is frozen while a
-    prong's measured normal force is below it."""
+    prong's measured normal force is below it; ``hold_off_contact``: then the whole output
+    is zero too. On the ``reference`` path the P term is itself integrated into the offset,
+    and a correction that made a prong lose contact would otherwise wind the offset up
+    (tens of mm and degrees on the tuning pushes, docs/residual-and-feedback.md)."""
 
     k: float = 0.5
     k_i: float = 0.0
     contact_force: float = 0.01
+    hold_off_contact: bool = True
 
     def __post_init__(self) -> None:
+        if not isinstance(self.hold_off_contact, bool):
+            raise ConfigError(
+                f"feedback hold_off_contact must be true or false, got {self.hold_off_contact!r}"
+            )
         for name in ("k", "k_i", "contact_force"):
             value = getattr(self, name)
             ok = isinstance(value, int | float) and not isinstance(value, bool)
@@ -56,7 +66,8 @@ def load_feedback_gains(path: str | Path | None = None) -> FeedbackGains:
     table = data.get("feedback")
     if not isinstance(table, dict):
         raise ConfigError(f"{path}: no [feedback] table; expected k, k_i and contact_force")
-    check_keys(table, ["k", "k_i", "contact_force"], f"{path} [feedback]", all_required=False)
+    names = ["k", "k_i", "contact_force", "hold_off_contact"]
+    check_keys(table, names, f"{path} [feedback]", all_required=False)
     return FeedbackGains(**table)
 
 
@@ -78,6 +89,8 @@ class FeedbackLaw:
         error = np.asarray(error, dtype=float)
         if np.min(normal_forces) >= gains.contact_force:
             self.integral = self.integral + self.dt * error
+        elif gains.hold_off_contact:
+            return np.zeros(3)
         u = gains.k * error + gains.k_i * self.integral
         r_x, r_y = self.lever
         return np.array([u[0] - u[2] * r_y, u[1] + u[2] * r_x, u[2]])

@@ -45,10 +45,13 @@ class FeedbackActor:
         config = env.config
         self._scale = np.array([config.action_scale_linear] * 2 + [config.action_scale_angular])
 
-    def __call__(self, observation: np.ndarray) -> np.ndarray:
+    def twist(self, observation: np.ndarray) -> np.ndarray:
+        """The law's pusher twist (3,) [m/s, m/s, rad/s], plan frame, before the clip."""
         obs = np.asarray(observation, dtype=float)
-        twist = self.law.twist(obs[self._error], obs[self._normal])
-        return np.clip(twist / self._scale, -1.0, 1.0)
+        return self.law.twist(obs[self._error], obs[self._normal])
+
+    def __call__(self, observation: np.ndarray) -> np.ndarray:
+        return np.clip(self.twist(observation) / self._scale, -1.0, 1.0)
 
 
 def feedback_config(config: EnvConfig) -> EnvConfig:

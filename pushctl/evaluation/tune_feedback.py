@@ -3,10 +3,12 @@ search on the tuning stream (DESIGN.md §5; never on the evaluation set).
 
 The procedure:
 
-1. Tuning set: for every object × profile, ``per_case`` scenarios of the *tuning* stream
-   (scenario seeds ``seed`` … ``seed + per_case − 1``) on the ``sim`` plant, the plant the
-   policy trains on, with everything a reset draws there (goal, parameters and the plant
-   unknowns the planner cannot see). Each is reset once; every candidate pushes from a copy
+1. Tuning set: for every object × profile (case c = 0 … 5 in the order of
+   :data:`~pushctl.objects.OBJECT_NAMES` × :data:`~pushctl.planning.PROFILE_NAMES`),
+   ``per_case`` scenarios of the *tuning* stream, scenario seeds ``seed + c·per_case + i``
+   (every push its own goal and unknowns), on the ``sim`` plant, the plant the policy trains
+   on, with everything a reset draws there (goal, parameters and the plant unknowns the
+   planner cannot see). Each is reset once; every candidate pushes from a copy
    of the episode as the approach left it, so all candidates see the same pushes.
 2. The push: the feedback law (:class:`~pushctl.evaluation.controllers.FeedbackActor`)
    through the environment's gate, action scale and residual path: today's defaults of
@@ -37,11 +39,12 @@ from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.policy import finish_with_policy
 
-GRID = {"k": (0.25, 0.5, 1.0, 2.0), "k_i": (0.0, 0.05, 0.1, 0.2, 0.5)}
-"""The coarse grid: k [1/s] × k_i [1/s²], 20 candidates."""
+GRID = {"k": (0.1, 0.2, 0.35, 0.5), "k_i": (0.0, 0.02, 0.05, 0.1)}
+"""The coarse grid: k [1/s] × k_i [1/s²], 16 candidates (DESIGN.md §5's prototype: k = 0.5 /s
+helped, k ≥ 1 /s lost the wedge's turning pushes)."""
 REFINE_FACTORS = (2.0, math.sqrt(2.0))
 """Refinement: each gain of the best point times and divided by these, in turn."""
-K_I_FROM_ZERO = 0.025
+K_I_FROM_ZERO = 0.01
 """The k_i tried next to a best point with k_i = 0 [1/s²] (a factor cannot leave zero)."""
 
 
@@ -74,11 +77,10 @@ def reset_pushes(
     if not (isinstance(per_case, int) and per_case >= 1):
         raise ConfigError(f"--per-case must be an integer >= 1, got {per_case!r}")
     pushes = []
-    for object_name, profile in itertools.product(objects, profiles):
+    for case, (object_name, profile) in enumerate(itertools.product(objects, profiles)):
         for i in range(per_case):
-            env.reset(
-                options={"object": object_name, "profile": profile, "scenario_seed": seed + i}
-            )
+            options = {"object": object_name, "profile": profile}
+            env.reset(options={**options, "scenario_seed": seed + case * per_case + i})
             pushes.append(copy.deepcopy(env))
     return pushes
 
@@ -177,7 +179,7 @@ def feedback_toml(
     }
     lines = [f"# {line}" for line in header.splitlines()]
     lines += ["", "[feedback]", f"k = {best.k!r}", f"k_i = {best.k_i!r}"]
-    lines += [f"contact_force = {contact_force!r}", "", "[search]"]
+    lines += [f"contact_force = {contact_force!r}", "hold_off_contact = true", "", "[search]"]
     lines += [f"{key} = {_toml(value)}" for key, value in record.items()]
     return "\n".join(lines) + "\n"
 

@@ -1,0 +1,44 @@
+"""``pushctl tune-feedback``: the search scores PD-only and the grid on the tuning stream and
+writes a gains file that loads, with its provenance and every candidate."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from pushctl.cli import app
+from pushctl.control.feedback import load_feedback_gains
+from pushctl.evaluation.tune_feedback import GRID
+from pushctl.toml_files import read_toml
+
+runner = CliRunner()
+
+
+@pytest.mark.slow  # ~30 candidates × 6 pushes of 2 s: about a minute
+def test_the_search_writes_a_gains_file_with_its_record(tmp_path: Path) -> None:
+    out = tmp_path / "gains.toml"
+    result = runner.invoke(
+        app, ["tune-feedback", "--per-case", "1", "--duration", "2", "--out", str(out)]
+    )
+    assert result.exit_code == 0, result.output
+    text = out.read_text()
+    assert text.startswith("# made by: pushctl tune-feedback --seed 0 --per-case 1")
+    gains = load_feedback_gains(out)
+    search = read_toml(out, "gains")["search"]
+    assert search["stream"] == "tuning" and search["residual_path"] == "reference"
+    candidates = search["candidates_k_ki_objective_translation_angle"]
+    assert len(candidates) >= len(GRID["k"]) * len(GRID["k_i"])
+    best = min(candidates, key=lambda c: c[2])
+    assert [gains.k, gains.k_i] == best[:2]
+    assert search["best_objective"] == best[2]
+    assert "PD-only" in result.output and f"wrote {out}" in result.output.replace("\n", "")
+
+
+def test_a_bad_output_is_one_line_and_nothing_runs(tmp_path: Path) -> None:
+    result = runner.invoke(app, ["tune-feedback", "--out", str(tmp_path / "gains.txt")])
+    assert result.exit_code == 2
+    assert "--out" in result.output and ".toml" in result.output
+    result = runner.invoke(app, ["tune-feedback", "--per-case", "0", "--duration", "2"])
+    assert result.exit_code == 2 and "--per-case must be an integer >= 1" in result.output
