@@ -89,7 +89,10 @@ def test_each_policy_adds_its_own_rl_rows_and_pd_and_feedback_run_once(
         alone = evaluate(_spec(), policy, feedback_gains=gains).trials
         mine = both[(both["controller"] != "rl") | (both["policy_seed"] == policy.seed)]
         pd.testing.assert_frame_equal(
-            mine.reset_index(drop=True), alone.reset_index(drop=True), check_dtype=False
+            mine.reset_index(drop=True),
+            alone.reset_index(drop=True),
+            check_dtype=False,
+            check_exact=True,
         )
         assert policy.seed == (7, 3)[k]
 
