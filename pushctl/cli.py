@@ -586,6 +586,9 @@ def _invocation(context: typer.Context) -> str:
         # --force changes no byte of the results, so the files do not record it either
         if value is None or value is False or not param.opts or param.name == "force":
             continue
+        if isinstance(value, (list, tuple)):  # a repeated option (evaluate's --policy)
+            parts += [part for one in value for part in (param.opts[0], str(one))]
+            continue
         parts += [param.opts[0]] if value is True else [param.opts[0], str(value)]
     return shlex.join(parts)
 
