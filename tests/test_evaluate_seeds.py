@@ -117,6 +117,8 @@ def test_policies_that_cannot_share_an_evaluation_are_refused(
     unnamed = load_evaluation_policy(_policy(tmp_path / "unnamed.pt", None, init_seed=5))
     with pytest.raises(ConfigError, match="must name its training seed"):
         evaluate(_spec(("pd", "rl")), [loaded, unnamed])
+    with pytest.raises(ConfigError, match="need a policy"):
+        evaluate(_spec(("pd", "rl")), [])
     other = load_evaluation_policy(_policy(tmp_path / "other.pt", 4, init_seed=5, gate=1e-3))
     with pytest.raises(ConfigError, match="other environment settings"):
         evaluate(_spec(("pd", "rl")), [loaded, other])

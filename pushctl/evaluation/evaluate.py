@@ -118,7 +118,8 @@ def evaluate(
     (:func:`~pushctl.evaluation.controllers.feedback_config`). ``workers``: 1 … 8 processes.
     """
     check_workers(workers)
-    if "rl" in spec.controllers and policy is None:
+    none = policy is None or (not isinstance(policy, TrainedPolicy) and len(policy) == 0)
+    if "rl" in spec.controllers and none:
         raise ConfigError(
             "RL-assisted trials need a policy: pass --policy or --controller pd|feedback"
         )
