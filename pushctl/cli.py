@@ -450,8 +450,11 @@ def evaluate(
         ),
     ] = "both",
     policy: Annotated[
-        Path | None,
-        typer.Option(help="residual policy (default: the shipped results/training/policy.pt)"),
+        list[Path] | None,
+        typer.Option(
+            help="residual policy (default: the shipped results/training/policy.pt); repeat "
+            "for several training seeds, each adding its own rl rows (docs/several-seeds.md)"
+        ),
     ] = None,
     seed: Annotated[
         int, typer.Option(help="evaluation seed: trial i pushes scenario S×100000 + i")
@@ -463,7 +466,12 @@ def evaluate(
     """Paired trials, PD-only, feedback and RL-assisted on the same held-out targets and
     plants; write trials.csv (one row per trial and controller) and steps.csv (per-step
     means) to --out."""
-    from pushctl.cli_evaluate import prepare, run_with_progress, summary_table
+    from pushctl.cli_evaluate import (
+        policy_provenance,
+        prepare,
+        run_with_progress,
+        summary_table,
+    )
     from pushctl.evaluation.evaluate import STEPS_FILE, TRIALS_FILE, write_evaluation
     from pushctl.provenance import provenance_line
 
@@ -475,7 +483,7 @@ def evaluate(
         first = spec.scenario_seed(0)
         extra = f"scenario seeds {first}-{first + spec.trials - 1} (evaluation stream)"
         if trained is not None:
-            extra += f"; policy {policy_path}, {trained.made_by.removeprefix('# ')}"
+            extra += "; " + policy_provenance(trained, policy_path)
         # --workers changes no byte of the results, so the files do not record it either
         command = _invocation(ctx).replace(f" --workers {workers}", "")
         made_by = provenance_line(command, extra)
@@ -577,6 +585,9 @@ def _invocation(context: typer.Context) -> str:
         value = context.params.get(param.name or "")
         # --force changes no byte of the results, so the files do not record it either
         if value is None or value is False or not param.opts or param.name == "force":
+            continue
+        if isinstance(value, (list, tuple)):  # a repeated option (evaluate's --policy)
+            parts += [part for one in value for part in (param.opts[0], str(one))]
             continue
         parts += [param.opts[0]] if value is True else [param.opts[0], str(value)]
     return shlex.join(parts)

@@ -28,6 +28,7 @@ from pushctl.evaluation.evaluate import (
     check_workers,
     evaluate,
     load_evaluation_policy,
+    policy_seeds,
     summary,
 )
 from pushctl.evaluation.trials import CONTROLLERS, TrialResult, TrialSpec
@@ -77,14 +78,16 @@ def prepare(
     trials: int,
     controller: str,
     plant: str,
-    policy: Path | None,
+    policy: Path | list[Path] | None,
     seed: int,
     workers: int,
     out: Path,
-) -> tuple[TrialSpec, TrainedPolicy | None, Path]:
+) -> tuple[TrialSpec, TrainedPolicy | list[TrainedPolicy] | None, Path | list[Path]]:
     """The trial spec, the policy (None when RL does not run: PD-only and feedback need no
     file) and its path, from the options; ConfigError (one line) for anything that cannot run
-    or whose results could not be written. Nothing is written."""
+    or whose results could not be written. Nothing is written. Several ``--policy`` paths
+    (a list of two or more) give a list of policies and of paths, checked by
+    :func:`~pushctl.evaluation.evaluate.policy_seeds`."""
     spec = TrialSpec(
         objects=choose("--object", object_name, OBJECT_NAMES, "all"),
         profiles=choose("--profile", profile, PROFILE_NAMES, "all"),
@@ -95,6 +98,10 @@ def prepare(
     )
     check_workers(workers)
     check_out(out)
+    if isinstance(policy, list) and len(policy) > 1:
+        return spec, *_prepare_several(spec, policy)
+    if isinstance(policy, list):
+        policy = policy[0] if policy else None
     policy_path = policy if policy is not None else DEFAULT_POLICY
     loaded = load_evaluation_policy(policy_path) if "rl" in spec.controllers else None
     if "feedback" in spec.controllers:
@@ -102,6 +109,38 @@ def prepare(
     if policy_path.is_absolute() and policy_path.is_relative_to(Path.cwd()):
         policy_path = policy_path.relative_to(Path.cwd())  # as the provenance line shows it
     return spec, loaded, policy_path
+
+
+def _prepare_several(
+    spec: TrialSpec, paths: list[Path]
+) -> tuple[list[TrainedPolicy] | None, list[Path]]:
+    """Several ``--policy`` files: each loaded and checked (a file named twice, seeds or
+    settings that cannot share an evaluation: ConfigError), paths as the provenance shows
+    them."""
+    shown = [_shown(path) for path in paths]
+    if len({path.resolve() for path in paths}) < len(paths):
+        raise ConfigError("--policy names one file twice; give each policy once")
+    if "feedback" in spec.controllers:
+        load_feedback_gains()
+    if "rl" not in spec.controllers:
+        return None, shown
+    loaded = [load_evaluation_policy(path) for path in paths]
+    policy_seeds(loaded)
+    return loaded, shown
+
+
+def _shown(path: Path) -> Path:
+    """``path`` relative to the working directory when it lies below it."""
+    if path.is_absolute() and path.is_relative_to(Path.cwd()):
+        return path.relative_to(Path.cwd())
+    return path
+
+
+def policy_provenance(trained: TrainedPolicy | list[TrainedPolicy], path: Path | list[Path]) -> str:
+    """The provenance field naming the evaluated policy file(s) and their own ``made by``."""
+    pairs = zip(trained, path, strict=True) if isinstance(trained, list) else [(trained, path)]
+    named = [f"policy {where}, {one.made_by.removeprefix('# ')}" for one, where in pairs]
+    return "; ".join(named)
 
 
 def check_out(out: Path) -> None:
@@ -119,12 +158,16 @@ def check_out(out: Path) -> None:
 
 
 def run_with_progress(
-    spec: TrialSpec, policy: TrainedPolicy | None, workers: int, console: Console
+    spec: TrialSpec,
+    policy: TrainedPolicy | list[TrainedPolicy] | None,
+    workers: int,
+    console: Console,
 ) -> Evaluation:
     """:func:`~pushctl.evaluation.evaluate.evaluate` with a live progress display (episodes
     done, the running mean force error of each controller, the ETA)."""
-    per_job = len(spec.controllers)
-    total = spec.n_episodes
+    extra = len(policy) - 1 if isinstance(policy, list) and "rl" in spec.controllers else 0
+    per_job = len(spec.controllers) + extra  # each further policy pushes every trial
+    total = spec.n_episodes // len(spec.controllers) * per_job
     force_sums = dict.fromkeys(spec.controllers, 0.0)
     columns = (
         TextColumn("[bold]episode"),
@@ -140,8 +183,9 @@ def run_with_progress(
         task = progress.add_task("evaluate", total=total, cell="", errors="")
 
         def show(result: TrialResult, done: int, jobs: int) -> None:
-            for row in result.rows:
-                force_sums[row["controller"]] += row["force_error"]
+            for row in result.rows:  # rl: the sum over policies, shown per policy below
+                share = 1.0 / (1 + extra) if row["controller"] == "rl" else 1.0
+                force_sums[row["controller"]] += share * row["force_error"]
             job = result.job
             cell = f"{job.object} {job.profile} {job.plant}"
             errors = "  ".join(

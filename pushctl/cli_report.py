@@ -14,6 +14,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
+import pandas as pd
 from matplotlib.figure import Figure
 from rich.table import Table
 
@@ -26,10 +27,13 @@ from pushctl.report.figures import (
 )
 from pushctl.report.inputs import ResultsTable, read_report_inputs, summary
 from pushctl.report.markdown import tables_markdown
-from pushctl.report.tables import ResultTable, table3, table4
+from pushctl.report.seeds import seed_tables
+from pushctl.report.tables import ResultTable
 
 TABLE3_FILE = "table3.csv"
 TABLE4_FILE = "table4.csv"
+SEEDS_FILE = "table3_seeds.csv"
+"""Each training seed's own Table III means and RL/PD, RL/feedback ratios per cell."""
 MARKDOWN_FILE = "tables.md"
 FIG5_FILE = "fig5_training.png"
 FIG6_FILE = "fig6_tracking.png"
@@ -47,10 +51,14 @@ class Report:
     table_provenance: str
     markdown: str
     figures: dict[str, bytes]
+    per_seed: pd.DataFrame | None = None
+    """``table3_seeds.csv`` (:func:`~pushctl.report.seeds.seed_ratios`), written only when
+    the trials hold several training seeds."""
 
     @property
     def files(self) -> list[str]:
-        return [TABLE3_FILE, TABLE4_FILE, MARKDOWN_FILE, *self.figures]
+        seeds = [SEEDS_FILE] if self.per_seed is not None else []
+        return [TABLE3_FILE, TABLE4_FILE, *seeds, MARKDOWN_FILE, *self.figures]
 
 
 def _source(table: ResultsTable) -> str:
@@ -70,8 +78,10 @@ def make_report(in_dir: Path, command: str) -> Report:
     :class:`~pushctl.report.inputs.ResultsFileError` for a bad input; writes nothing."""
     inputs = read_report_inputs(in_dir)
     made_by = provenance_line(command)
-    three, four = table3(inputs.trials.frame), table4(inputs.trials.frame)
-    markdown = tables_markdown(three, four, made_by, [_source(t) for t in inputs.tables()])
+    seeds = seed_tables(inputs.trials.frame)
+    three, four = seeds.table3, seeds.table4
+    sources = [_source(t) for t in inputs.tables()]
+    markdown = tables_markdown(three, four, made_by, sources, seeds)
     drawings = (
         (FIG5_FILE, training_figure(inputs.curve.frame), inputs.curve),
         (FIG6_FILE, tracking_figure(inputs.steps.frame), inputs.steps),
@@ -87,6 +97,7 @@ def make_report(in_dir: Path, command: str) -> Report:
         table_provenance=f"{made_by}; inputs: {_source(inputs.trials)}",
         markdown=markdown,
         figures=figures,
+        per_seed=seeds.per_seed if seeds.several else None,  # one seed: as before
     )
 
 
@@ -111,7 +122,7 @@ def check_out_dir(out_dir: Path) -> None:
 def report_paths(out_dir: Path) -> list[Path]:
     """Every file ``pushctl report`` writes into ``out_dir`` (its results directory also
     holds its inputs, so the check is per file, not on the directory)."""
-    names = (TABLE3_FILE, TABLE4_FILE, MARKDOWN_FILE, FIG5_FILE, FIG6_FILE, FIG8_FILE)
+    names = (TABLE3_FILE, TABLE4_FILE, SEEDS_FILE, MARKDOWN_FILE, FIG5_FILE, FIG6_FILE, FIG8_FILE)
     return [out_dir / name for name in names]
 
 
@@ -121,7 +132,9 @@ def write_report(report: Report, out_dir: Path) -> list[Path]:
     out_dir.mkdir(parents=True, exist_ok=True)
     steps: list[Callable[[Callable[[], None]], None]] = []
     for name, table in ((TABLE3_FILE, report.table3), (TABLE4_FILE, report.table4)):
-        steps.append(_csv_step(out_dir / name, table, report.table_provenance))
+        steps.append(_csv_step(out_dir / name, table.values, report.table_provenance))
+    if report.per_seed is not None:
+        steps.append(_csv_step(out_dir / SEEDS_FILE, report.per_seed, report.table_provenance))
     steps.append(_bytes_step(out_dir / MARKDOWN_FILE, report.markdown.encode()))
     for name, data in report.figures.items():
         steps.append(_bytes_step(out_dir / name, data))
@@ -129,9 +142,11 @@ def write_report(report: Report, out_dir: Path) -> list[Path]:
     return [out_dir / name for name in report.files]
 
 
-def _csv_step(path: Path, table: ResultTable, made_by: str) -> Callable[[Callable[[], None]], None]:
+def _csv_step(
+    path: Path, frame: pd.DataFrame, made_by: str
+) -> Callable[[Callable[[], None]], None]:
     def step(then: Callable[[], None]) -> None:
-        write_csv(path, table.values, made_by, before_rename=then)
+        write_csv(path, frame, made_by, before_rename=then)
 
     return step
 

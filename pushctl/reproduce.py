@@ -8,11 +8,12 @@ user would type, run as a subprocess with its own output on the terminal:
    an interrupted reproduction continues, and a finished run is not trained again);
 2. each run's ``policy.pt``, ``policy_last.pt``, ``curve.csv`` and ``validation.csv`` copied
    to ``results/training/seed-K/``, and the first seed's also to ``results/training/`` (the
-   policy the evaluation below runs and the Fig. 5 input, until the report evaluates every
-   seed);
-3. ``pushctl evaluate`` (50 trials per object × profile, every controller, the plants sim,
-   proxy and mujoco,
-   2 workers) into ``results/evaluation/``;
+   shipped default policy of ``pushctl evaluate`` and ``simulate``, and Fig. 5's curve);
+3. ``pushctl evaluate`` of every seed's ``results/training/seed-K/policy.pt`` in one run
+   (``--policy`` repeated: PD-only and feedback once per trial, ``rl`` rows per seed; 50
+   trials per object × profile, every controller, the plants sim, proxy and mujoco, 2
+   workers) into ``results/evaluation/``; the report then gives each cell's mean over the
+   seeds with its interval across them (docs/several-seeds.md);
 4. ``pushctl report`` (tables, ``tables.md``, figures) into ``results/``;
 5. ``python -m pushctl.bench`` into ``results/bench.csv``.
 
@@ -89,7 +90,6 @@ def steps(setup: Setup) -> list[tuple[str, list[str]]]:
     pushctl_cli = [sys.executable, "-m", "pushctl.cli"]
     resume = _train_mode(setup)
     seeds = ",".join(str(seed) for seed in setup.seeds)
-    training = setup.results / "training"
     listed: list[tuple[str, list[str]]] = [
         (
             "train",
@@ -100,7 +100,8 @@ def steps(setup: Setup) -> list[tuple[str, list[str]]]:
             "evaluate",
             [*pushctl_cli, "evaluate", "--trials", str(setup.trials), "--workers", "2"]
             + ["--plant", "all"]  # sim, proxy and mujoco (docs/mujoco.md)
-            + ["--seed", str(SEED), "--policy", str(training / "policy.pt")]
+            + ["--seed", str(SEED)]
+            + [part for seed in setup.seeds for part in ("--policy", str(_policy(setup, seed)))]
             + ["--out", str(setup.results / "evaluation"), "--force"],
         ),
         (
@@ -113,6 +114,11 @@ def steps(setup: Setup) -> list[tuple[str, list[str]]]:
         bench = [sys.executable, "-m", "pushctl.bench", "--profile"]
         listed.append(("bench", [*bench, "--out", str(setup.results / "bench.csv"), "--force"]))
     return listed
+
+
+def _policy(setup: Setup, seed: int) -> Path:
+    """A training seed's policy as the evaluation reads it (copied by step 2)."""
+    return setup.results / "training" / f"seed-{seed}" / "policy.pt"
 
 
 def _train_mode(setup: Setup) -> list[str]:
@@ -221,7 +227,7 @@ def write_manifest(
         f"- pushctl {pushctl.__version__}, commit {git_commit()}",
         f"- seeds: training {','.join(map(str, setup.seeds))} (training stream; "
         f"`{setup.results}/training/seed-K/`), evaluation {SEED} (evaluation stream) of "
-        f"training seed {setup.seeds[0]}'s policy",
+        f"every training seed's policy",
         f"- started {started.strftime('%Y-%m-%d %H:%M:%S')} UTC; wall time {_minutes(total)}",
         f"- outcome: {'running (or stopped)' if running else outcome}",
         _run_line(setup),

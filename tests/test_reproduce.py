@@ -23,7 +23,9 @@ def test_the_full_setup_is_the_issue_s_protocol(
     assert train[3:] == ["train", "--preset", "paper", "--seeds", "0,1,2", "--out", "runs/paper"]
     evaluate = " ".join(commands["evaluate"])
     assert "--trials 50 --workers 2 --plant all" in evaluate
-    assert "--policy results/training/policy.pt --out results/evaluation" in evaluate
+    # every seed's policy in one evaluation (docs/several-seeds.md)
+    every = " ".join(f"--policy results/training/seed-{k}/policy.pt" for k in (0, 1, 2))
+    assert f"--seed 0 {every} --out results/evaluation" in evaluate
     assert commands["report"][3:] == ["report", "--in", "results", "--out", "results", "--force"]
 
 

@@ -15,7 +15,7 @@ README's *Evaluating* section for the columns) are written only once every trial
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -98,7 +98,7 @@ def load_evaluation_policy(path: str | Path) -> TrainedPolicy:
 
 def evaluate(
     spec: TrialSpec,
-    policy: TrainedPolicy | None = None,
+    policy: TrainedPolicy | Sequence[TrainedPolicy] | None = None,
     gains: PDGains | None = None,
     workers: int = 1,
     env_config: EnvConfig | None = None,
@@ -109,23 +109,34 @@ def evaluate(
 
     ``policy``: needed when ``spec.controllers`` holds ``rl``; its environment settings
     (push duration, step, residual path, scale, gate) are RL's, and its push (duration,
-    step) everyone's. Without one, ``env_config`` (default :class:`EnvConfig`'s) sets the
-    push. ``gains``: the PD baseline's (default ``experiments/pd_gains.toml``).
+    step) everyone's. Several policies (a sequence, see :func:`policy_seeds`) each push
+    every trial and add their own ``rl`` rows; PD-only and feedback still run once. Without
+    one, ``env_config`` (default :class:`EnvConfig`'s) sets the push. ``gains``: the PD
+    baseline's (default ``experiments/pd_gains.toml``).
     ``feedback_gains``: the feedback law's (default ``experiments/feedback_gains.toml``,
     read only when ``feedback`` runs); it pushes with today's default residual settings
     (:func:`~pushctl.evaluation.controllers.feedback_config`). ``workers``: 1 … 8 processes.
     """
     check_workers(workers)
-    if "rl" in spec.controllers and policy is None:
+    none = policy is None or (not isinstance(policy, TrainedPolicy) and len(policy) == 0)
+    if "rl" in spec.controllers and none:
         raise ConfigError(
             "RL-assisted trials need a policy: pass --policy or --controller pd|feedback"
         )
     gains = gains if gains is not None else load_gains()
     if "feedback" in spec.controllers and feedback_gains is None:
         feedback_gains = load_feedback_gains()
+    several = policy is not None and not isinstance(policy, TrainedPolicy)
+    policies = list(policy) if several else ([policy] if policy is not None else [])
+    seeds = policy_seeds(policies)
+    policy = policies[0] if policies else None
     config = policy.env if policy is not None else (env_config or EnvConfig())
-    actor_state = portable(policy.actor.state()) if policy is not None else None
-    policy_seed = policy.seed if policy is not None else None
+    actor_state = (
+        tuple(portable(p.actor.state()) for p in policies)
+        if several
+        else (portable(policy.actor.state()) if policy is not None else None)
+    )
+    policy_seed = tuple(seeds) if several else (seeds[0] if seeds else None)
     setup = (
         config, gains, actor_state, spec.plants, spec.controllers, feedback_gains, policy_seed
     )  # fmt: skip
@@ -136,6 +147,32 @@ def evaluate(
         if on_trial is not None:
             on_trial(result, done, len(jobs))
     return gathered.evaluation()
+
+
+def policy_seeds(policies: Sequence[TrainedPolicy]) -> list[int | None]:
+    """Each policy's training seed (from its provenance line), once ConfigError (one line)
+    has ruled out what several policies in one evaluation cannot be: trained with different
+    environment settings (they push the same trials) or sharing a seed (their ``rl`` rows
+    would be indistinguishable), or, for several, a policy that names no seed."""
+    seeds = [p.seed for p in policies]
+    if len(policies) < 2:
+        return seeds
+    if None in seeds:
+        raise ConfigError(
+            "with several policies each must name its training seed in its provenance "
+            "(`pushctl train` writes it); one names none"
+        )
+    repeated = sorted({s for s in seeds if seeds.count(s) > 1})
+    if repeated:
+        raise ConfigError(f"several policies were trained with seed {repeated[0]}; give each once")
+    first = policies[0].env
+    for p, seed in zip(policies[1:], seeds[1:], strict=True):
+        if p.env != first:
+            raise ConfigError(
+                f"the policy of training seed {seed} was trained with other environment "
+                f"settings than seed {seeds[0]}'s; evaluate policies of one preset together"
+            )
+    return seeds
 
 
 def check_workers(workers: int) -> None:
@@ -180,11 +217,11 @@ class _Context:
         self,
         config: EnvConfig,
         gains: PDGains,
-        actor_state: dict[str, Any] | None,
+        actor_state: dict[str, Any] | tuple[dict[str, Any], ...] | None,
         plants: tuple[str, ...],
         controllers: tuple[str, ...],
         feedback_gains: FeedbackGains | None = None,
-        policy_seed: int | None = None,
+        policy_seed: int | None | tuple[int | None, ...] = None,
     ) -> None:
         self.envs = {
             plant: PushEnv(replace(config, stream="evaluation", plant=plant), gains)
@@ -196,6 +233,13 @@ class _Context:
             for plant in plants:
                 own = feedback_config(replace(config, stream="evaluation", plant=plant))
                 self.feedback[plant] = (PushEnv(own, gains), feedback_gains)
+        if isinstance(actor_state, tuple):  # several policies: (actor, seed) pairs
+            assert isinstance(policy_seed, tuple)
+            actors = [ActorPolicy.from_state(tensors(state)) for state in actor_state]
+            self.policies: tuple | None = tuple(zip(actors, policy_seed, strict=True))
+            actor_state, policy_seed = None, None
+        else:
+            self.policies = None
         self.actor = (
             ActorPolicy.from_state(tensors(actor_state)) if actor_state is not None else None
         )
@@ -210,6 +254,7 @@ class _Context:
             self.controllers,
             self.feedback.get(job.plant),
             self.policy_seed,
+            self.policies,
         )
 
 

@@ -132,6 +132,7 @@ def run_trial(
     controllers: tuple[str, ...],
     feedback: tuple[PushEnv, FeedbackGains] | None = None,
     policy_seed: int | None = None,
+    policies: tuple[tuple[ActorPolicy, int | None], ...] | None = None,
 ) -> TrialResult:
     """Run ``controllers`` (a subset of :data:`CONTROLLERS`) on ``job``'s scenario.
 
@@ -139,7 +140,10 @@ def run_trial(
     draws, plans and, for RL, pushes); ``actor``: the residual policy (None only without
     ``rl``); ``feedback``: the environment the feedback law pushes in (the same stream and
     plant, its own residual settings) and its gains (None only without ``feedback``);
-    ``policy_seed``: the policy's training seed, for the ``rl`` row. The reset draws the
+    ``policy_seed``: the policy's training seed, for the ``rl`` row; ``policies``: several
+    (actor, training seed) pairs instead of ``actor`` and ``policy_seed``, each pushing the
+    same scenario (the environment reset again with the same options) and adding its own
+    ``rl`` row; ``rl``'s per-step quantities are then their mean. The reset draws the
     scenario even when only PD runs, so PD-only's rows are the same with and without the
     others.
     """
@@ -151,10 +155,15 @@ def run_trial(
     # of the episode as the reset left it (9 % of a trial's CPU time saved; the same trace
     # as a fresh Episode's run(), tested).
     pd_episode = copy.deepcopy(env.episode) if "pd" in controllers else None
+    rl_runs: list[tuple[int | None, tuple[Trace, float]]] = []
     if "rl" in controllers:
-        if actor is None:
-            raise ConfigError("RL-assisted trials need a policy")
-        traces["rl"] = _push_with(env, actor)
+        for k, (one, seed) in enumerate(policies or ((actor, policy_seed),)):
+            if one is None:
+                raise ConfigError("RL-assisted trials need a policy")
+            if k > 0:
+                env.reset(options=options)  # the same scenario again for the next policy
+            rl_runs.append((seed, _push_with(env, one)))
+        traces["rl"] = rl_runs[0][1]
     if "feedback" in controllers:
         if feedback is None:
             raise ConfigError("feedback trials need the feedback law's gains")
@@ -166,10 +175,13 @@ def run_trial(
     redrawn = int(info["goals_redrawn"])
     rows, steps = [], {}
     for controller in CONTROLLERS:
-        if controller in traces:
+        if controller == "rl" and rl_runs:
+            for seed, (trace, gate_share) in rl_runs:
+                rows.append(_row(env, job, "rl", redrawn, gate_share, trace, seed))
+            steps["rl"] = np.mean([step_quantities(run[0]) for _, run in rl_runs], axis=0)
+        elif controller in traces:
             trace, gate_share = traces[controller]
-            seed = policy_seed if controller == "rl" else None
-            rows.append(_row(env, job, controller, redrawn, gate_share, trace, seed))
+            rows.append(_row(env, job, controller, redrawn, gate_share, trace))
             steps[controller] = step_quantities(trace)
     t = next(iter(traces.values()))[0].t
     return TrialResult(job, tuple(rows), steps, np.asarray(t, dtype=float), redrawn)

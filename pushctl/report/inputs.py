@@ -49,6 +49,9 @@ class CsvSpec:
     optional_numbers: tuple[str, ...] = ()
     choices: tuple[tuple[str, tuple[str, ...]], ...] = ()
     key: tuple[str, ...] = ()
+    if_present: tuple[str, ...] = ()
+    """Numbers or empty, in files that have the column (older ones lack it); part of the
+    key there."""
 
     @property
     def columns(self) -> tuple[str, ...]:
@@ -66,6 +69,7 @@ TRIALS_SPEC = CsvSpec(
     optional_numbers=("translation_error_pct", "angle_error_pct"),
     choices=_CHOICES,
     key=(*_GROUP, "trial"),
+    if_present=("policy_seed",),  # several policies: one rl row per trial and seed
 )
 STEPS_SPEC = CsvSpec(
     what="per-step means from `pushctl evaluate`",
@@ -187,11 +191,15 @@ def _checked(path: Path, raw: pd.DataFrame, spec: CsvSpec) -> pd.DataFrame:
         _reject(path, column, bad, frame[column], f"not one of {'|'.join(accepted)}")
     for column in spec.numbers + spec.optional_numbers:
         frame[column] = _numbers(path, column, frame[column], column in spec.numbers)
+    present = [c for c in spec.if_present if c in frame.columns]
+    for column in present:
+        frame[column] = _numbers(path, column, frame[column], False)
     if spec.key:
-        duplicated = frame.duplicated(list(spec.key), keep="first")
+        key_columns = [*spec.key, *present]
+        duplicated = frame.duplicated(key_columns, keep="first")
         if duplicated.any():
             row = int(np.flatnonzero(duplicated.to_numpy())[0])
-            key = ", ".join(f"{c}={frame[c].iloc[row]}" for c in spec.key)
+            key = ", ".join(f"{c}={frame[c].iloc[row]}" for c in key_columns)
             raise ResultsFileError(f"{path}: data row {row + 1} repeats ({key})")
     return frame
 

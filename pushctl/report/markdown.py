@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 
 from pushctl.report import paper_values
+from pushctl.report.seeds import SeedTables, seeds_markdown
 from pushctl.report.tables import ResultTable
 
 MILLI = 1e3
@@ -104,9 +105,12 @@ def _ratio_table(
     table: ResultTable,
     paper: dict[tuple[str, str], dict[str, float]],
     pairs: list[tuple[str, str, str]],
+    intervals: dict[tuple[str, str, str, str], float] | None = None,
 ) -> list[str]:
     """Ratio of means per (heading, numerator column, denominator column), ours and, for
-    RL/PD, the paper's (the paper has no feedback baseline: RL/feedback is ours only)."""
+    RL/PD, the paper's (the paper has no feedback baseline: RL/feedback is ours only);
+    ``intervals``: a CI half-width per (object, profile, numerator, denominator), shown
+    as ± (several seeds, :mod:`pushctl.report.seeds`)."""
     header = ["object", "profile"]
     for heading, _, below in pairs:
         header += [f"{heading} (ours)"] + (["paper"] if below.endswith(_PD_SUFFIXES) else [])
@@ -115,9 +119,9 @@ def _ratio_table(
         published = paper.get((obj, profile), {})
         row = [obj, profile]
         for _, above, below in pairs:
-            row.append(
-                _ratio(float(table.values[above].iloc[i]), float(table.values[below].iloc[i]))
-            )
+            ratio = _ratio(float(table.values[above].iloc[i]), float(table.values[below].iloc[i]))
+            ci = (intervals or {}).get((obj, profile, above, below), math.nan)
+            row.append(ratio + (f" ± {ci:.2g}" if ratio != "–" and math.isfinite(ci) else ""))
             if below.endswith(_PD_SUFFIXES):
                 row.append(_ratio(published.get(above, math.nan), published.get(below, math.nan)))
         rows.append(row)
@@ -125,6 +129,18 @@ def _ratio_table(
 
 
 _PD_SUFFIXES = ("_pd", "_pd_sim", "_pd_proxy")
+
+
+def _per_seed(seeds: SeedTables | None) -> list[str]:
+    """The per-seed section of Table III (also ``table3_seeds.csv``)."""
+    assert seeds is not None
+    return [
+        "Each training seed's own ratios (its RL mean over the trials / PD-only's or "
+        "feedback's; also `table3_seeds.csv`):",
+        "",
+        *seeds_markdown(seeds.per_seed),
+        "",
+    ]
 
 
 _T3: list[tuple[str, str, str | None]] = [
@@ -184,12 +200,27 @@ _T4_RATIOS = [
 
 
 def tables_markdown(
-    table3: ResultTable, table4: ResultTable, made_by: str, inputs: list[str]
+    table3: ResultTable,
+    table4: ResultTable,
+    made_by: str,
+    inputs: list[str],
+    seeds: SeedTables | None = None,
 ) -> str:
     """The text of ``tables.md``: its first line the provenance ``made_by`` (the report's
     own ``# made by:`` line) in an HTML comment, then the ``inputs`` with theirs, both
-    tables beside the paper's, the RL/PD ratios, and notes on what differs."""
+    tables beside the paper's, the RL/PD ratios, and notes on what differs; with
+    ``seeds`` of several training seeds, the RL cells and ratios across seeds and a
+    per-seed ratio table (:mod:`pushctl.report.seeds`)."""
     cell = "each cell: our mean ± the half-width of its 95 % confidence interval (Student t)"
+    several = seeds is not None and seeds.several
+    intervals = seeds.ratio_ci if seeds is not None and seeds.several else None
+    if several:
+        assert seeds is not None
+        cell += (
+            f"; RL columns and ratios: the mean over the {len(seeds.seeds)} training seeds "
+            f"({', '.join(map(str, seeds.seeds))}) of each seed's own cell mean, ± across "
+            "seeds (Student t, S − 1 degrees of freedom; docs/several-seeds.md)"
+        )
     lines = [
         f"<!-- {made_by.removeprefix('#').strip()} -->",
         "# Tables III and IV: ours beside the paper's",
@@ -207,8 +238,9 @@ def tables_markdown(
         "RL-assisted / PD-only and RL-assisted / feedback, the ratios of the means (< 1: "
         "RL-assisted better; the paper has no feedback baseline):",
         "",
-        *_ratio_table(table3, paper_values.TABLE3, _T3_RATIOS),
+        *_ratio_table(table3, paper_values.TABLE3, _T3_RATIOS, intervals),
         "",
+        *(_per_seed(seeds) if several else []),
         "## Table IV: force error [mN] and torque error [mN·m], `sim` and `proxy` plants",
         "",
         "Force error against the nominal plan [mN] (the paper's definition, `force_error_plan`):",
@@ -227,7 +259,7 @@ def tables_markdown(
         "RL-assisted / PD-only and RL-assisted / feedback, the ratios of the means (< 1: "
         "RL-assisted better):",
         "",
-        *_ratio_table(table4, paper_values.TABLE4, _T4_RATIOS),
+        *_ratio_table(table4, paper_values.TABLE4, _T4_RATIOS, intervals),
         "",
         "## How to read the comparison",
         "",
