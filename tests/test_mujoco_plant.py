@@ -24,7 +24,7 @@ def test_evaluate_on_mujoco_writes_mujoco_rows(tmp_path):
     assert result.exit_code == 0, result.output
     trials = pd.read_csv(tmp_path / "trials.csv", comment="#")
     assert set(trials["plant"]) == {"mujoco"}
-    assert sorted(trials["controller"]) == ["pd", "pd", "rl", "rl"]
+    assert sorted(trials["controller"]) == ["feedback", "feedback", "pd", "pd", "rl", "rl"]
     pd_rows = trials[trials["controller"] == "pd"]
     assert (pd_rows["translation_error_pct"] < 2.0).all()  # the PD tracks on MuJoCo too
     assert (trials["max_penetration"] < 1e-3).all()
