@@ -184,7 +184,10 @@ def simulate(
         typer.Option(help="rl's policy (default: the shipped results/training/policy.pt)"),
     ] = None,
     randomize: Annotated[
-        bool, typer.Option("--randomize", help="draw μ_g, μ_c and masses from the sim ranges")
+        bool,
+        typer.Option(
+            "--randomize", help="draw μ_g, μ_c, masses and plant unknowns from the sim ranges"
+        ),
     ] = False,
     mu_ground: Annotated[float | None, typer.Option(help="plant's object-table μ_g")] = None,
     mu_contact: Annotated[float | None, typer.Option(help="plant's prong-object μ_c")] = None,

@@ -15,6 +15,7 @@ from pushctl.episode.metrics import METRIC_UNITS, EpisodeMetrics
 from pushctl.episode.runner import Episode
 from pushctl.episode.scenario import PhysicalParameters, Scenario
 from pushctl.episode.trace import Trace
+from pushctl.episode.unknowns import PlantUnknowns
 from pushctl.errors import ConfigError
 from pushctl.evaluation.tune_pd import BOUNDS, GRID, Candidate
 from pushctl.objects import resolve_object
@@ -144,14 +145,31 @@ def scenario_table(scenario: Scenario, start: PlanarPose, redrawn: int) -> Table
         table.add_row("seed", f"{scenario.seed} (evaluation stream; {redrawn} goals redrawn)")
     table.add_row("plant", _plant_text(scenario.plant, scenario.object))
     table.add_row("planned with", _plant_text(scenario.nominal, scenario.object))
+    if not scenario.unknowns.is_none:
+        table.add_row("unknowns", _unknowns_text(scenario.unknowns))
     table.add_row("push", f"{scenario.duration:g} s in steps of {scenario.dt:g} s")
     return table
+
+
+def _unknowns_text(unknowns: PlantUnknowns) -> str:
+    """The drawn plant unknowns in mm, deg and percent (DESIGN.md §9)."""
+    along, across, turn = unknowns.placement
+    prongs = ", ".join(f"({1e3 * a:+.2f}, {1e3 * b:+.2f})" for a, b in unknowns.prong_errors[:2])
+    pressure_n, pressure_t = unknowns.pressure_offset
+    return (
+        f"placement {1e3 * along:+.2f} / {1e3 * across:+.2f} mm, {math.degrees(turn):+.2f} deg; "
+        f"mounting yaw {math.degrees(unknowns.mount_yaw):+.2f} deg, prongs {prongs} mm; "
+        f"centre of pressure {100 * pressure_n:+.1f} / {100 * pressure_t:+.1f} % of the "
+        f"half-extents; ground friction ±{100 * unknowns.ground_variation:.0f} % over "
+        f"{1e3 * unknowns.ground_length:.0f} mm (field seed {unknowns.ground_seed})"
+    )
 
 
 _LABELS = {
     "translation_error_pct": "translation error",
     "angle_error_pct": "angle error",
-    "force_error": "force error (mean over steps and prongs)",
+    "force_error": "force error vs the plant's needs (mean over steps and prongs)",
+    "force_error_plan": "force error vs the nominal plan",
     "torque_error": "torque error",
     "contact_loss_fraction": "contact-loss time fraction",
     "slip_fraction": "prong-slip time fraction",

@@ -107,6 +107,8 @@ def test_randomize_draws_the_plant_but_keeps_the_seeds_goal(tmp_path, gains):
     mu_ground, mu_contact, _ = _plant(result.output)
     assert mu_ground != "0.300" and mu_contact != "0.400"
     assert "planned with │ μ_g 0.300, μ_c 0.400" in result.output
+    assert "unknowns     │ placement" in result.output  # the drawn plant unknowns
+    assert "unknowns" not in _simulate(gains, "--seed", "3").output  # none without --randomize
     # Different plant, different trace (compare the data rows, not the provenance line).
     assert nominal.read_text().splitlines()[1:] != randomized.read_text().splitlines()[1:]
     goal = ["des_x", "des_y", "des_theta"]

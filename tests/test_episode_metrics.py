@@ -32,6 +32,7 @@ def make_trace(n: int, **overrides: object) -> Trace:
         "desired_pose": np.zeros((rows, 3)),
         "contact_forces": np.tile([1.0, 0.0], (rows, K, 1)),
         "desired_forces": np.tile([1.0, 0.0], (rows, K, 1)),
+        "plan_forces": np.tile([1.0, 0.0], (rows, K, 1)),
         "contact_torque": np.zeros(rows),
         "desired_torque": np.zeros(rows),
         "prong_gaps": np.zeros((rows, K)),
@@ -50,7 +51,15 @@ def make_trace(n: int, **overrides: object) -> Trace:
 
 def test_perfect_push_has_zero_errors():
     m = compute_metrics(make_trace(10))
-    assert m == EpisodeMetrics(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    assert m == EpisodeMetrics(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    assert math.isnan(compute_metrics(make_trace(10, plan_forces=None)).force_error_plan)
+
+
+def test_force_error_plan_is_against_the_plan_s_forces_and_force_error_against_the_plant_s():
+    planned = np.tile([1.3, 0.4], (4, K, 1))  # the nominal plan asked 0.5 N more
+    m = compute_metrics(make_trace(3, plan_forces=planned))
+    assert m.force_error == 0.0  # the plant needed what the prongs applied
+    assert m.force_error_plan == pytest.approx(0.5)
 
 
 def test_lateral_offset_of_5mm_on_a_02m_arc_is_2_5_percent():

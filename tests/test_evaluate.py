@@ -12,8 +12,11 @@ import pytest
 
 from pushctl.control.feedback import FeedbackGains
 from pushctl.episode.metrics import EpisodeMetrics
+from pushctl.episode.ranges import load_ranges
+from pushctl.episode.scenario import STREAMS
+from pushctl.episode.unknowns import unknowns_rng
 from pushctl.errors import ConfigError
-from pushctl.evaluation.columns import STEP_COLUMNS, TRIAL_COLUMNS
+from pushctl.evaluation.columns import STEP_COLUMNS, TRIAL_COLUMNS, UNKNOWN_COLUMNS
 from pushctl.evaluation.evaluate import (
     STEPS_FILE,
     TRIALS_FILE,
@@ -108,6 +111,9 @@ def test_a_policy_behind_a_shut_gate_equals_pd_only(tmp_path: Path) -> None:
     np.testing.assert_array_equal(pd_rows[metrics].to_numpy(), rl_rows[metrics].to_numpy())
     assert (trials["gate_open_fraction"] == 0.0).all()
     assert pd_rows["mu_ground"].iloc[0] != pd_rows["mu_ground"].iloc[1]  # two drawn plants
+    for _, row in trials.iterrows():  # the plant unknowns of each trial's seed, as drawn
+        drawn = load_ranges().unknowns("sim").draw(unknowns_rng(row["seed"], STREAMS["evaluation"]))
+        assert row[list(UNKNOWN_COLUMNS)].to_dict() == pytest.approx(drawn.as_dict(2))
     steps = result.steps
     assert len(steps) == 2 * (round(DURATION / 0.01) + 1)
     pd_steps = steps[steps["controller"] == "pd"][list(STEP_COLUMNS)].to_numpy()

@@ -241,11 +241,15 @@ def test_paper_values_are_in_si_and_cover_every_cell():
         (paper_values.TABLE4, TABLE4_COLUMNS),
     ):
         assert set(table) == {(o, p) for o in OBJECTS for p in PROFILES}
-        for row in table.values():  # the paper has no feedback baseline
-            assert set(row) == {c for c in columns if "feedback" not in c}
+        # every column but our force error against the plant's needs and the feedback
+        # baseline's, which the paper lacks
+        ours_only = {c for c in columns if c.startswith("force_error_") and "plan" not in c}
+        ours_only |= {c for c in columns if "feedback" in c}
+        for row in table.values():
+            assert set(row) == set(columns) - ours_only
     assert paper_values.TABLE3[("wedge", "chirp")]["translation_error_pd"] == 29.6
     cube = paper_values.TABLE4[("cube", "constant")]
-    assert cube["force_error_pd_sim"] == pytest.approx(0.171)  # printed 1.71 × 10⁻¹ N
+    assert cube["force_error_plan_pd_sim"] == pytest.approx(0.171)  # printed 1.71 × 10⁻¹ N
     assert cube["torque_error_rl_proxy"] == pytest.approx(2.52e-3)  # printed 2.52 × 10⁻³ N·m
 
 
@@ -270,6 +274,23 @@ def test_markdown_shows_ours_beside_the_papers_values():
     # RL/feedback: ours 0.8, no paper column; angle RL/PD 0.25 / 0.6 (PD's NaN left out)
     assert "| cube | constant | 0.50 | 0.18 | 0.80 | 0.42 |" in text
     assert "real robot" in text and "10⁻¹ N" in text
+
+
+def test_table4_shows_force_error_against_the_plan_beside_the_paper_and_the_plant_s_alone():
+    trials = trials_frame()
+    trials["force_error_plan"] = 3.0 * trials["force_error"]
+    text = tables_markdown(table3(trials), table4(trials), "# made by: x", ["trials.csv"])
+    plan_part = text.split("against the nominal plan [mN]")[1].split("against what the plant")[0]
+    plant_part = text.split("against what the plant needed [mN]")[1].split("Torque error")[0]
+    # cube chirp PD sim: plan 3 × 5 mN beside the paper's 205 mN; the plant's 5 mN alone
+    assert "| cube | chirp | 4 | 15 ± " in plan_part and "| 205 |" in plan_part
+    (row,) = [line for line in plant_part.splitlines() if line.startswith("| cube | chirp |")]
+    assert row.startswith("| cube | chirp | 4 | 5 ± ") and row.count("|") == 10  # no paper
+    assert "| force vs plan sim RL/PD (ours) | paper |" in text
+    # an older trials.csv without the column still makes the table (NaN: "–")
+    older = table4(trials_frame())
+    assert np.isnan(older.values["force_error_plan_pd_sim"]).all()
+    assert (older.counts["force_error_plan_pd_sim"] == 0).all()
 
 
 # ---------------------------------------------------------------- inputs

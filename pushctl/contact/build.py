@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pushctl.arm import ArmConfig, load_arm
 from pushctl.config import GRAVITY, PusherConfig
+from pushctl.contact.ground_field import FrictionField
 from pushctl.contact.world import World, WorldConfig
 from pushctl.objects import ObjectSpec, resolve_object, with_masses
 
@@ -21,6 +22,7 @@ def make_world(
     damping=None,
     substeps: int = 1,
     gravity: float = GRAVITY,
+    friction_field: FrictionField | None = None,
 ) -> World:
     """Build a world. Every argument is validated; bad ones raise a ``ConfigError``.
 
@@ -35,6 +37,8 @@ def make_world(
         (30 g for the cube, 40 g for the wedge).
     armature [kg·m²], damping [N·m·s/rad]: per joint; None uses the arm's defaults.
     gravity [m/s²]: its magnitude; 0 turns it off for arm and ground loads alike.
+    friction_field: μ(p)/μ_g over the table, a
+        :class:`~pushctl.contact.ground_field.FrictionField`; None: μ_g everywhere.
     """
     config = WorldConfig(
         dt=dt, mu_ground=mu_ground, mu_contact=mu_contact, substeps=substeps, gravity=gravity
@@ -44,7 +48,7 @@ def make_world(
     else:
         spec = resolve_object(object, mass=object_mass)
     if arm is None:
-        return World(spec, None, config)
+        return World(spec, None, config, friction_field)
     if pusher is None:
         pusher = PusherConfig(mass=spec.pusher_mass)
     arm_config = ArmConfig(
@@ -55,7 +59,7 @@ def make_world(
     )
     arm_model = load_arm(arm_config)
     arm_model.set_gravity(gravity)
-    return World(spec, arm_model, config)
+    return World(spec, arm_model, config, friction_field)
 
 
 __all__ = ["make_world"]

@@ -30,6 +30,7 @@ import numpy as np
 from pushctl.arm import ArmModel, ArmTerms
 from pushctl.checks import finite_vector
 from pushctl.config import GRAVITY
+from pushctl.contact.ground_field import FrictionField
 from pushctl.contact.kernels import (
     apply_impulses,
     assemble,
@@ -103,8 +104,17 @@ class WorldConfig:
 class World:
     """Arm (optional) + pusher + one object on the table. Build it with :func:`make_world`."""
 
-    def __init__(self, obj: ObjectSpec, arm: ArmModel | None, config: WorldConfig) -> None:
+    def __init__(
+        self,
+        obj: ObjectSpec,
+        arm: ArmModel | None,
+        config: WorldConfig,
+        friction_field: FrictionField | None = None,
+    ) -> None:
+        """``friction_field``: μ(p)/μ_g over the table
+        (:class:`~pushctl.contact.ground_field.FrictionField`); None: μ_g everywhere."""
         self.object = obj
+        self.friction_field = friction_field
         self.arm = arm
         self.config = config
         self.stats = WorldStats()
@@ -112,6 +122,7 @@ class World:
         self._support_points = np.ascontiguousarray(obj.support_points, dtype=float)
         # Support loads are computed at GRAVITY; the friction bounds follow the world's.
         self._friction_limits = config.mu_ground * obj.support_loads * (config.gravity / GRAVITY)
+        self._uniform_limits = self._friction_limits  # scaled by the friction field, if any
         self._slip_directions = np.zeros_like(self._support_points)
         self._sliding = np.zeros(len(self._support_points), dtype=np.bool_)
         self._n_prongs = 0 if arm is None else arm.pusher.n_prongs
@@ -212,7 +223,10 @@ class World:
         return problem
 
     def _start_slip_state(self) -> None:
-        """Friction boxes for the next step, from the object's velocity (see :meth:`_substep`)."""
+        """Friction boxes for the next step, from the object's velocity (see :meth:`_substep`),
+        and their bounds from the friction field at the support points' table positions."""
+        if self.friction_field is not None:
+            self._update_friction_bounds()
         slip_state(
             self.object_pose,
             self.object_velocity,
@@ -220,6 +234,20 @@ class World:
             self._slip_directions,
             self._sliding,
         )
+
+    def _update_friction_bounds(self) -> None:
+        """Each support point's μ(p_j) N_j from the friction field at its table position.
+        The warm start's ground impulses (the last 2 S rows) scale with their bounds, so a
+        row that slid at its old bound is read as sliding at the new one."""
+        assert self.friction_field is not None
+        field = self.friction_field.at_support_points(self.object_pose, self._support_points)
+        limits = self._uniform_limits * field
+        if self._last_p is not None:
+            ratio = limits / np.maximum(self._friction_limits, 1e-300)
+            guess = self._last_p.copy()
+            guess[-2 * ratio.size :] *= np.repeat(ratio, 2)
+            self._last_p = guess
+        self._friction_limits = limits
 
     def _step_inputs(self, h: float, tau: np.ndarray, damping: np.ndarray) -> tuple:
         """Arguments of :func:`assemble` for one time step of length h, and the prongs.

@@ -8,7 +8,11 @@ the contact force of prong i and F_des,i the plan's force for it:
 - ``translation_error_pct`` [%] = mean ‖p − p_des‖ / arc_length × 100;
 - ``angle_error_pct`` [%] = mean |θ − θ_des| / |Δθ| × 100, NaN when Δθ = 0 (a straight push
   has no angle scale; ``angle_error_deg`` covers it);
-- ``force_error`` [N] = mean over steps and prongs of ‖F_des,i − λ_i‖₂;
+- ``force_error`` [N] = mean over steps and prongs of ‖F_des,i − λ_i‖₂, F_des what the
+  plant needed to follow the plan (its true parameters, support loads and friction field);
+- ``force_error_plan`` [N] = the same against the nominal plan's forces (the trace's
+  ``plan_forces``; NaN without them): the paper's definition, which also counts the part of
+  the plan's error that no controller following the plan can remove;
 - ``torque_error`` [N·m] = mean |τ_des − τ|, both already Σ over the prongs;
 - ``contact_loss_fraction`` [1] = fraction of steps where some prong has λ_n < threshold;
 - ``slip_fraction`` [1] = fraction of steps where some prong in contact (λ_n > threshold)
@@ -40,6 +44,7 @@ METRIC_UNITS: dict[str, str] = {
     "translation_error_pct": "%",
     "angle_error_pct": "%",
     "force_error": "N",
+    "force_error_plan": "N",
     "torque_error": "N·m",
     "contact_loss_fraction": "1",
     "slip_fraction": "1",
@@ -56,14 +61,15 @@ class EpisodeMetrics:
     """The metrics of one push, SI units (see the module docstring for the definitions).
 
     ``translation_error_pct`` [%] of the arc length; ``angle_error_pct`` [%] of |Δθ| (NaN for
-    a straight push); ``force_error`` [N]; ``torque_error`` [N·m]; ``contact_loss_fraction``
-    and ``slip_fraction`` [1] of the steps; ``max_penetration`` [m] (≥ 0);
+    a straight push); ``force_error`` and ``force_error_plan`` [N]; ``torque_error`` [N·m];
+    ``contact_loss_fraction`` and ``slip_fraction`` [1] of the steps; ``max_penetration`` [m] (≥ 0);
     ``final_position_error`` [m]; ``final_angle_error`` [rad]; ``angle_error_deg`` [deg].
     """
 
     translation_error_pct: float
     angle_error_pct: float
     force_error: float
+    force_error_plan: float
     torque_error: float
     contact_loss_fraction: float
     slip_fraction: float
@@ -120,6 +126,7 @@ def compute_metrics(trace: Trace, contact_threshold: float = 1e-3) -> EpisodeMet
         translation_error_pct=_ratio_pct(float(np.mean(position_error)), trace.arc_length),
         angle_error_pct=_ratio_pct(mean_angle_error, trace.delta_theta),
         force_error=float(np.mean(np.linalg.norm(forces_des - forces, axis=2))),
+        force_error_plan=_force_error_plan(trace, forces),
         torque_error=float(np.mean(np.abs(torque_des - torque))),
         contact_loss_fraction=float(np.mean(lost)),
         slip_fraction=float(np.mean(slipping)),
@@ -128,6 +135,15 @@ def compute_metrics(trace: Trace, contact_threshold: float = 1e-3) -> EpisodeMet
         final_angle_error=float(angle_error[-1]),
         angle_error_deg=math.degrees(mean_angle_error),
     )
+
+
+def _force_error_plan(trace: Trace, forces: np.ndarray) -> float:
+    """Mean ‖F_plan,i − λ_i‖₂ [N] over rows 1 … N (``forces`` (N, k, 2)); NaN without plan
+    forces in the trace."""
+    if trace.plan_forces is None:
+        return math.nan
+    planned = np.asarray(trace.plan_forces, dtype=float)[1:]
+    return float(np.mean(np.linalg.norm(planned - forces, axis=2)))
 
 
 def force_component_errors(trace: Trace) -> tuple[float, float]:

@@ -9,7 +9,10 @@ the plan's prong offset: what the pushed object really needed where the prongs r
 Plant unknowns (``Scenario.unknowns``, DESIGN.md §9) live in the world only: the object
 starts at its true pose (the believed start ⊕ the placement error) while the plan and the
 approach aim at the believed one, and the world's pusher has the mounting error while the
-controller's arm model (:meth:`Episode.controller_terms`) keeps the nominal pusher.
+controller's arm model (:meth:`Episode.controller_terms`) keeps the nominal pusher; the
+world's object carries the shifted support loads and its table the friction field, and the
+plant forces (:attr:`Episode.plant_forces`) are computed with both. The trace also keeps the
+nominal plan's forces (``plan_forces``), the reference of ``force_error_plan``.
 
 With :class:`~pushctl.episode.proxy.ProxyEffects` the episode runs on the reality proxy: its
 actuators delay the controller's torque and add joint friction (approach and push alike),
@@ -28,6 +31,7 @@ from pushctl.arm import ArmConfig, ArmModel, ArmTerms, load_arm
 from pushctl.checks import finite_vector
 from pushctl.config import PusherConfig
 from pushctl.contact.build import make_world
+from pushctl.contact.ground_field import FrictionField
 from pushctl.contact.world import World
 from pushctl.control.gains import PDGains, load_gains
 from pushctl.control.pd import PDCommand, PDController
@@ -49,6 +53,7 @@ from pushctl.episode.proxy import (
 )
 from pushctl.episode.scenario import Scenario
 from pushctl.episode.trace import Trace, contact_torques
+from pushctl.episode.unknowns import friction_field, friction_limits, with_unknown_loads
 from pushctl.errors import ConfigError, StateError
 from pushctl.objects import ObjectSpec, resolve_object
 from pushctl.planning import ForcePlan, ForceSettings, Plan, make_plan
@@ -110,9 +115,12 @@ class Episode:
         nominal_obj = resolve_object(
             scenario.object, mass=nominal.object_mass, pusher_mass=nominal.pusher_mass
         )
-        self.object: ObjectSpec = resolve_object(
-            scenario.object, mass=plant.object_mass, pusher_mass=plant.pusher_mass
+        unknowns = scenario.unknowns
+        self.object: ObjectSpec = with_unknown_loads(
+            resolve_object(scenario.object, mass=plant.object_mass, pusher_mass=plant.pusher_mass),
+            unknowns,
         )
+        self.friction_field: FrictionField | None = friction_field(unknowns)
         planning_pusher = PusherConfig(mass=nominal_obj.pusher_mass)
         self.plan: Plan = (
             plan
@@ -130,15 +138,6 @@ class Episode:
             )
         )
         self.plan.raise_if_infeasible()
-        self.plant_forces: ForcePlan = distribute_forces(
-            self.plan.trajectory,
-            self.object,
-            planning_pusher.prong_offsets(),
-            ForceSettings(mu_contact=plant.mu_contact, mu_ground=plant.mu_ground),
-            scenario.gravity,
-            offset=self.plan.forces.offset,
-        )
-        unknowns = scenario.unknowns
         pusher = PusherConfig(mass=self.object.pusher_mass)
         if unknowns.has_mounting_error:
             pusher = replace(
@@ -146,6 +145,7 @@ class Episode:
                 mount_yaw=unknowns.mount_yaw,
                 prong_errors=unknowns.prong_errors_for(pusher.n_prongs),
             )
+        self.plant_forces: ForcePlan = self._plant_forces(pusher)
         self.world: World = make_world(
             self.object,
             arm=scenario.arm,
@@ -154,6 +154,7 @@ class Episode:
             dt=scenario.dt,
             pusher=pusher,
             gravity=scenario.gravity,
+            friction_field=self.friction_field,
         )
         # The controller's model of the arm: the world's own unless the pusher is mounted
         # other than the controller believes (then the nominal pusher, same mass).
@@ -175,6 +176,27 @@ class Episode:
         a gain search reruns one episode many times)."""
         self.gains = gains
         self.controller = self._controller(gains)
+
+    def _plant_forces(self, pusher: PusherConfig) -> ForcePlan:
+        """The prong forces the plant needs to follow the plan (DESIGN.md §7's F_des): its
+        true parameters, support loads and friction field, at the plan's plate offset with
+        the prongs where they really are on the plate (along the face)."""
+        plant, trajectory = self.scenario.plant, self.plan.trajectory
+        limits = None
+        if self.friction_field is not None:
+            limits = friction_limits(
+                self.object, plant.mu_ground, self.friction_field, trajectory.pose,
+                self.scenario.gravity,
+            )  # fmt: skip
+        return distribute_forces(
+            trajectory,
+            self.object,
+            pusher.prong_points()[:, 1],
+            ForceSettings(mu_contact=plant.mu_contact, mu_ground=plant.mu_ground),
+            self.scenario.gravity,
+            offset=self.plan.forces.offset,
+            friction_limits=limits,
+        )
 
     def _controller(self, gains: PDGains) -> PDController:
         return PDController(self.controller_arm, gains, self.scenario.dt)
@@ -324,6 +346,7 @@ class Episode:
             arc_length=self.plan.trajectory.arc_length,
             delta_theta=self.plan.trajectory.delta_theta,
             measured_pose=measured,
+            plan_forces=self.plan.forces.forces[rows].copy(),
         )
 
     # ---------------------------------------------------------------- internals

@@ -29,6 +29,9 @@ class Trace:
     ``arc_length`` [m] and ``delta_theta`` [rad] of the planned path (the metrics' scales);
     ``measured_pose`` (N+1, 3) or None: the object pose as the reality proxy's camera reports
     it (:func:`~pushctl.episode.proxy.camera_poses`), which the pose metrics use when given.
+    ``desired_forces`` are what the plant needed to follow the plan (its true parameters and
+    plant unknowns); ``plan_forces`` (N+1, k, 2) [N] or None are the nominal plan's own (the
+    paper's "desired values computed from our dynamic optimization").
     ``arm_tau`` is the actuators' torque: on the proxy the delayed command, friction excluded.
     """
 
@@ -49,6 +52,7 @@ class Trace:
     arc_length: float
     delta_theta: float
     measured_pose: np.ndarray | None = None
+    plan_forces: np.ndarray | None = None
 
     @property
     def n_steps(self) -> int:
@@ -62,8 +66,9 @@ class Trace:
         """The trace CSV's columns (DESIGN.md §8), SI units and radians: ``t, obj_x, obj_y,
         obj_theta, des_x, des_y, des_theta, lambda_n_i, lambda_t_i …, force_n_des_i,
         force_t_des_i …, tau_z, tau_z_des``, then the arm joints ``q_j, dq_j, tau_j``, then
-        the prong gaps ``gap_i`` and the pusher frame ``pusher_x, pusher_y, pusher_z``, and
-        with a camera its poses ``cam_x, cam_y, cam_theta``."""
+        the prong gaps ``gap_i`` and the pusher frame ``pusher_x, pusher_y, pusher_z``, with
+        a camera its poses ``cam_x, cam_y, cam_theta``, and with the nominal plan's forces
+        ``force_n_plan_i, force_t_plan_i``."""
         columns: dict[str, np.ndarray] = {"t": self.t}
         for prefix, pose in (("obj", self.object_pose), ("des", self.desired_pose)):
             for i, name in enumerate(("x", "y", "theta")):
@@ -86,6 +91,10 @@ class Trace:
         if self.measured_pose is not None:
             for i, name in enumerate(("x", "y", "theta")):
                 columns[f"cam_{name}"] = self.measured_pose[:, i]
+        if self.plan_forces is not None:
+            for i in range(self.n_prongs):
+                columns[f"force_n_plan_{i + 1}"] = self.plan_forces[:, i, 0]
+                columns[f"force_t_plan_{i + 1}"] = self.plan_forces[:, i, 1]
         return pd.DataFrame(columns)
 
 

@@ -23,7 +23,10 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
+from pushctl.config import GRAVITY
+from pushctl.contact.ground_field import FrictionField, support_positions
 from pushctl.errors import ConfigError
+from pushctl.objects import ObjectSpec, with_pressure_offset
 
 UNKNOWNS_KEY = 7
 """The extra spawn key of the unknowns' generator (after the stream's)."""
@@ -164,6 +167,32 @@ class PlantUnknowns:
         record["ground_length"] = self.ground_length
         record["ground_seed"] = self.ground_seed
         return record
+
+
+def with_unknown_loads(obj: ObjectSpec, unknowns: PlantUnknowns) -> ObjectSpec:
+    """``obj`` with the centre-of-pressure offset of ``unknowns`` (fractions of the
+    footprint's half-extents along e_n and e_t): the same object if there is none."""
+    fractions = np.asarray(unknowns.pressure_offset, dtype=float)
+    if not fractions.any():
+        return obj
+    half_extents = 0.5 * np.ptp(np.asarray(obj.footprint), axis=0)
+    return with_pressure_offset(obj, fractions * half_extents)
+
+
+def friction_field(unknowns: PlantUnknowns) -> FrictionField | None:
+    """The ground-friction field of ``unknowns`` (None for a uniform μ_g)."""
+    if unknowns.ground_variation == 0.0:
+        return None
+    return FrictionField(unknowns.ground_variation, unknowns.ground_length, unknowns.ground_seed)
+
+
+def friction_limits(
+    obj: ObjectSpec, mu_ground: float, field: FrictionField, poses: np.ndarray, gravity: float
+) -> np.ndarray:
+    """Sliding friction μ(p_j) N_j [N] of each support point of ``obj`` at each of ``poses``
+    (N, 3), (N, S): what the world's friction field gives there."""
+    uniform = mu_ground * np.asarray(obj.support_loads) * (gravity / GRAVITY)
+    return uniform * field(support_positions(poses, np.asarray(obj.support_points)))
 
 
 NO_UNKNOWNS = PlantUnknowns()

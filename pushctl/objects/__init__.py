@@ -16,7 +16,13 @@ from pushctl.objects.geometry import (
     vectors_to_world,
 )
 from pushctl.objects.mass import MassProperties, mass_properties, support_loads
-from pushctl.objects.presets import OBJECT_NAMES, make_object, resolve_object, with_masses
+from pushctl.objects.presets import (
+    OBJECT_NAMES,
+    make_object,
+    resolve_object,
+    with_masses,
+    with_pressure_offset,
+)
 from pushctl.objects.spec import DEFAULT_PUSHER_MASS, ObjectSpec, object_from_footprint
 from pushctl.objects.toml_io import load_object, object_to_toml, write_object
 
@@ -43,5 +49,6 @@ __all__ = [
     "vectors_to_local",
     "vectors_to_world",
     "with_masses",
+    "with_pressure_offset",
     "write_object",
 ]

@@ -93,28 +93,36 @@ def mass_properties(
     )
 
 
-def support_loads(points: np.ndarray, weight: float) -> np.ndarray:
+def support_loads(
+    points: np.ndarray, weight: float, centre: np.ndarray | None = None
+) -> np.ndarray:
     """Normal loads [N] on support points holding a rigid body in static equilibrium.
 
     Solves ``Σ N_j = weight`` and ``Σ N_j r_j = 0`` (no moment about the CoM) with
-    ``N ≥ 0``. With four or more points the loads are statically indeterminate; the
-    minimum-norm solution is taken (equal loads on a symmetric support, the lever rule
-    along a wedge's length).
+    ``N ≥ 0``. With ``centre`` c (2,) [m] the loads balance about c instead,
+    ``Σ N_j (r_j − c) = 0``: their centre of pressure is c (an uneven pressure distribution,
+    a plant unknown of DESIGN.md §9; the total stays ``weight``). With four or more points
+    the loads are statically indeterminate; the minimum-norm solution is taken (equal loads
+    on a symmetric support, the lever rule along a wedge's length).
 
     Args:
         points: support points ``(S, 2)`` [m] relative to the CoM.
         weight: ``m g`` [N].
+        centre: the loads' centre of pressure ``(2,)`` [m], relative to the CoM (None: the CoM).
 
     Returns:
         ``(S,)`` [N], non-negative.
 
     Raises:
-        ConfigError: the CoM lies outside the convex hull of the support points.
+        ConfigError: the CoM (or ``centre``) lies outside the convex hull of the support
+            points.
     """
     scale = max(float(np.abs(points).max()), 1e-12)
     # Unit weight and lever arms in units of the support's size keep the rows comparable.
     equilibrium = np.vstack((np.ones(len(points)), (points / scale).T))
     rhs = np.array([1.0, 0.0, 0.0])
+    if centre is not None:
+        rhs[1:] = np.asarray(centre, dtype=float) / scale
     n = len(points)
     solution = qpsolvers.solve_problem(
         qpsolvers.Problem(P=np.eye(n), q=np.zeros(n), A=equilibrium, b=rhs, lb=np.zeros(n)),

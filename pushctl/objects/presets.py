@@ -10,6 +10,8 @@ import dataclasses
 from functools import cache
 from pathlib import Path
 
+import numpy as np
+
 from pushctl.errors import ConfigError
 from pushctl.objects.spec import ObjectSpec, object_from_footprint
 from pushctl.objects.toml_io import load_object
@@ -78,6 +80,12 @@ def with_masses(
         mass=spec.mass if mass is None else mass,
         pusher_mass=spec.pusher_mass if pusher_mass is None else pusher_mass,
     )
+
+
+def with_pressure_offset(spec: ObjectSpec, offset) -> ObjectSpec:
+    """``spec`` with its support loads balanced about ``offset`` (2,) [m] (object frame,
+    from the CoM) instead of the CoM: a shifted centre of pressure, same total load."""
+    return dataclasses.replace(spec, pressure_offset=np.asarray(offset, dtype=float))
 
 
 def resolve_object(

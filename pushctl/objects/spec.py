@@ -46,6 +46,9 @@ class ObjectSpec:
         pusher_mass: mass of the pusher used with this object [kg] (Table II).
         support_points: ground contact points ``(S, 2)`` [m]; defaults to the footprint's
             corners.
+        pressure_offset: the support loads' centre of pressure ``(2,)`` [m] relative to the
+            CoM, or None for the CoM itself (static equilibrium). A plant unknown of
+            DESIGN.md §9: a real object's pressure distribution on the table is uneven.
 
     Derived on construction (never given): ``volume`` [m³], ``inertia_z`` [kg·m²] about the
     vertical axis through the CoM, ``com_height`` [m], ``support_loads (S,)`` [N],
@@ -61,6 +64,7 @@ class ObjectSpec:
     slope: np.ndarray = field(default_factory=lambda: np.zeros(2))
     pusher_mass: float = DEFAULT_PUSHER_MASS
     support_points: np.ndarray | None = None
+    pressure_offset: np.ndarray | None = None
     volume: float = field(init=False, repr=False)
     inertia_z: float = field(init=False)
     com_height: float = field(init=False)
@@ -88,6 +92,10 @@ class ObjectSpec:
         supports = footprint if self.support_points is None else self.support_points
         supports = _frozen(as_points(supports, f"object '{self.name}' support_points"))
         _check_supports_inside(self.name, polygon, supports)
+        pressure = None
+        if self.pressure_offset is not None:
+            where = f"object '{self.name}' pressure_offset"
+            pressure = _frozen(as_points([self.pressure_offset], where)[0])
         face_offset = -0.5 * float(footprint[0, 0] + footprint[1, 0])
         face_extent = np.array([footprint[1, 1], footprint[0, 1]])
         self._set(
@@ -101,7 +109,8 @@ class ObjectSpec:
             volume=props.volume,
             inertia_z=props.inertia_z,
             com_height=props.com_height,
-            support_loads=_frozen(support_loads(supports, self.mass * GRAVITY)),
+            support_loads=_frozen(support_loads(supports, self.mass * GRAVITY, pressure)),
+            pressure_offset=pressure,
             face_offset=face_offset,
             face_extent=_frozen(face_extent),
             face_height=float(height0 + slope @ (-face_offset, face_extent.mean())),
@@ -146,6 +155,10 @@ class ObjectSpec:
             and np.array_equal(self.footprint, other.footprint)
             and np.array_equal(self.slope, other.slope)
             and np.array_equal(np.asarray(self.support_points), np.asarray(other.support_points))
+            and np.array_equal(
+                np.zeros(2) if self.pressure_offset is None else self.pressure_offset,
+                np.zeros(2) if other.pressure_offset is None else other.pressure_offset,
+            )
         )
 
     def __hash__(self) -> int:

@@ -106,13 +106,21 @@ class ForcePlan:
 
 
 def required_wrench(
-    trajectory: Trajectory, obj: ObjectSpec, mu_ground: float, gravity: float
+    trajectory: Trajectory,
+    obj: ObjectSpec,
+    mu_ground: float,
+    gravity: float,
+    friction_limits: np.ndarray | None = None,
 ) -> np.ndarray:
-    """The wrench the pusher must apply at each sample, object frame, (N, 3) [N, N, N·m]."""
+    """The wrench the pusher must apply at each sample, object frame, (N, 3) [N, N, N·m].
+    ``friction_limits`` (N, S) [N]: per-sample sliding friction of each support point
+    (:func:`~pushctl.planning.ground.sliding_friction`'s ``limits``), None for μ_g N_j."""
     # the direction of motion per unit arc fraction, (dp/ds, dθ/ds): defined at rest too
     turn = np.full(len(trajectory.t), trajectory.delta_theta)
     direction = np.column_stack([trajectory.path_tangent, turn])
-    friction = sliding_friction(obj, mu_ground, trajectory.pose, direction, gravity)
+    friction = sliding_friction(
+        obj, mu_ground, trajectory.pose, direction, gravity, friction_limits
+    )
     inertial = trajectory.acceleration * np.array([obj.mass, obj.mass, obj.inertia_z])
     world = inertial - friction
     cos, sin = np.cos(trajectory.pose[:, 2]), np.sin(trajectory.pose[:, 2])
@@ -209,17 +217,20 @@ def distribute_forces(
     settings: ForceSettings,
     gravity: float,
     offset: float | None = None,
+    friction_limits: np.ndarray | None = None,
 ) -> ForcePlan:
     """Choose the plate offset and the prong forces at every sample of ``trajectory``.
 
     ``prong_offsets`` (k,) [m]: the prongs' positions along the plate
     (:meth:`PusherConfig.prong_offsets`). ``offset`` [m]: use this plate offset instead of
     searching for one (the forces a plan made with other parameters needs at its offset).
+    ``friction_limits`` (N, S) [N]: each support point's sliding friction per sample, for a
+    plant whose ground friction varies over the table (None: μ_g N_j everywhere).
     Never raises for an infeasible plan: the result's ``feasible`` and ``reason`` say what
     failed.
     """
     prong_offsets = np.asarray(prong_offsets, dtype=float)
-    wrench = required_wrench(trajectory, obj, settings.mu_ground, gravity)
+    wrench = required_wrench(trajectory, obj, settings.mu_ground, gravity, friction_limits)
     lo, hi = admissible_offsets(obj, prong_offsets, settings.face_margin)
     half_width = 0.5 * float(np.ptp(obj.face_extent))
     sample = np.unique(

@@ -27,16 +27,20 @@ def sliding_friction(
     pose: np.ndarray,
     direction: np.ndarray,
     gravity: float = GRAVITY,
+    limits: np.ndarray | None = None,
 ) -> np.ndarray:
     """Ground friction wrench on the object at each pose, world frame, (N, 3) [N, N, N·m].
 
     ``pose`` (N, 3) (x, y, θ); ``direction`` (N, 3) a twist (vx, vy, ω) giving only the
     direction of motion (any positive scale; the magnitude of friction does not depend on
     speed). The torque is about the centre of mass. A row of zeros in ``direction`` gives
-    zero friction (an object at rest can hold any friction up to the limit).
+    zero friction (an object at rest can hold any friction up to the limit). ``limits``
+    (N, S) [N]: each support point's sliding friction μ_j N_j per pose, in place of the
+    uniform μ_g N_j (a plant with friction varying over the table).
     """
     supports = np.asarray(obj.support_points, dtype=float)  # (S, 2) local
-    limits = mu_ground * np.asarray(obj.support_loads) * (gravity / GRAVITY)  # (S,)
+    if limits is None:
+        limits = mu_ground * np.asarray(obj.support_loads) * (gravity / GRAVITY)  # (S,)
     cos, sin = np.cos(pose[:, 2]), np.sin(pose[:, 2])
     # support points relative to the centre of mass, world axes: (N, S, 2)
     rx = cos[:, None] * supports[:, 0] - sin[:, None] * supports[:, 1]

@@ -41,11 +41,12 @@ TABLE3_COLUMNS: dict[str, Source] = {
 
 TABLE4_COLUMNS: dict[str, Source] = {
     f"{metric}_{controller}_{plant}": (metric, plant, controller)
-    for metric in ("force_error", "torque_error")
+    for metric in ("force_error", "force_error_plan", "torque_error")
     for controller in CONTROLLER_ORDER
     for plant in ("sim", "proxy")
 }
-"""Columns of ``table4.csv`` (force [N], torque [N·m]) and where each comes from."""
+"""Columns of ``table4.csv`` (force against the plant's needs and against the nominal plan
+[N], torque [N·m]) and where each comes from."""
 
 
 @dataclass(frozen=True)
@@ -110,9 +111,8 @@ def summarise(trials: pd.DataFrame, columns: dict[str, Source]) -> ResultTable:
         intervals = {}
         for name, (metric, plant, controller) in columns.items():
             key = (obj, profile, plant, controller)
-            values = (
-                groups.get_group(key)[metric].to_numpy(float) if key in groups.groups else empty
-            )
+            present = key in groups.groups and metric in trials.columns  # older files lack some
+            values = groups.get_group(key)[metric].to_numpy(float) if present else empty
             row[name] = _finite_mean(values)
             intervals[f"{name}_ci95"] = ci95_halfwidth(values)
             count[name] = int(np.isfinite(values).sum())
