@@ -329,8 +329,13 @@ def test_pd_only_and_rl_assisted_runs_see_the_same_camera_noise() -> None:
 OPTIONS = {"object": "cube", "profile": "trapezoid", "scenario_seed": 3}
 
 
-def test_the_proxy_environment_observes_noisy_forces_and_exact_pose_errors() -> None:
-    env = PushEnv(EnvConfig(plant="proxy", duration=2.0))
+@pytest.mark.parametrize("camera", [True, False])
+def test_the_proxy_environment_observes_noisy_forces_and_the_cameras_pose_errors(
+    camera: bool,
+) -> None:
+    """The observation's pose error reads the camera (DESIGN.md §7), or with
+    ``observe_camera = false`` (policies trained before) the exact pose."""
+    env = PushEnv(EnvConfig(plant="proxy", duration=2.0, observe_camera=camera))
     assert env.effects == ProxyEffects()
     obs, _ = env.reset(options=OPTIONS)
     where = index(env.observation_entries)
@@ -345,8 +350,11 @@ def test_the_proxy_environment_observes_noisy_forces_and_exact_pose_errors() -> 
     sigma = 0.05 * np.abs(true) + 0.02
     assert np.all(seen != true.astype(np.float32))
     assert np.all(np.abs(seen - true) < 6 * sigma)
-    error = trace.desired_pose[n] - trace.object_pose[n]  # the exact pose, not the camera's
+    seen_pose = trace.measured_pose if camera else trace.object_pose
+    error = trace.desired_pose[n] - seen_pose[n]
     assert obs[where["error_theta"]] == pytest.approx(error[2], rel=1e-5, abs=1e-12)
+    other = trace.object_pose if camera else trace.measured_pose
+    assert abs((trace.desired_pose[n] - other[n])[2] - error[2]) > 1e-5  # they differ
     # The paired PD-only run of the evaluation sees the same camera noise.
     for _ in range(n, episode.n_steps):
         env.step(np.zeros(3, dtype=np.float32))

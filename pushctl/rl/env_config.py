@@ -57,12 +57,15 @@ class EnvConfig:
     duration: float = 20.0
     dt: float = 0.01
     residual_path: str = "reference"
-    # Sized from the offsets the plant unknowns cause (docs/residual-and-feedback.md).
+    # Sized from the offsets the plant unknowns cause (1-3 mm, up to 1.5 deg) and the rate the
+    # tuned feedback law asks for (at most 3.1 mm/s, 0.023 rad/s on the tuning pushes):
+    # docs/residual-and-feedback.md, section 2. (The velocity path's old default: 0.02 m/s.)
     action_scale_linear: float = 0.005
     action_scale_angular: float = 0.05
-    # Above PD-only's steady tracking error (at most 0.04 mm on sim; medians to 0.10 mm and
-    # maxima to 0.15 mm on the proxy, tuning stream), below the 0.4-0.7 mm of a failed
-    # break-away: the residual acts on failures, not on steady pushes (README "Gate").
+    # Above PD-only's steady tracking error (at most 0.04 mm on sim, tuning stream), below the
+    # 1.5-2.7 mm the plant unknowns cause; on the proxy it reads the camera (sigma 1 mm) and is
+    # open on nearly every step, which the reference path's integration averages out
+    # (docs/residual-and-feedback.md, section 3).
     gate_threshold: float = 1.5e-4
     gate_length: float = 0.05
     observe_camera: bool = True
