@@ -40,7 +40,7 @@ from pushctl.contact.kernels import (
     warm_contact_step,
 )
 from pushctl.contact.mlcp import DEFAULT_TOL, MLCPResult, solve_box_mlcp
-from pushctl.contact.rows import prong_contacts
+from pushctl.contact.rows import edge_array, prong_contacts
 from pushctl.errors import ConfigError, StateError
 from pushctl.objects import ObjectSpec
 from pushctl.types import ContactProblem, StepResult, WorldStats
@@ -120,6 +120,7 @@ class World:
         self.stats = WorldStats()
         self._M_obj_inv = np.array([1.0 / obj.mass, 1.0 / obj.mass, 1.0 / obj.inertia_z])
         self._support_points = np.ascontiguousarray(obj.support_points, dtype=float)
+        self._edges = edge_array(obj.polygon)
         # Support loads are computed at GRAVITY; the friction bounds follow the world's.
         self._friction_limits = config.mu_ground * obj.support_loads * (config.gravity / GRAVITY)
         self._uniform_limits = self._friction_limits  # scaled by the friction field, if any
@@ -423,6 +424,7 @@ class World:
             self.object_pose,
             self._terms.prong_positions,
             self.config.contact_margin,
+            self._edges,
         )
 
     def _check_command(self, tau, implicit_kv) -> tuple[np.ndarray, np.ndarray]:
