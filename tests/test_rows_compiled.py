@@ -47,7 +47,10 @@ def test_compiled_geometry_matches_polygon_query_bit_for_bit(name):
         assert got[1].tobytes() == expected[1].tobytes()
         assert got[2].tobytes() == expected[2].tobytes()
     # both branches seen: a prong inside and one outside of the footprint
-    _, gaps = prong_geometry(edges, np.zeros(3), np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]))
+    _, gaps, mask = prong_geometry(
+        edges, np.zeros(3), np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]), 0.01
+    )
+    assert mask == 1
     assert gaps[0] < 0.0 < gaps[1]
 
 

@@ -43,18 +43,25 @@ def prong_contacts(
     """
     if edges is None:
         edges = edge_array(polygon)
-    geometry, gaps = prong_geometry(edges, pose, prong_positions)
-    inside = gaps < margin
-    if inside.all():
-        return tuple(range(len(gaps))), geometry, gaps
-    prongs = tuple(np.flatnonzero(inside).tolist())
-    return prongs, geometry[inside], gaps
+    geometry, gaps, mask = prong_geometry(edges, pose, prong_positions, margin)
+    return _MASKS.get(mask) or _indices(mask), geometry, gaps
+
+
+def _indices(mask: int) -> tuple[int, ...]:
+    """The set bits of ``mask``, lowest first."""
+    return tuple(i for i in range(mask.bit_length()) if mask >> i & 1)
+
+
+_MASKS = {mask: _indices(mask) for mask in range(1, 16)}
+"""Prong index tuples of the contact masks of up to four prongs (no contact: the empty
+tuple, which ``or`` sends to :func:`_indices`)."""
 
 
 @njit(cache=True)
-def prong_geometry(edges, pose, prong_positions):
-    """Every prong's contact geometry (k, 5) (see :func:`prong_contacts`) and gap (k,), in
-    one compiled call: the same arithmetic as :meth:`ConvexPolygon.query`, per prong."""
+def prong_geometry(edges, pose, prong_positions, margin):
+    """The geometry (p, 5) of the prongs nearer than ``margin`` (see :func:`prong_contacts`),
+    every prong's gap (k,) and the bit mask of the prongs in contact, in one compiled call:
+    the same arithmetic as :meth:`ConvexPolygon.query`, per prong."""
     x0, y0, theta = pose[0], pose[1], pose[2]
     c, s = math.cos(theta), math.sin(theta)
     k = prong_positions.shape[0]
@@ -69,7 +76,13 @@ def prong_geometry(edges, pose, prong_positions):
         geometry[i, 2] = -(s * n_lx + c * n_ly)
         geometry[i, 3] = c * cl_x - s * cl_y
         geometry[i, 4] = s * cl_x + c * cl_y
-    return geometry, gaps
+    mask, p = 0, 0
+    for i in range(k):
+        if gaps[i] < margin:
+            mask |= 1 << i
+            geometry[p] = geometry[i]
+            p += 1
+    return geometry[:p].copy(), gaps, mask
 
 
 @njit(cache=True)

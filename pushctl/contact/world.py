@@ -431,7 +431,15 @@ class World:
         """Validated (tau (nv,), kv (nv,)); StateError naming the argument otherwise."""
         if self.arm is None:
             return np.zeros(0), np.zeros(0)
-        tau = finite_vector("tau", tau, self._nv)
+        # Fast path for the usual float64 vector: tau·0 is 0 exactly unless an entry is NaN
+        # or ±inf (0·inf = NaN), one BLAS dot instead of isfinite's temporary and reduction.
+        if not (
+            type(tau) is np.ndarray
+            and tau.shape == self._kv_zero.shape
+            and tau.dtype == np.float64
+            and math.isfinite(tau @ self._kv_zero)
+        ):
+            tau = finite_vector("tau", tau, self._nv)
         if implicit_kv is None:
             return tau, self._kv_zero
         if isinstance(implicit_kv, (int, float)):
