@@ -32,12 +32,15 @@ from pushctl.checks import finite_vector
 from pushctl.config import GRAVITY
 from pushctl.contact.ground_field import FrictionField
 from pushctl.contact.kernels import (
+    SLIP_UNSETTLED,
+    SLIP_WARM_FAILED,
     apply_impulses,
     assemble,
     coriolis_energy_error,
     refine_slip,
     slip_state,
     warm_contact_step,
+    warm_slip_step,
 )
 from pushctl.contact.mlcp import DEFAULT_TOL, MLCPResult, solve_box_mlcp
 from pushctl.contact.rows import edge_array, prong_contacts
@@ -298,10 +301,51 @@ class World:
         self._start_slip_state()
         prongs, inputs = self._step_inputs(h, tau, damping)
         guess = self._last_p if prongs == self._last_prongs else None
-        first = self._solve_step(h, tau, damping, inputs, guess)
-        self._record(first[0], prongs)
-        solution = first
-        for attempt in range(MAX_SLIP_ITERATIONS + 1):
+        start, status = 0, 0
+        if guess is not None:  # the common case: the whole loop in one compiled call
+            status, solves, first_t, last_t, attempt, iterations, worst = warm_slip_step(
+                *inputs, guess, DEFAULT_TOL, SLIP_COS_TOLERANCE, MAX_SLIP_ITERATIONS
+            )  # type: ignore[call-arg]  # numba's Dispatcher hides the signature
+        if status:
+            stats = self.stats
+            stats.solves += solves
+            stats.warm_starts += solves
+            stats.max_residual = max(stats.max_residual, worst)
+            stats.slip_iterations += iterations
+            self._last_prongs, self._last_p = prongs, last_t[0]
+            first = _warm_solution(first_t)
+            solution = first if solves == 1 else _warm_solution(last_t)
+            if status == SLIP_UNSETTLED:
+                solution = first
+                self._start_slip_state()
+                stats.slip_unsettled += 1
+            elif status == SLIP_WARM_FAILED:
+                self.stats.slip_iterations += 1
+                solution = self._solve_step(h, tau, damping, inputs, solution[0].p, False)
+                self._record(solution[0], prongs)
+                start = attempt + 1
+        else:  # no warm start, or it failed in the call above: the full MLCP
+            first = self._solve_step(h, tau, damping, inputs, guess, guess is None)
+            self._record(first[0], prongs)
+            solution = first
+        if status in (0, SLIP_WARM_FAILED):
+            solution = self._settle_slip(h, tau, damping, inputs, prongs, first, solution, start)
+        result, v_arm, v_obj, contact_forces = solution
+        if len(prongs) == self._n_prongs:
+            forces = contact_forces
+        else:
+            forces = np.zeros((self._n_prongs, 2))
+            forces[list(prongs)] = contact_forces
+        self._advance_object(v_obj, h)
+        if self.arm is not None:
+            self._advance_arm(v_arm, h)
+        self._find_contacts()
+        return forces, result
+
+    def _settle_slip(self, h, tau, damping, inputs, prongs, first, solution, start: int):
+        """The refine-and-re-solve loop of :meth:`_substep` from loop index ``start``, in
+        Python (a solve on it needed the full MLCP): returns the step's solution."""
+        for attempt in range(start, MAX_SLIP_ITERATIONS + 1):
             if not refine_slip(
                 self.object_pose, solution[2], self._support_points, self._slip_directions,
                 self._sliding, SLIP_COS_TOLERANCE,
@@ -315,26 +359,19 @@ class World:
             self.stats.slip_iterations += 1
             solution = self._solve_step(h, tau, damping, inputs, solution[0].p)
             self._record(solution[0], prongs)
-        result, v_arm, v_obj, contact_forces = solution
-        if len(prongs) == self._n_prongs:
-            forces = contact_forces
-        else:
-            forces = np.zeros((self._n_prongs, 2))
-            forces[list(prongs)] = contact_forces
-        self._advance_object(v_obj, h)
-        if self.arm is not None:
-            self._advance_arm(v_arm, h)
-        self._find_contacts()
-        return forces, result
+        return solution
 
-    def _solve_step(self, h: float, tau: np.ndarray, damping: np.ndarray, inputs, guess):
+    def _solve_step(
+        self, h: float, tau: np.ndarray, damping: np.ndarray, inputs, guess, try_warm=True
+    ):
         """The step's MLCP with the current friction boxes: (MLCPResult, v_arm (nv,), v_obj (3,),
         forces (p, 2) of the prongs in contact). ``inputs``: :meth:`_step_inputs`' (they hold
         the box arrays, which :func:`refine_slip` changes in place). While the same prongs
         touch, the previous impulses' active set (``guess``) usually still holds: the whole
         step is then one compiled call; otherwise ProxQP and pivoting
-        (:func:`solve_box_mlcp`)."""
-        if guess is not None:
+        (:func:`solve_box_mlcp`). ``try_warm=False``: that compiled call already failed on
+        these inputs (in :func:`warm_slip_step`), go to the full MLCP."""
+        if guess is not None and try_warm:
             verified, p, w, residual, v_arm, v_obj, contact_forces = warm_contact_step(
                 *inputs, guess, DEFAULT_TOL
             )  # type: ignore[call-arg]  # numba's Dispatcher hides the signature
@@ -468,3 +505,10 @@ class World:
             mlcp_converged=True if result is None else bool(result.converged),
             mlcp_iterations=iterations,
         )
+
+
+def _warm_solution(solved: tuple) -> tuple:
+    """(MLCPResult, v_arm, v_obj, forces) of a verified compiled warm solve's
+    ``(p, w, residual, v_arm, v_obj, forces)``."""
+    p, w, residual, v_arm, v_obj, forces = solved
+    return MLCPResult(p, w, residual, 0, True, "warm-start"), v_arm, v_obj, forces
