@@ -136,7 +136,13 @@ class World:
         self._prongs: tuple[int, ...] = ()
         self._contacts, self._gaps = _NO_CONTACTS, np.zeros(0)
         self._kv_zero = np.zeros(self._nv)
-        self._kv_scalar: tuple[float, np.ndarray] = (0.0, self._kv_zero)
+        # (gain, its (nv,) array, physical damping + gain): a scalar gain, usually the same
+        # every step, keeps its arrays.
+        self._kv_scalar: tuple[float, np.ndarray, np.ndarray] = (
+            0.0,
+            self._kv_zero,
+            self._damping + self._kv_zero,
+        )
         self.reset()
 
     # ------------------------------------------------------------------ state
@@ -201,7 +207,8 @@ class World:
         world has no arm.
         """
         tau_arm, kv = self._check_command(tau, implicit_kv)
-        damping = self._damping + kv
+        scalar = self._kv_scalar
+        damping = scalar[2] if kv is scalar[1] else self._damping + kv
         n_sub = self.config.substeps
         h = self.config.dt / n_sub
         forces, worst = self._substep(h, tau_arm, damping)
@@ -244,14 +251,13 @@ class World:
         The warm start's ground impulses (the last 2 S rows) scale with their bounds, so a
         row that slid at its old bound is read as sliding at the new one."""
         assert self.friction_field is not None
-        field = self.friction_field.at_support_points(self.object_pose, self._support_points)
-        limits = self._uniform_limits * field
-        if self._last_p is not None:
-            ratio = limits / np.maximum(self._friction_limits, 1e-300)
-            guess = self._last_p.copy()
-            guess[-2 * ratio.size :] *= np.repeat(ratio, 2)
-            self._last_p = guess
-        self._friction_limits = limits
+        self._friction_limits, self._last_p = self.friction_field.support_bounds(
+            self.object_pose,
+            self._support_points,
+            self._uniform_limits,
+            self._friction_limits,
+            self._last_p,
+        )
 
     def _step_inputs(self, h: float, tau: np.ndarray, damping: np.ndarray) -> tuple:
         """Arguments of :func:`assemble` for one time step of length h, and the prongs.
@@ -486,7 +492,8 @@ class World:
                     f"implicit_kv must be finite and >= 0 N·m·s/rad, got {implicit_kv!r}"
                 )
             if implicit_kv != self._kv_scalar[0]:
-                self._kv_scalar = (implicit_kv, np.full(self._nv, float(implicit_kv)))
+                kv = np.full(self._nv, float(implicit_kv))
+                self._kv_scalar = (implicit_kv, kv, self._damping + kv)
             return tau, self._kv_scalar[1]
         kv = finite_vector("implicit_kv", implicit_kv, self._nv)
         if kv.min() < 0.0:
