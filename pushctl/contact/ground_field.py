@@ -67,6 +67,47 @@ class FrictionField:
             pose, support_points, self._wavevectors, self._phases, self._amplitude, self.variation
         )
 
+    def support_bounds(
+        self,
+        pose: np.ndarray,
+        support_points: np.ndarray,
+        uniform_limits: np.ndarray,
+        old_limits: np.ndarray,
+        guess: np.ndarray | None,
+    ) -> tuple[np.ndarray, np.ndarray | None]:
+        """The world's per-step friction bounds in one compiled call: μ(p_j) N_j (S,) [N] =
+        ``uniform_limits`` (μ_g N_j) × :meth:`at_support_points`, and ``guess`` (n,) (the
+        last impulses, ground rows last, 2 per support point) with its ground rows scaled
+        by new/old bound (a copy; None stays None). Same arithmetic as the numpy form."""
+        empty = guess is None
+        limits, scaled = _support_bounds(
+            pose, support_points, self._wavevectors, self._phases, self._amplitude,
+            self.variation, uniform_limits, old_limits, _EMPTY if empty else guess,
+        )  # fmt: skip
+        return limits, None if empty else scaled
+
+
+_EMPTY = np.zeros(0)
+
+
+@njit(cache=True)
+def _support_bounds(
+    pose, support_points, wavevectors, phases, amplitude, variation, uniform, old, guess
+):
+    """:meth:`FrictionField.support_bounds`."""
+    limits = uniform * _support_multiplier(
+        pose, support_points, wavevectors, phases, amplitude, variation
+    )
+    scaled = guess.copy()
+    if guess.shape[0]:
+        n_support = limits.shape[0]
+        start = guess.shape[0] - 2 * n_support
+        for j in range(n_support):
+            ratio = limits[j] / max(old[j], 1e-300)
+            scaled[start + 2 * j] *= ratio
+            scaled[start + 2 * j + 1] *= ratio
+    return limits, scaled
+
 
 @njit(cache=True)
 def _support_multiplier(pose, support_points, wavevectors, phases, amplitude, variation):

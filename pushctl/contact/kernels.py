@@ -312,3 +312,58 @@ def warm_contact_step(
     p, w, residual, verified = active_set_step(D, b, lo, hi, findex, mu, guess, threshold)
     v_arm_new, v_obj, forces = apply_impulses(p, v_arm_free, Minv_At_arm, velocity, Minv_At_obj, h)
     return verified, p, w, residual, v_arm_new, v_obj, forces
+
+
+SLIP_SETTLED, SLIP_UNSETTLED, SLIP_WARM_FAILED = 1, 2, 3
+"""Outcomes of :func:`warm_slip_step` (0: its first warm solve failed, nothing changed)."""
+
+
+@njit(cache=True)
+def warm_slip_step(
+    contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
+    support_points, friction_limits, slip_directions, sliding, h, stabilisation, tie_break,
+    mu_contact, guess, tol, cos_tolerance, max_iterations,
+):  # fmt: skip
+    """``World._substep``'s solve-and-refine loop of the friction boxes, compiled, while
+    every solve is a verified :func:`warm_contact_step` (the same calls in the same order as
+    the Python loop, so the same bits). A slipping step re-solves one to six times; in
+    Python each round trip cost more than its compiled solve.
+
+    Returns ``(status, solves, first, last, attempt, iterations, worst)``: ``first`` and
+    ``last`` are ``(p, w, residual, v_arm, v_obj, forces)`` of the first and the latest
+    solve, ``solves`` how many verified solves ran, ``iterations`` the re-solves for the
+    slip directions, ``worst`` the largest residual of the verified solves. ``status`` 0:
+    the first warm solve failed (the boxes are untouched); ``SLIP_SETTLED``: ``last`` is
+    the step; ``SLIP_UNSETTLED``: not settled after ``max_iterations``, the step keeps
+    ``first`` (the caller restores its boxes); ``SLIP_WARM_FAILED``: the boxes were refined
+    at loop index ``attempt`` (< max) and the warm re-solve from ``last`` failed: the
+    caller continues the loop from there.
+    """
+    inputs_velocity = velocity
+    ok, p, w, res, va, vo, f = warm_contact_step(
+        contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, inputs_velocity,
+        obj_mass_inv, support_points, friction_limits, slip_directions, sliding, h,
+        stabilisation, tie_break, mu_contact, guess, tol,
+    )  # fmt: skip
+    first = (p, w, res, va, vo, f)
+    if not ok:
+        return 0, 0, first, first, 0, 0, 0.0
+    last = first
+    solves, iterations, worst = 1, 0, res
+    for attempt in range(max_iterations + 1):
+        if not refine_slip(pose, last[4], support_points, slip_directions, sliding, cos_tolerance):
+            return SLIP_SETTLED, solves, first, last, attempt, iterations, worst
+        if attempt == max_iterations:
+            return SLIP_UNSETTLED, solves, first, last, attempt, iterations, worst
+        iterations += 1
+        ok, p, w, res, va, vo, f = warm_contact_step(
+            contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, inputs_velocity,
+            obj_mass_inv, support_points, friction_limits, slip_directions, sliding, h,
+            stabilisation, tie_break, mu_contact, last[0], tol,
+        )  # fmt: skip
+        if not ok:
+            return SLIP_WARM_FAILED, solves, first, last, attempt, iterations - 1, worst
+        last = (p, w, res, va, vo, f)
+        solves += 1
+        worst = max(worst, res)
+    return SLIP_UNSETTLED, solves, first, last, max_iterations, iterations, worst

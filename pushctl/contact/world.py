@@ -32,15 +32,18 @@ from pushctl.checks import finite_vector
 from pushctl.config import GRAVITY
 from pushctl.contact.ground_field import FrictionField
 from pushctl.contact.kernels import (
+    SLIP_UNSETTLED,
+    SLIP_WARM_FAILED,
     apply_impulses,
     assemble,
     coriolis_energy_error,
     refine_slip,
     slip_state,
     warm_contact_step,
+    warm_slip_step,
 )
 from pushctl.contact.mlcp import DEFAULT_TOL, MLCPResult, solve_box_mlcp
-from pushctl.contact.rows import prong_contacts
+from pushctl.contact.rows import edge_array, prong_contacts
 from pushctl.errors import ConfigError, StateError
 from pushctl.objects import ObjectSpec
 from pushctl.types import ContactProblem, StepResult, WorldStats
@@ -120,6 +123,7 @@ class World:
         self.stats = WorldStats()
         self._M_obj_inv = np.array([1.0 / obj.mass, 1.0 / obj.mass, 1.0 / obj.inertia_z])
         self._support_points = np.ascontiguousarray(obj.support_points, dtype=float)
+        self._edges = edge_array(obj.polygon)
         # Support loads are computed at GRAVITY; the friction bounds follow the world's.
         self._friction_limits = config.mu_ground * obj.support_loads * (config.gravity / GRAVITY)
         self._uniform_limits = self._friction_limits  # scaled by the friction field, if any
@@ -132,7 +136,13 @@ class World:
         self._prongs: tuple[int, ...] = ()
         self._contacts, self._gaps = _NO_CONTACTS, np.zeros(0)
         self._kv_zero = np.zeros(self._nv)
-        self._kv_scalar: tuple[float, np.ndarray] = (0.0, self._kv_zero)
+        # (gain, its (nv,) array, physical damping + gain): a scalar gain, usually the same
+        # every step, keeps its arrays.
+        self._kv_scalar: tuple[float, np.ndarray, np.ndarray] = (
+            0.0,
+            self._kv_zero,
+            self._damping + self._kv_zero,
+        )
         self.reset()
 
     # ------------------------------------------------------------------ state
@@ -197,7 +207,8 @@ class World:
         world has no arm.
         """
         tau_arm, kv = self._check_command(tau, implicit_kv)
-        damping = self._damping + kv
+        scalar = self._kv_scalar
+        damping = scalar[2] if kv is scalar[1] else self._damping + kv
         n_sub = self.config.substeps
         h = self.config.dt / n_sub
         forces, worst = self._substep(h, tau_arm, damping)
@@ -240,14 +251,13 @@ class World:
         The warm start's ground impulses (the last 2 S rows) scale with their bounds, so a
         row that slid at its old bound is read as sliding at the new one."""
         assert self.friction_field is not None
-        field = self.friction_field.at_support_points(self.object_pose, self._support_points)
-        limits = self._uniform_limits * field
-        if self._last_p is not None:
-            ratio = limits / np.maximum(self._friction_limits, 1e-300)
-            guess = self._last_p.copy()
-            guess[-2 * ratio.size :] *= np.repeat(ratio, 2)
-            self._last_p = guess
-        self._friction_limits = limits
+        self._friction_limits, self._last_p = self.friction_field.support_bounds(
+            self.object_pose,
+            self._support_points,
+            self._uniform_limits,
+            self._friction_limits,
+            self._last_p,
+        )
 
     def _step_inputs(self, h: float, tau: np.ndarray, damping: np.ndarray) -> tuple:
         """Arguments of :func:`assemble` for one time step of length h, and the prongs.
@@ -297,10 +307,51 @@ class World:
         self._start_slip_state()
         prongs, inputs = self._step_inputs(h, tau, damping)
         guess = self._last_p if prongs == self._last_prongs else None
-        first = self._solve_step(h, tau, damping, inputs, guess)
-        self._record(first[0], prongs)
-        solution = first
-        for attempt in range(MAX_SLIP_ITERATIONS + 1):
+        start, status = 0, 0
+        if guess is not None:  # the common case: the whole loop in one compiled call
+            status, solves, first_t, last_t, attempt, iterations, worst = warm_slip_step(
+                *inputs, guess, DEFAULT_TOL, SLIP_COS_TOLERANCE, MAX_SLIP_ITERATIONS
+            )  # type: ignore[call-arg]  # numba's Dispatcher hides the signature
+        if status:
+            stats = self.stats
+            stats.solves += solves
+            stats.warm_starts += solves
+            stats.max_residual = max(stats.max_residual, worst)
+            stats.slip_iterations += iterations
+            self._last_prongs, self._last_p = prongs, last_t[0]
+            first = _warm_solution(first_t)
+            solution = first if solves == 1 else _warm_solution(last_t)
+            if status == SLIP_UNSETTLED:
+                solution = first
+                self._start_slip_state()
+                stats.slip_unsettled += 1
+            elif status == SLIP_WARM_FAILED:
+                self.stats.slip_iterations += 1
+                solution = self._solve_step(h, tau, damping, inputs, solution[0].p, False)
+                self._record(solution[0], prongs)
+                start = attempt + 1
+        else:  # no warm start, or it failed in the call above: the full MLCP
+            first = self._solve_step(h, tau, damping, inputs, guess, guess is None)
+            self._record(first[0], prongs)
+            solution = first
+        if status in (0, SLIP_WARM_FAILED):
+            solution = self._settle_slip(h, tau, damping, inputs, prongs, first, solution, start)
+        result, v_arm, v_obj, contact_forces = solution
+        if len(prongs) == self._n_prongs:
+            forces = contact_forces
+        else:
+            forces = np.zeros((self._n_prongs, 2))
+            forces[list(prongs)] = contact_forces
+        self._advance_object(v_obj, h)
+        if self.arm is not None:
+            self._advance_arm(v_arm, h)
+        self._find_contacts()
+        return forces, result
+
+    def _settle_slip(self, h, tau, damping, inputs, prongs, first, solution, start: int):
+        """The refine-and-re-solve loop of :meth:`_substep` from loop index ``start``, in
+        Python (a solve on it needed the full MLCP): returns the step's solution."""
+        for attempt in range(start, MAX_SLIP_ITERATIONS + 1):
             if not refine_slip(
                 self.object_pose, solution[2], self._support_points, self._slip_directions,
                 self._sliding, SLIP_COS_TOLERANCE,
@@ -314,26 +365,19 @@ class World:
             self.stats.slip_iterations += 1
             solution = self._solve_step(h, tau, damping, inputs, solution[0].p)
             self._record(solution[0], prongs)
-        result, v_arm, v_obj, contact_forces = solution
-        if len(prongs) == self._n_prongs:
-            forces = contact_forces
-        else:
-            forces = np.zeros((self._n_prongs, 2))
-            forces[list(prongs)] = contact_forces
-        self._advance_object(v_obj, h)
-        if self.arm is not None:
-            self._advance_arm(v_arm, h)
-        self._find_contacts()
-        return forces, result
+        return solution
 
-    def _solve_step(self, h: float, tau: np.ndarray, damping: np.ndarray, inputs, guess):
+    def _solve_step(
+        self, h: float, tau: np.ndarray, damping: np.ndarray, inputs, guess, try_warm=True
+    ):
         """The step's MLCP with the current friction boxes: (MLCPResult, v_arm (nv,), v_obj (3,),
         forces (p, 2) of the prongs in contact). ``inputs``: :meth:`_step_inputs`' (they hold
         the box arrays, which :func:`refine_slip` changes in place). While the same prongs
         touch, the previous impulses' active set (``guess``) usually still holds: the whole
         step is then one compiled call; otherwise ProxQP and pivoting
-        (:func:`solve_box_mlcp`)."""
-        if guess is not None:
+        (:func:`solve_box_mlcp`). ``try_warm=False``: that compiled call already failed on
+        these inputs (in :func:`warm_slip_step`), go to the full MLCP."""
+        if guess is not None and try_warm:
             verified, p, w, residual, v_arm, v_obj, contact_forces = warm_contact_step(
                 *inputs, guess, DEFAULT_TOL
             )  # type: ignore[call-arg]  # numba's Dispatcher hides the signature
@@ -423,13 +467,22 @@ class World:
             self.object_pose,
             self._terms.prong_positions,
             self.config.contact_margin,
+            self._edges,
         )
 
     def _check_command(self, tau, implicit_kv) -> tuple[np.ndarray, np.ndarray]:
         """Validated (tau (nv,), kv (nv,)); StateError naming the argument otherwise."""
         if self.arm is None:
             return np.zeros(0), np.zeros(0)
-        tau = finite_vector("tau", tau, self._nv)
+        # Fast path for the usual float64 vector: tau·0 is 0 exactly unless an entry is NaN
+        # or ±inf (0·inf = NaN), one BLAS dot instead of isfinite's temporary and reduction.
+        if not (
+            type(tau) is np.ndarray
+            and tau.shape == self._kv_zero.shape
+            and tau.dtype == np.float64
+            and math.isfinite(tau @ self._kv_zero)
+        ):
+            tau = finite_vector("tau", tau, self._nv)
         if implicit_kv is None:
             return tau, self._kv_zero
         if isinstance(implicit_kv, (int, float)):
@@ -439,7 +492,8 @@ class World:
                     f"implicit_kv must be finite and >= 0 N·m·s/rad, got {implicit_kv!r}"
                 )
             if implicit_kv != self._kv_scalar[0]:
-                self._kv_scalar = (implicit_kv, np.full(self._nv, float(implicit_kv)))
+                kv = np.full(self._nv, float(implicit_kv))
+                self._kv_scalar = (implicit_kv, kv, self._damping + kv)
             return tau, self._kv_scalar[1]
         kv = finite_vector("implicit_kv", implicit_kv, self._nv)
         if kv.min() < 0.0:
@@ -458,3 +512,10 @@ class World:
             mlcp_converged=True if result is None else bool(result.converged),
             mlcp_iterations=iterations,
         )
+
+
+def _warm_solution(solved: tuple) -> tuple:
+    """(MLCPResult, v_arm, v_obj, forces) of a verified compiled warm solve's
+    ``(p, w, residual, v_arm, v_obj, forces)``."""
+    p, w, residual, v_arm, v_obj, forces = solved
+    return MLCPResult(p, w, residual, 0, True, "warm-start"), v_arm, v_obj, forces
