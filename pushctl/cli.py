@@ -484,6 +484,13 @@ def evaluate(
         extra = f"scenario seeds {first}-{first + spec.trials - 1} (evaluation stream)"
         if trained is not None:
             extra += "; " + policy_provenance(trained, policy_path)
+        if "feedback" in spec.controllers:
+            from pushctl.control.feedback import DEFAULT_FEEDBACK_FILE, load_feedback_gains
+
+            law = load_feedback_gains()
+            extra += (
+                f"; feedback k {law.k:g} /s, k_i {law.k_i:g} /s² ({DEFAULT_FEEDBACK_FILE.name})"
+            )
         # --workers changes no byte of the results, so the files do not record it either
         command = _invocation(ctx).replace(f" --workers {workers}", "")
         made_by = provenance_line(command, extra)

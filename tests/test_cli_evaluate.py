@@ -56,6 +56,7 @@ def test_two_workers_write_the_same_bytes_as_one(
     made_by = (tmp_path / "one" / "trials.csv").read_text().splitlines()[0]
     assert "--workers" not in made_by and "scenario seeds 0-0 (evaluation stream)" in made_by
     assert f"policy {policy}, made by: a test run" in made_by
+    assert "feedback k 1 /s, k_i 0.0141421 /s² (feedback_gains.toml)" in made_by
     for heading in ("transl.", "mN·m", "slip", "goals redrawn as infeasible: 0 of 1 targets"):
         assert heading in one.output
     assert "proxy" in one.output and "RL" in one.output
