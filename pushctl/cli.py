@@ -338,13 +338,16 @@ def tune_feedback_command(
         Path | None,
         typer.Option(help="gains file to write; default experiments/feedback_gains.toml"),
     ] = None,
+    force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
 ) -> None:
     """Search the feedback baseline's gains (k, k_i) on the tuning stream; write the file."""
     from pushctl.cli_plan import check_output
     from pushctl.cli_tune_feedback import run_search
+    from pushctl.control.feedback import DEFAULT_FEEDBACK_FILE
 
     try:
         check_output("--out", out, (".toml",))
+        refuse_existing_files("--out", (out if out is not None else DEFAULT_FEEDBACK_FILE,), force)
         target, text, table = run_search(seed, per_case, duration, out, _invocation(ctx), console)
     except PushctlError as error:
         _fail(error)

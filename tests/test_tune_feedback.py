@@ -40,5 +40,16 @@ def test_a_bad_output_is_one_line_and_nothing_runs(tmp_path: Path) -> None:
     result = runner.invoke(app, ["tune-feedback", "--out", str(tmp_path / "gains.txt")])
     assert result.exit_code == 2
     assert "--out" in result.output and ".toml" in result.output
-    result = runner.invoke(app, ["tune-feedback", "--per-case", "0", "--duration", "2"])
+    fresh = ["--out", str(tmp_path / "fresh.toml")]
+    result = runner.invoke(app, ["tune-feedback", "--per-case", "0", "--duration", "2", *fresh])
     assert result.exit_code == 2 and "--per-case must be an integer >= 1" in result.output
+
+
+def test_an_existing_gains_file_is_refused_before_the_search(tmp_path: Path) -> None:
+    out = tmp_path / "gains.toml"
+    out.write_text("# hand-tuned, keep\n")
+    result = runner.invoke(app, ["tune-feedback", "--per-case", "1", "--out", str(out)])
+    assert result.exit_code == 2 and "--force" in result.output and str(out) in result.output
+    assert out.read_text() == "# hand-tuned, keep\n"
+    default = runner.invoke(app, ["tune-feedback", "--per-case", "1"])  # the shipped gains
+    assert default.exit_code == 2 and "feedback_gains.toml" in default.output
