@@ -27,3 +27,45 @@ def ray_local():
     connect(num_cpus=2)
     yield
     ray.shutdown()
+
+
+_TINY_PRESET = """
+[train]
+episodes = {episodes}
+checkpoint_every = 2
+pd_every = {pd_every}
+workers = 0
+validate_every = {validate_every}
+validation_per_cell = 1
+
+[env]
+objects = ["cube"]
+profiles = ["constant"]
+duration = 1.0
+gate_threshold = 0.0
+
+[ddpg]
+hidden = [8, 8]
+batch_size = 16
+buffer_size = 1000
+warmup_steps = 100
+updates_per_step = 0.05
+reward_scale = 100.0
+"""
+
+
+@pytest.fixture
+def write_tiny_preset(tmp_path):
+    """A writer of a training preset of a few 1 s cube pushes and an 8×8 network, for the
+    tests that train through Ray: ``write_tiny_preset(episodes=…, pd_every=…,
+    validate_every=…)`` returns the path of ``tmp_path/tiny.toml``."""
+
+    def write(episodes: int, pd_every: int, validate_every: int):
+        path = tmp_path / "tiny.toml"
+        text = _TINY_PRESET.format(
+            episodes=episodes, pd_every=pd_every, validate_every=validate_every
+        )
+        path.write_text(text)
+        return path
+
+    return write

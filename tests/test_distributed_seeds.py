@@ -22,38 +22,12 @@ from pushctl.errors import ConfigError
 from pushctl.rl.presets import load_preset
 from pushctl.rl.train import CHECKPOINT, CURVE, POLICY, Trainer, read_checkpoint
 
-TINY = """
-[train]
-episodes = 4
-checkpoint_every = 2
-pd_every = 2
-workers = 0
-validate_every = 2
-validation_per_cell = 1
-
-[env]
-objects = ["cube"]
-profiles = ["constant"]
-duration = 1.0
-gate_threshold = 0.0
-
-[ddpg]
-hidden = [8, 8]
-batch_size = 16
-buffer_size = 1000
-warmup_steps = 100
-updates_per_step = 0.05
-reward_scale = 100.0
-"""
-
 runner = CliRunner()
 
 
 @pytest.fixture
-def tiny(tmp_path: Path) -> str:
-    path = tmp_path / "tiny.toml"
-    path.write_text(TINY)
-    return str(path)
+def tiny(write_tiny_preset) -> str:
+    return str(write_tiny_preset(episodes=4, pd_every=2, validate_every=2))
 
 
 def _body(path: Path) -> str:

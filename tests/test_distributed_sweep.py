@@ -20,44 +20,21 @@ from pushctl.errors import ConfigError
 from pushctl.rl.presets import load_preset
 from pushctl.rl.validate import Validator
 
-TINY = """
-[train]
-episodes = 3
-checkpoint_every = 2
-pd_every = 3
-workers = 0
-validate_every = 0
-validation_per_cell = 1
-
-[env]
-objects = ["cube"]
-profiles = ["constant"]
-duration = 1.0
-gate_threshold = 0.0
-
-[ddpg]
-hidden = [8, 8]
-batch_size = 16
-buffer_size = 1000
-warmup_steps = 100
-updates_per_step = 0.05
-reward_scale = 100.0
-"""
-
 runner = CliRunner()
 
 
-def _write(tmp_path: Path, body: str) -> Path:
-    (tmp_path / "tiny.toml").write_text(TINY)
-    path = tmp_path / "sweep.toml"
+def _write(write_tiny_preset, body: str) -> Path:
+    """A sweep file with ``body`` over the tiny preset, beside it."""
+    preset = write_tiny_preset(episodes=3, pd_every=3, validate_every=0)
+    path = preset.parent / "sweep.toml"
     path.write_text('preset = "tiny.toml"\n' + body)
     return path
 
 
-def test_a_grid_is_every_combination_in_order(tmp_path: Path) -> None:
+def test_a_grid_is_every_combination_in_order(tmp_path: Path, write_tiny_preset) -> None:
     sweep = read_sweep(
         _write(
-            tmp_path,
+            write_tiny_preset,
             'seeds = [0, 1]\n[parameters]\n"env.action_scale_linear" = [0.01, 0.02]\n'
             "ddpg.batch_size = [16, 32, 64]\n",
         )
@@ -73,13 +50,13 @@ def test_a_grid_is_every_combination_in_order(tmp_path: Path) -> None:
     assert "ddpg.batch_size=64" in preset.name
 
 
-def test_random_draws_are_seeded_and_in_range(tmp_path: Path) -> None:
+def test_random_draws_are_seeded_and_in_range(tmp_path: Path, write_tiny_preset) -> None:
     body = (
         'seeds = "0"\nsearch = "random"\nsamples = 50\nsearch_seed = 3\n[parameters]\n'
         '"ddpg.actor_lr" = { low = 1e-5, high = 1e-3, log = true }\n'
         '"ddpg.batch_size" = { low = 16, high = 64 }\n"env.gate_threshold" = [0.0, 1e-4]\n'
     )
-    sweep = read_sweep(_write(tmp_path, body))
+    sweep = read_sweep(_write(write_tiny_preset, body))
     draws = sweep.configurations()
     assert draws == read_sweep(tmp_path / "sweep.toml").configurations()
     rates = np.array([d["ddpg.actor_lr"] for d in draws])
@@ -103,15 +80,19 @@ def test_random_draws_are_seeded_and_in_range(tmp_path: Path) -> None:
         ('seeds = "0"\n', "'parameters' is missing"),
     ],
 )
-def test_bad_sweep_files_are_refused_in_one_line(tmp_path: Path, body: str, fragment: str) -> None:
+def test_bad_sweep_files_are_refused_in_one_line(
+    tmp_path: Path, write_tiny_preset, body: str, fragment: str
+) -> None:
     with pytest.raises(ConfigError, match="sweep file") as caught:
-        read_sweep(_write(tmp_path, body))
+        read_sweep(_write(write_tiny_preset, body))
     assert fragment in str(caught.value) and "\n" not in str(caught.value)
 
 
-def test_a_sweep_writes_its_tables_and_figure(tmp_path: Path, ray_local: None) -> None:
+def test_a_sweep_writes_its_tables_and_figure(
+    tmp_path: Path, write_tiny_preset, ray_local: None
+) -> None:
     config = _write(
-        tmp_path, 'seeds = "0-1"\n[parameters]\n"ddpg.updates_per_step" = [0.05, 0.1]\n'
+        write_tiny_preset, 'seeds = "0-1"\n[parameters]\n"ddpg.updates_per_step" = [0.05, 0.1]\n'
     )
     out = tmp_path / "sweep"
     result = runner.invoke(app, ["sweep", str(config), "--out", str(out)])
