@@ -35,7 +35,7 @@ def rl_rows(preset_name: str = "paper", updates: int = 300) -> list[dict[str, An
     update [ms] and updates/s, with the preset's settings and one torch thread."""
     configure_torch(1)
     preset = load_preset(preset_name)
-    entries = observation_entries(2)
+    entries = observation_entries(2, reference_offset=preset.env.offset_observed)
     agent = DDPGAgent(len(entries), 3, preset.ddpg, seed=0, obs_scale=scales(entries))
     zero = np.zeros(3)
     shut = _env_steps_per_s(PushEnv(replace(preset.env, gate_threshold=1.0)), lambda obs: zero)

@@ -67,4 +67,5 @@ def feedback_config(config: EnvConfig) -> EnvConfig:
         gate_threshold=default.gate_threshold,
         gate_length=default.gate_length,
         observe_camera=default.observe_camera,
+        action_repeat=default.action_repeat,
     )

@@ -86,7 +86,9 @@ def load_evaluation_policy(path: str | Path) -> TrainedPolicy:
     fits the environment: its observation and action sizes."""
     policy = load_policy(path)
     actor = policy.actor.actor
-    n_obs = len(observation_entries(PusherConfig().n_prongs))
+    n_obs = len(
+        observation_entries(PusherConfig().n_prongs, reference_offset=policy.env.offset_observed)
+    )
     if (actor.obs_dim, actor.act_dim) != (n_obs, len(ACTION_ENTRIES)):
         raise ConfigError(
             f"policy file {path} is incompatible: its actor takes {actor.obs_dim} observations "

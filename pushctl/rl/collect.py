@@ -95,9 +95,10 @@ def collect_episode(
     act = _acting(behaviour, rng)
     assert env.episode is not None
     steps = env.episode.n_steps
-    rows = _allocate(steps, obs.shape[0])
+    decisions = -(-steps // env_config.action_repeat)
+    rows = _allocate(decisions, obs.shape[0])
     gate_open = 0
-    for n in range(steps):
+    for n in range(decisions):
         action = act(obs)
         next_obs, reward, terminated, _, info = env.step(action)
         rows["obs"][n] = obs
@@ -107,6 +108,7 @@ def collect_episode(
         rows["done"][n] = terminated
         gate_open += info["residual_active"]
         obs = next_obs
+    assert env.episode.done
     rl = _curve_metrics(env.episode.trace())
     return EpisodeRecord(
         episode=episode,
@@ -114,7 +116,7 @@ def collect_episode(
         transitions=rows,
         rl=rl,
         pd=None,
-        gate_open_fraction=gate_open / max(steps, 1),
+        gate_open_fraction=gate_open / max(decisions, 1),
         episode_return=float(rows["reward"].sum()),
         seconds=time.perf_counter() - started,
     )

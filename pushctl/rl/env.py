@@ -57,7 +57,9 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
     def __init__(self, config: EnvConfig | None = None, gains: PDGains | None = None) -> None:
         self.config = config or EnvConfig()
         self.gains = gains if gains is not None else load_gains()
-        self.observation_entries = observation_entries(PusherConfig().n_prongs)
+        self.observation_entries = observation_entries(
+            PusherConfig().n_prongs, reference_offset=self.config.offset_observed
+        )
         self.action_entries = ACTION_ENTRIES
         self.observation_space = gym.spaces.Box(
             -np.inf, np.inf, shape=(len(self.observation_entries),), dtype=np.float32
@@ -110,24 +112,30 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         action = np.asarray(action, dtype=float)
         if action.shape != (3,) or not np.all(np.isfinite(action)):
             raise ConfigError(f"action must be 3 finite numbers in [-1, 1], got {action!r}")
-        n = episode.step_index
         deviation = self._deviation()
-        residual = self.advance(action)
-        active = residual is not None
-        exact = self._error if self._exact_pose else self._pose_error(n + 1, exact=True)
-        pose_term = -self.config.w_pose * self._deviation(exact)
-        terms = (*self._reward_terms(n + 1), pose_term)
-        terminated = episode.done
+        sums = [0.0, 0.0, 0.0, 0.0]
+        first = None
+        for held in range(self.config.action_repeat):
+            n = episode.step_index
+            residual = self.advance(action)
+            if held == 0:
+                first = residual
+            exact = self._error if self._exact_pose else self._pose_error(n + 1, exact=True)
+            pose_term = -self.config.w_pose * self._deviation(exact)
+            for k, term in enumerate((*self._reward_terms(n + 1), pose_term)):
+                sums[k] += term
+            if episode.done:
+                break
         info = {
-            "reward_normal": terms[0],
-            "reward_tangential": terms[1],
-            "reward_torque": terms[2],
-            "reward_pose": terms[3],
-            "residual_active": bool(active),
-            "residual": np.zeros(3) if residual is None else residual,
+            "reward_normal": sums[0],
+            "reward_tangential": sums[1],
+            "reward_torque": sums[2],
+            "reward_pose": sums[3],
+            "residual_active": first is not None,
+            "residual": np.zeros(3) if first is None else first,
             "pose_deviation": deviation,
         }
-        return self.observation(), float(sum(terms)), terminated, False, info
+        return self.observation(), float(sum(sums)), episode.done, False, info
 
     # ------------------------------------------------------------------ acting without gym
 
@@ -165,11 +173,19 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         velocity = [c * twist[0] + s * twist[1], -s * twist[0] + c * twist[1], twist[5]]
         planned = self._plan_forces[min(n + 1, n_steps)]
         measured = self._measured  # noisy on the proxy: one draw per step, even unobserved
-        parts = (planned[:, 0], planned[:, 1], measured[:, 0], measured[:, 1])
-        observation = np.concatenate(
-            [*parts, velocity, self._error, [n / n_steps]], dtype=np.float32
-        )
-        return observation
+        parts = [
+            planned[:, 0],
+            planned[:, 1],
+            measured[:, 0],
+            measured[:, 1],
+            velocity,
+            self._error,
+        ]
+        if self.config.offset_observed:
+            offset = episode.reference_offset  # world x, y, yaw
+            parts.append([c * offset[0] + s * offset[1], -s * offset[0] + c * offset[1], offset[2]])
+        parts.append([n / n_steps])
+        return np.concatenate(parts, dtype=np.float32)
 
     # ------------------------------------------------------------------ what it exposes
 

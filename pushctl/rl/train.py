@@ -79,7 +79,7 @@ class Trainer:
 
     def __init__(self, preset: Preset, seed: int, out: Path, gains: PDGains) -> None:
         self.preset, self.seed, self.out, self.gains = preset, seed, out, gains
-        entries = observation_entries(n_prongs=2)
+        entries = observation_entries(2, reference_offset=preset.env.offset_observed)
         self.agent = DDPGAgent(len(entries), 3, preset.ddpg, seed, obs_scale=scales(entries))
         self.next_episode = 0
         self.pending_updates = 0
@@ -218,8 +218,9 @@ class Trainer:
 
     @property
     def _steps_per_episode(self) -> int:
+        """Transitions per episode: one per decision (every ``action_repeat`` steps)."""
         env = self.preset.env
-        return round(env.duration / env.dt)
+        return -(-round(env.duration / env.dt) // env.action_repeat)
 
     def _validate_due(self, episode: int) -> bool:
         """A positive multiple of ``validate_every`` not yet validated. Episode 0's actor is
