@@ -16,12 +16,14 @@ from typing import Any
 import numpy as np
 import torch
 
+from pushctl.control.feedback import FeedbackGains
 from pushctl.control.gains import PDGains
 from pushctl.episode.metrics import compute_metrics, force_component_errors
 from pushctl.episode.runner import Episode
 from pushctl.episode.trace import Trace
 from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
+from pushctl.rl.feedback_actor import FeedbackActor
 from pushctl.rl.networks import ActorPolicy
 from pushctl.rl.noise import OrnsteinUhlenbeckNoise
 
@@ -44,14 +46,16 @@ fix)."""
 
 @dataclass(frozen=True)
 class Behaviour:
-    """How episode e acts: OU noise (θ, σ, dt) alone while ``warmup``, else the actor of
-    ``actor_state`` (None only in warm-up) plus that noise."""
+    """How episode e acts: while ``warmup``, OU noise (θ, σ, dt) alone, or the law of
+    ``demonstrator`` (the feedback controller's gains; None: no demonstrator) plus that
+    noise; else the actor of ``actor_state`` (None only in warm-up) plus the noise."""
 
     warmup: bool
     actor_state: dict[str, Any] | None
     ou_theta: float
     ou_sigma: float
     ou_dt: float
+    demonstrator: FeedbackGains | None = None
 
 
 @dataclass(frozen=True)
@@ -92,7 +96,7 @@ def collect_episode(
     env = env if env is not None else PushEnv(env_config, gains)
     reset_seed, rng = episode_rngs(seed, episode)
     obs, _ = env.reset(seed=reset_seed)
-    act = _acting(behaviour, rng)
+    act = _acting(behaviour, rng, env)
     assert env.episode is not None
     steps = env.episode.n_steps
     decisions = -(-steps // env_config.action_repeat)
@@ -131,8 +135,9 @@ def pd_only_metrics(env: PushEnv, seed: int, episode: int) -> dict[str, float]:
     return _curve_metrics(Episode(env.scenario, env.gains, plan=env.plan).run())
 
 
-def _acting(behaviour: Behaviour, rng: np.random.Generator):
-    """obs (d,) → action (3,) in [−1, 1]: the OU noise alone in warm-up, else actor + noise.
+def _acting(behaviour: Behaviour, rng: np.random.Generator, env: PushEnv):
+    """obs (d,) → action (3,) in [−1, 1]: in warm-up the OU noise alone or the
+    demonstrator's law (on ``env``'s push, just reset) plus the noise, else actor + noise.
 
     Warm-up explores with the (temporally correlated) noise rather than uniform draws: a
     uniform action every 10 ms is a velocity step every step, whose force spikes are 100
@@ -140,7 +145,10 @@ def _acting(behaviour: Behaviour, rng: np.random.Generator):
     """
     noise = OrnsteinUhlenbeckNoise(3, behaviour.ou_theta, behaviour.ou_sigma, behaviour.ou_dt, rng)
     if behaviour.warmup or behaviour.actor_state is None:
-        return lambda obs: np.clip(noise.sample(), -1.0, 1.0)
+        if behaviour.demonstrator is None:
+            return lambda obs: np.clip(noise.sample(), -1.0, 1.0)
+        law = FeedbackActor(env, behaviour.demonstrator)
+        return lambda obs: np.clip(law(obs) + noise.sample(), -1.0, 1.0)
     policy = ActorPolicy.from_state(tensors(behaviour.actor_state))
 
     def act(obs: np.ndarray) -> np.ndarray:

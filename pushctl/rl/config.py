@@ -21,6 +21,8 @@ _NON_NEGATIVE_FLOATS = (
 )
 _UNIT_FLOATS = ("gamma", "tau")
 _POSITIVE_INTS = ("batch_size", "buffer_size", "torch_threads")
+DEMONSTRATORS = ("none", "feedback")
+"""Who acts in the warm-up episodes: OU noise alone, or the feedback law plus that noise."""
 
 
 @dataclass(frozen=True)
@@ -58,6 +60,14 @@ class DDPGConfig:
       where the critic's gain outweighs it, and, unlike a penalty on the action itself,
       whose gradient vanishes where the tanh saturates, it pulls a saturated actor back;
       in the critic's units (scaled reward) [-].
+    - ``demonstrator`` ["none"]: who acts in the warm-up episodes: ``none``, the OU noise
+      alone; ``feedback``, the ``feedback`` controller's law (experiments/feedback_gains.toml)
+      plus that noise, so the replay buffer starts with a good policy's transitions.
+    - ``imitation_updates`` [0]: when the warm-up ends, gradient steps fitting the actor to
+      the warm-up's actions (mean squared error, batches of ``batch_size``, the actor's
+      optimiser), before any DDPG update: the policy starts from the demonstrator and the
+      critic's burn-in then learns that policy's returns (demonstrations as in DDPGfD,
+      Večerík et al. 2017; 0: the actor starts at its initialisation) [updates].
     - ``torch_threads`` [1]: intra-op torch threads, applied by the caller through
       :func:`pushctl.rl.ddpg.configure_torch` (process-wide, so not by the agent) [threads].
     """
@@ -79,6 +89,8 @@ class DDPGConfig:
     actor_final_init: float = 3e-3
     critic_burn_in: int = 0
     action_penalty: float = 0.0
+    demonstrator: str = "none"
+    imitation_updates: int = 0
     torch_threads: int = 1
 
     def __post_init__(self) -> None:
@@ -96,7 +108,12 @@ class DDPGConfig:
             value = getattr(self, name)
             _check(name, value, _is_int(value) and value > 0, "a positive integer")
             object.__setattr__(self, name, int(value))
-        for name in ("warmup_steps", "critic_burn_in"):
+        if self.demonstrator not in DEMONSTRATORS:
+            raise ConfigError(
+                f"ddpg demonstrator must be one of {', '.join(DEMONSTRATORS)}, "
+                f"got {self.demonstrator!r}"
+            )
+        for name in ("warmup_steps", "critic_burn_in", "imitation_updates"):
             value = getattr(self, name)
             _check(name, value, _is_int(value) and value >= 0, "an integer >= 0")
             object.__setattr__(self, name, int(value))

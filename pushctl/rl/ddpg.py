@@ -102,6 +102,7 @@ class DDPGAgent:
         self._env_steps = 0
         self._updates = 0
         self._credit = 0
+        self._imitated = False
         self._set_policy(obs_scale)
 
     @property
@@ -175,6 +176,37 @@ class DDPGAgent:
         self._credit += eligible * self._credit_per_step
         due, self._credit = divmod(self._credit, self._credit_per_update)
         return due
+
+    @property
+    def imitation_due(self) -> bool:
+        """Whether :meth:`imitate` should run now: the config asks for it, the warm-up is
+        over and it has not run."""
+        cfg = self.config
+        return (
+            cfg.imitation_updates > 0
+            and not self._imitated
+            and self._env_steps >= cfg.warmup_steps
+            and len(self.replay) >= cfg.batch_size
+        )
+
+    def imitate(self) -> float:
+        """Fit the actor to the actions in the buffer (the warm-up's demonstrations):
+        ``imitation_updates`` Adam steps (learning rate 1e-3, its own optimiser) on the mean
+        squared error between ``actor(obs)`` and the stored action, batches of
+        ``batch_size``; then the target actor copies it. Runs once; returns the last loss."""
+        cfg = self.config
+        optim = torch.optim.Adam(self.actor.parameters(), lr=1e-3)
+        loss = torch.zeros(())
+        for _ in range(cfg.imitation_updates):
+            batch = self.replay.sample(cfg.batch_size, self._replay_rng)
+            obs = torch.from_numpy(batch["obs"]) / self._scale_t
+            loss = nn.functional.mse_loss(self.actor(obs), torch.from_numpy(batch["action"]))
+            optim.zero_grad(set_to_none=True)
+            loss.backward()
+            optim.step()
+        soft_update(self.actor_target, self.actor, 1.0)
+        self._imitated = True
+        return float(loss.item())
 
     def update(self) -> dict[str, float]:
         """One gradient step of critic and actor on a sampled batch, then the target updates.
@@ -256,6 +288,7 @@ class DDPGAgent:
                 "env_steps": self._env_steps,
                 "updates": self._updates,
                 "credit": self._credit,
+                "imitated": self._imitated,
             },
             obs_scale=torch.tensor(self._policy.obs_scale),
         )
@@ -286,6 +319,7 @@ class DDPGAgent:
         counters = state["counters"]
         self._env_steps, self._updates = int(counters["env_steps"]), int(counters["updates"])
         self._credit = int(counters["credit"])
+        self._imitated = bool(counters.get("imitated", False))
         self._set_policy(np.asarray(state["obs_scale"], dtype=np.float64))
 
     def _numpy_rngs(self) -> dict[str, np.random.Generator]:

@@ -29,6 +29,7 @@ from typing import Any
 import pandas as pd
 import torch
 
+from pushctl.control.feedback import load_feedback_gains
 from pushctl.control.gains import PDGains, load_gains
 from pushctl.errors import ConfigError
 from pushctl.provenance import write_csv
@@ -79,6 +80,10 @@ class Trainer:
 
     def __init__(self, preset: Preset, seed: int, out: Path, gains: PDGains) -> None:
         self.preset, self.seed, self.out, self.gains = preset, seed, out, gains
+        self._demonstrator = (
+            load_feedback_gains() if preset.ddpg.demonstrator == "feedback" else None
+        )
+        """The warm-up's demonstrator: the feedback controller's gains (DDPGConfig)."""
         entries = observation_entries(2, reference_offset=preset.env.offset_observed)
         self.agent = DDPGAgent(len(entries), 3, preset.ddpg, seed, obs_scale=scales(entries))
         self.next_episode = 0
@@ -214,6 +219,7 @@ class Trainer:
             ou_theta=config.ou_theta,
             ou_sigma=config.ou_sigma,
             ou_dt=config.ou_dt,
+            demonstrator=self._demonstrator if warmup else None,
         )
 
     @property
@@ -292,6 +298,8 @@ class Trainer:
         return episode % self.preset.train.pd_every == 0
 
     def _do_pending_updates(self) -> None:
+        if self.agent.imitation_due:  # the warm-up's demonstrations, once, before any update
+            self.agent.imitate()
         for _ in range(self.pending_updates):
             self.agent.update()
         self.pending_updates = 0
