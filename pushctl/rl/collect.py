@@ -47,8 +47,8 @@ fix)."""
 @dataclass(frozen=True)
 class Behaviour:
     """How episode e acts: while ``warmup``, OU noise (θ, σ, dt) alone, or the law of
-    ``demonstrator`` (the feedback controller's gains; None: no demonstrator) plus that
-    noise; else the actor of ``actor_state`` (None only in warm-up) plus the noise."""
+    ``demonstrator`` (the feedback controller's gains; None: no demonstrator) without noise;
+    else the actor of ``actor_state`` (None only in warm-up) plus the noise."""
 
     warmup: bool
     actor_state: dict[str, Any] | None
@@ -137,7 +137,7 @@ def pd_only_metrics(env: PushEnv, seed: int, episode: int) -> dict[str, float]:
 
 def _acting(behaviour: Behaviour, rng: np.random.Generator, env: PushEnv):
     """obs (d,) → action (3,) in [−1, 1]: in warm-up the OU noise alone or the
-    demonstrator's law (on ``env``'s push, just reset) plus the noise, else actor + noise.
+    demonstrator's law (on ``env``'s push, just reset), else actor + noise.
 
     Warm-up explores with the (temporally correlated) noise rather than uniform draws: a
     uniform action every 10 ms is a velocity step every step, whose force spikes are 100
@@ -147,8 +147,11 @@ def _acting(behaviour: Behaviour, rng: np.random.Generator, env: PushEnv):
     if behaviour.warmup or behaviour.actor_state is None:
         if behaviour.demonstrator is None:
             return lambda obs: np.clip(noise.sample(), -1.0, 1.0)
+        # The law alone, no noise: the actor is cloned from these actions, and the noise,
+        # held for action_repeat steps, is a function of time that an actor seeing the phase
+        # and the forces would learn by heart from a few episodes.
         law = FeedbackActor(env, behaviour.demonstrator)
-        return lambda obs: np.clip(law(obs) + noise.sample(), -1.0, 1.0)
+        return lambda obs: np.clip(law(obs), -1.0, 1.0)
     policy = ActorPolicy.from_state(tensors(behaviour.actor_state))
 
     def act(obs: np.ndarray) -> np.ndarray:

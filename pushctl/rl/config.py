@@ -22,7 +22,7 @@ _NON_NEGATIVE_FLOATS = (
 _UNIT_FLOATS = ("gamma", "tau")
 _POSITIVE_INTS = ("batch_size", "buffer_size", "torch_threads")
 DEMONSTRATORS = ("none", "feedback")
-"""Who acts in the warm-up episodes: OU noise alone, or the feedback law plus that noise."""
+"""Who acts in the warm-up episodes: OU noise alone, or the feedback law alone."""
 
 
 @dataclass(frozen=True)
@@ -62,7 +62,7 @@ class DDPGConfig:
       in the critic's units (scaled reward) [-].
     - ``demonstrator`` ["none"]: who acts in the warm-up episodes: ``none``, the OU noise
       alone; ``feedback``, the ``feedback`` controller's law (experiments/feedback_gains.toml)
-      plus that noise, so the replay buffer starts with a good policy's transitions.
+      without noise, so the replay buffer starts with a good policy's transitions.
     - ``imitation_updates`` [0]: when the warm-up ends, gradient steps fitting the actor to
       the warm-up's actions (mean squared error, batches of ``batch_size``, the actor's
       optimiser), before any DDPG update: the policy starts from the demonstrator and the
