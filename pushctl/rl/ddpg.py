@@ -103,6 +103,8 @@ class DDPGAgent:
         self._updates = 0
         self._credit = 0
         self._imitated = False
+        self.prior: Actor | None = None
+        """The actor as imitation left it (frozen), once :meth:`imitate` ran."""
         self._set_policy(obs_scale)
 
     @property
@@ -205,6 +207,7 @@ class DDPGAgent:
             loss.backward()
             optim.step()
         soft_update(self.actor_target, self.actor, 1.0)
+        self.prior = copy.deepcopy(self.actor).requires_grad_(False)
         self._imitated = True
         return float(loss.item())
 
@@ -238,7 +241,16 @@ class DDPGAgent:
 
         if self._updates >= cfg.critic_burn_in:
             pre_tanh = self.actor.net(obs)
-            actor_loss = -self.critic(obs, torch.tanh(pre_tanh)).mean()
+            if cfg.prior_weight > 0.0 and self.prior is not None:
+                action = torch.tanh(pre_tanh)
+                q_pi = self.critic(obs, action)
+                with torch.no_grad():
+                    prior_action = self.prior(obs)
+                    q_size = q_pi.abs().mean().clamp_min(1e-6)
+                distance = (action - prior_action).square().sum(dim=1).mean()
+                actor_loss = -q_pi.mean() / q_size + cfg.prior_weight * distance
+            else:
+                actor_loss = -self.critic(obs, torch.tanh(pre_tanh)).mean()
             if cfg.action_penalty > 0.0:
                 penalty = pre_tanh.square().sum(dim=1).mean()
                 actor_loss = actor_loss + cfg.action_penalty * penalty
@@ -292,6 +304,8 @@ class DDPGAgent:
             },
             obs_scale=torch.tensor(self._policy.obs_scale),
         )
+        if self.prior is not None:
+            state["prior"] = {k: v.clone() for k, v in self.prior.state_dict().items()}
         return state
 
     def load_state_dict(self, state: dict[str, Any]) -> None:
@@ -320,6 +334,10 @@ class DDPGAgent:
         self._env_steps, self._updates = int(counters["env_steps"]), int(counters["updates"])
         self._credit = int(counters["credit"])
         self._imitated = bool(counters.get("imitated", False))
+        self.prior = None
+        if "prior" in state:
+            self.prior = copy.deepcopy(self.actor).requires_grad_(False)
+            self.prior.load_state_dict(state["prior"])
         self._set_policy(np.asarray(state["obs_scale"], dtype=np.float64))
 
     def _numpy_rngs(self) -> dict[str, np.random.Generator]:

@@ -46,6 +46,7 @@ reward_scale = 10.0
 critic_burn_in = 3
 demonstrator = "feedback"
 imitation_updates = 50
+prior_weight = 1.0
 """
 
 
@@ -126,3 +127,35 @@ def test_a_demonstrated_run_resumes_to_the_same_weights(tmp_path: Path) -> None:
     # the cloned actor acts: not the zero residual it was initialised to
     obs = np.linspace(-1.0, 1.0, straight.agent.obs_dim)
     assert np.abs(straight.agent.policy_action(obs)).max() > 0.0
+
+
+def test_the_prior_weight_holds_the_actor_near_the_cloned_one() -> None:
+    """The same updates with and without the prior term: with it, the actor stays closer to
+    the clone it started from."""
+    rng = np.random.default_rng(1)
+    obs = rng.uniform(-1.0, 1.0, size=(400, 4))
+    actions = np.tanh(0.7 * obs[:, :2])
+    rewards = -np.abs(obs[:, 0] - 0.5)  # a critic that prefers other actions than the clone's
+    drift = {}
+    for weight in (0.0, 10.0):
+        config = DDPGConfig(
+            hidden=(16, 16),
+            batch_size=32,
+            warmup_steps=400,
+            imitation_updates=300,
+            prior_weight=weight,
+            actor_lr=1e-3,
+        )
+        agent = DDPGAgent(4, 2, config, seed=5)
+        agent.observe(obs, actions, rewards, obs, np.ones(400))
+        agent.imitate()
+        cloned = agent.policy_action(obs)
+        for _ in range(300):
+            agent.update()
+        drift[weight] = float(np.mean((agent.policy_action(obs) - cloned) ** 2))
+        state = agent.state_dict()
+        again = DDPGAgent(4, 2, config, seed=0)
+        again.load_state_dict(state)
+        assert again.prior is not None
+        np.testing.assert_array_equal(again.policy_action(obs), agent.policy_action(obs))
+    assert drift[10.0] < 0.5 * drift[0.0]
