@@ -1,5 +1,5 @@
 """Box-friction MLCP solver: ProxSuite's dense ProxQP, a fixed point on the friction bounds,
-and an exact active-set finish (DESIGN.md §3 "MLCP solver").
+and an exact active-set finish (docs/design.md §3 "MLCP solver").
 
 The problem, in impulses p [N·s] and velocities w [m/s or rad/s] (one entry per constraint
 row): find p (n,) with ``w = D p + b``, ``lo ≤ p ≤ hi`` and w complementary to the bounds —

@@ -1,6 +1,6 @@
 """``pushctl/Push-v0``: one randomised push as a gymnasium environment.
 
-A reset draws an object, a profile and a scenario (goal and plant parameters, DESIGN.md §6)
+A reset draws an object, a profile and a scenario (goal and plant parameters, docs/design.md §6)
 from the environment's seeded ``np_random``, plans it with the nominal parameters and runs
 the approach; each step is one 10 ms push step of the PD baseline with the residual twist of
 the action taken by the config's residual path (Algorithm 1; ``reference``: integrated into
@@ -11,7 +11,7 @@ true (plant) parameters, which the observation never sees.
 With ``plant = "proxy"`` the episodes run on the reality proxy (:mod:`pushctl.episode.proxy`):
 latency and joint friction in the world, the observation's measured contact forces are
 noisy estimates and, with ``observe_camera`` (the default), the observation's pose error and
-the gate read the 30 Hz camera (DESIGN.md §7); the reward stays exact.
+the gate read the 30 Hz camera (docs/design.md §7); the reward stays exact.
 """
 
 from __future__ import annotations
@@ -98,7 +98,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         self._last = self.episode.reset()
         self._error = self._pose_error(0)
         self._measured = self.episode.measured_forces(self._last.contact_forces)
-        # the plant unknowns (DESIGN.md §9) drawn for this episode, for logs: never observed
+        # the plant unknowns (docs/design.md §9) drawn for this episode, for logs: never observed
         unknowns = scenario.unknowns.as_dict(self.episode.plan.pusher.n_prongs)
         info = {"scenario": scenario, "goals_redrawn": redrawn, "unknowns": unknowns}
         return self.observation(), info

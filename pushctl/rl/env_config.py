@@ -38,7 +38,7 @@ class EnvConfig:
         ``gate_threshold`` [m]: the residual acts only while the object's pose deviation
         from the plan, √(e_x² + e_y² + (gate_length·e_θ)²), exceeds it; ``gate_length`` [m]
         turns the angle error into a distance. ``observe_camera``: on the ``proxy`` plant the
-        observation's pose error and the gate read the 30 Hz camera (DESIGN.md §7), as a
+        observation's pose error and the gate read the 30 Hz camera (docs/design.md §7), as a
         real arm must; False reads the exact pose (how policies were trained before).
     Reward (eq. 17)
         ``w_normal`` [1/N], ``w_tangential`` [1/N], ``w_torque`` [1/(N·m)]: per-step reward
