@@ -287,7 +287,7 @@ def _fixed_point(
 
 _QPS: dict[int, proxqp.dense.QP] = {}
 """One ProxQP problem per size, reused: a fresh one's answers differ in the last bit with
-where its workspace lands in the heap, a reused one's do not (README, *Reproducibility*)."""
+where its workspace lands in the heap, a reused one's do not (docs/reproducibility.md)."""
 
 
 def _reused_qp(n: int) -> proxqp.dense.QP:

@@ -1,6 +1,6 @@
 """Where the object starts and where the pusher has to be along a plan.
 
-Default start (documented in the README): the object sits straight in front of the arm's
+Default start (documented in docs/planning.md): the object sits straight in front of the arm's
 ready configuration, heading 0 (pushed face towards the arm), its pushed face
 ``FACE_AHEAD_OF_READY`` = 76 mm ahead of the ready prongs along +x, on the ready pusher's y.
 For the Kinova Gen2 7-DOF (ready pusher at x = 0.30 m) that puts the cube's centre of mass at
