@@ -92,6 +92,7 @@ Version history
       path.
     - issue 17: the ``mujoco`` plant kind, evaluation only (training on it is refused).
 """
+
 from __future__ import annotations
 
 import math
