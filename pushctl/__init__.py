@@ -1,6 +1,6 @@
 """pushctl: multi-point object pushing with a redundant arm.
 
-The stable Python API (see the README):
+The stable Python API (docs/model.md):
 
 - :func:`make_world` builds arm + pusher + object + table; ``World.reset``/``World.step``.
 - :func:`solve_box_mlcp` solves one box-friction mixed linear complementarity problem.

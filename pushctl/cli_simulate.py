@@ -167,7 +167,7 @@ def scenario_table(scenario: Scenario, start: PlanarPose, redrawn: int) -> Table
 
 
 def _unknowns_text(unknowns: PlantUnknowns) -> str:
-    """The drawn plant unknowns in mm, deg and percent (DESIGN.md §9)."""
+    """The drawn plant unknowns in mm, deg and percent (docs/design.md §9)."""
     along, across, turn = unknowns.placement
     prongs = ", ".join(f"({1e3 * a:+.2f}, {1e3 * b:+.2f})" for a, b in unknowns.prong_errors[:2])
     pressure_n, pressure_t = unknowns.pressure_offset
@@ -196,7 +196,7 @@ _LABELS = {
 
 
 def metrics_table(metrics: EpisodeMetrics, title: str = "metrics (push phase)") -> Table:
-    """DESIGN.md §7's metrics and the extra diagnostics, with units."""
+    """docs/design.md §7's metrics and the extra diagnostics, with units."""
     table = Table(title=title)
     table.add_column("metric")
     table.add_column("value", justify="right")
@@ -251,5 +251,5 @@ def tuning_record(
         ],
     }
     header = provenance_line(command).removeprefix("# ")
-    header += "\nPD gains of the baseline (DESIGN.md §5). Regenerate with the command above."
+    header += "\nPD gains of the baseline (docs/design.md §5). Regenerate with the command above."
     return gains_toml(best.gains, header, search)

@@ -191,7 +191,7 @@ def test_the_outputs_read_back_with_their_provenance(tmp_path: Path) -> None:
             "force_error"
         ].iloc[0]
     )
-    assert result.redrawn == 0  # DESIGN.md §7's ranges: every goal feasible
+    assert result.redrawn == 0  # docs/design.md §7's ranges: every goal feasible
     assert sorted(result.trials["redrawn"].unique()) == [0]
 
 

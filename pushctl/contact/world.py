@@ -1,7 +1,7 @@
 """The world step: arm + pusher + planar object + table, one box-friction MLCP per step.
 
 Generalised velocity ``v = [q̇_arm (nv); v_obj (3)]`` with ``v_obj = (vx, vy, ω)`` in the world
-frame. Per step of length h (DESIGN.md §3, the paper's eq. 6–8):
+frame. Per step of length h (docs/design.md §3, the paper's eq. 6–8):
 
 1. arm terms at (q, q̇): M (with armature), c + g, prong positions and Jacobians;
 2. free velocity with implicit joint damping: ``(M + h K_d) q̇_free = M q̇ + h (τ − c − g)``,
@@ -49,7 +49,7 @@ from pushctl.objects import ObjectSpec
 from pushctl.types import ContactProblem, StepResult, WorldStats
 
 _TIE_BREAK = 1e-6
-"""Relative diagonal term added to the prong rows of D [-] (DESIGN.md: 1e-6·diag D)."""
+"""Relative diagonal term added to the prong rows of D [-] (docs/design.md §3: 1e-6·diag D)."""
 
 SLIP_COS_TOLERANCE = math.cos(math.radians(5.0))
 """A sliding support point whose velocity after a step leaves the slip direction its friction

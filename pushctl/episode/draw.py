@@ -1,5 +1,5 @@
 """Scenarios drawn from a seed: a goal from the target ranges, the plant's parameters from a
-plant's ranges, redrawn until the planner accepts the goal (DESIGN.md §7)."""
+plant's ranges, redrawn until the planner accepts the goal (docs/design.md §7)."""
 
 from __future__ import annotations
 

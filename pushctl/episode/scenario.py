@@ -36,7 +36,7 @@ def stream_rng(seed: int, stream: str) -> np.random.Generator:
 
 @dataclass(frozen=True)
 class PhysicalParameters:
-    """The plant's physical parameters (DESIGN.md §9). ``object_mass`` and ``pusher_mass``
+    """The plant's physical parameters (docs/design.md §9). ``object_mass`` and ``pusher_mass``
     [kg]: None means the object's Table II value. μ_g and μ_c are Coulomb coefficients."""
 
     mu_ground: float = 0.30
@@ -63,7 +63,7 @@ class Scenario:
     pose (:func:`pushctl.planning.workspace.default_start`). ``goal``: absolute pose.
     ``nominal``: the parameters the planner and controller assume; ``plant``: the ones the
     simulated world has (the same unless randomised). ``unknowns``: the plant unknowns the
-    world has and the planner and controller do not know (DESIGN.md §9; none by default).
+    world has and the planner and controller do not know (docs/design.md §9; none by default).
     ``start`` is where the planner believes the object starts; the world puts it at
     ``unknowns.true_start(start)``. ``seed``: where it was drawn from (recorded with
     results), None when it was given by hand."""
@@ -103,7 +103,7 @@ class Scenario:
 @dataclass(frozen=True)
 class ParameterRanges:
     """Uniform ranges (lo, hi) of a plant's parameters: μ_g, μ_c, and the object's and the
-    pusher's mass as multiples of their Table II values (DESIGN.md §9)."""
+    pusher's mass as multiples of their Table II values (docs/design.md §9)."""
 
     mu_ground: tuple[float, float]
     mu_contact: tuple[float, float]
@@ -132,7 +132,7 @@ _DRAW_ORDER = ("mu_ground", "mu_contact", "object_mass_scale", "pusher_mass_scal
 
 @dataclass(frozen=True)
 class TargetRanges:
-    """Goal offsets from the start (DESIGN.md §7): forward Δx [m], |Δθ| [deg] of either sign,
+    """Goal offsets from the start (docs/design.md §7): forward Δx [m], |Δθ| [deg] of either sign,
     and the lateral Δy·sign(Δθ) [m] (the object moves towards the side it turns to)."""
 
     forward: tuple[float, float] = (0.10, 0.25)

@@ -10,7 +10,7 @@ world, the proxy's noise is seeded from the scenario), and results are gathered 
 so any number of workers writes the same bytes.
 
 Outputs (``DIR/trials.csv`` and ``DIR/steps.csv``, see :func:`write_evaluation` and the
-README's *Evaluating* section for the columns) are written only once every trial has run.
+docs/evaluation.md for the columns) are written only once every trial has run.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The evaluation's trials (DESIGN.md §7): which scenarios run, and one paired trial (the
+"""The evaluation's trials (docs/design.md §7): which scenarios run, and one paired trial (the
 CSV columns, ``TRIAL_COLUMNS`` and ``STEP_COLUMNS``, are in :mod:`pushctl.evaluation.columns`).
 
 Trial i of every object × profile cell of an evaluation with seed S pushes the scenario of

@@ -38,9 +38,9 @@ CURVE_METRICS = (
     "contact_loss_fraction",
 )
 """Per-episode errors recorded for the training curves (Fig. 5): mean |ΔF_n|, |ΔF_t| [N]
-per prong and step, mean |Δτ_z| [N·m], then DESIGN.md §7's force error [N], translation and
+per prong and step, mean |Δτ_z| [N·m], then docs/design.md §7's force error [N], translation and
 angle error [%], and the shares of steps with a slipping prong and with a prong out of
-contact (DESIGN.md §6 asks for them: where PD-only never slips, the residual has little to
+contact (docs/design.md §6 asks for them: where PD-only never slips, the residual has little to
 fix)."""
 
 

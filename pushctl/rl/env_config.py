@@ -38,7 +38,7 @@ class EnvConfig:
         ``gate_threshold`` [m]: the residual acts only while the object's pose deviation
         from the plan, √(e_x² + e_y² + (gate_length·e_θ)²), exceeds it; ``gate_length`` [m]
         turns the angle error into a distance. ``observe_camera``: on the ``proxy`` plant the
-        observation's pose error and the gate read the 30 Hz camera (DESIGN.md §7), as a
+        observation's pose error and the gate read the 30 Hz camera (docs/design.md §7), as a
         real arm must; False reads the exact pose (how policies were trained before).
         ``observe_offset``: on the ``reference`` path, the observation carries the offset
         built so far (:mod:`pushctl.rl.spaces`); the policy's own integrator state, without

@@ -39,7 +39,7 @@ Metrics = tuple[float, float]
 
 @dataclass(frozen=True)
 class ValidationScore:
-    """Means over the validation set of DESIGN.md §7's force error [N] and translation error
+    """Means over the validation set of docs/design.md §7's force error [N] and translation error
     [%], for the policy and for PD-only; ``score`` = force ratio + translation ratio (2 for
     a policy that changes nothing, lower is better)."""
 
