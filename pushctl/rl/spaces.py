@@ -1,5 +1,5 @@
 """The push environment's observation and action, as tables of index, name, meaning, unit and
-scale. The environment builds its vectors in this order and the README's tables are printed
+scale. The environment builds its vectors in this order and the tables of docs/learning.md are printed
 from here (``python -m pushctl.rl.spaces``), so the documentation cannot drift from the code.
 
 Frames: "plan frame" is the planned object frame at the current step (x along the push into

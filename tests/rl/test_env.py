@@ -295,5 +295,5 @@ def test_env_config_round_trips_through_a_mapping() -> None:
 
 def test_the_docs_tables_are_the_code_tables() -> None:
     text = LEARNING_PAGE.read_text()
-    assert markdown_table(observation_entries(2)) in text
+    assert markdown_table(observation_entries(2, reference_offset=True)) in text
     assert markdown_table(ACTION_ENTRIES) in text
