@@ -1,6 +1,7 @@
 """The push environment's observation and action, as tables of index, name, meaning, unit and
-scale. The environment builds its vectors in this order and the tables of docs/learning.md are printed
-from here (``python -m pushctl.rl.spaces``), so the documentation cannot drift from the code.
+scale. The environment builds its vectors in this order and the tables of docs/learning.md
+are printed from here (``python -m pushctl.rl.spaces``), so the documentation cannot drift
+from the code.
 
 Frames: "plan frame" is the planned object frame at the current step (x along the push into
 the object, the pushed face's normal at θ = 0; y to its left), so the same correction means
