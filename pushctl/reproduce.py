@@ -265,8 +265,13 @@ def main(argv: list[str] | None = None) -> int:
         "--force", action="store_true", help="overwrite a results directory it did not make"
     )
     parser.add_argument("--seeds", default=None, help="training seeds, e.g. 0,1,2 or 0-2 or 0")
+    parser.add_argument(
+        "--preset", default=None, help="training preset (default: paper; quick with --quick)"
+    )
     args = parser.parse_args(argv)
     setup = QUICK if args.quick else FULL
+    if args.preset is not None:  # its own run directory: runs of two presets never mix
+        setup = replace(setup, preset=args.preset, run=Path("runs") / Path(args.preset).stem)
     if args.force:
         setup = replace(setup, force=True)
     if args.seeds is not None:

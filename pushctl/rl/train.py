@@ -259,7 +259,9 @@ class Trainer:
         validation set, spread over the collectors."""
         if self._validator is None:
             train = self.preset.train
-            self._validator = Validator(self.preset.env, self.gains, train.validation_per_cell)
+            self._validator = Validator(
+                self.preset.env, self.gains, train.validation_per_cell, rule=train.select_on
+            )
         actor = self.agent.actor_state()
         chunks = self._validator.chunks(3 * max(1, self.collectors))
         futures = [collector.validate(portable(actor), chunk) for chunk in chunks]
@@ -284,6 +286,8 @@ class Trainer:
                 "pd_force_error": result.pd_force_error,
                 "translation_error_pct": result.translation_error_pct,
                 "pd_translation_error_pct": result.pd_translation_error_pct,
+                "angle_error_pct": result.angle_error_pct,
+                "pd_angle_error_pct": result.pd_angle_error_pct,
                 "score": result.score,
                 "kept": kept,
             }
