@@ -20,7 +20,7 @@ import numpy as np
 from pushctl.control.feedback import FeedbackGains, FeedbackLaw
 from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
-from pushctl.rl.spaces import index
+from pushctl.rl.spaces import index, observation_entries
 
 CONTROLLERS = ("pd", "feedback", "rl")
 """PD-only, PD + the PI feedback law, PD + the learned residual (the tables' order)."""
@@ -39,7 +39,9 @@ class FeedbackActor:
         dx, dy = plan.pusher_positions[0, :2] - start[:2]
         lever = np.array([c * dx + s * dy, -s * dx + c * dy])  # fixed in the object's frame
         self.law = FeedbackLaw(gains, lever, env.config.dt)
-        where = index(env.observation_entries)
+        # the observation's layout for this plan's k prongs (the environment's own table
+        # is sized for the paper's two; its observation follows the pusher it pushes with)
+        where = index(observation_entries(plan.pusher.n_prongs))
         self._error = [where["error_x"], where["error_y"], where["error_theta"]]
         self._normal = [where[f"force_n_{i + 1}"] for i in range(plan.pusher.n_prongs)]
         config = env.config
