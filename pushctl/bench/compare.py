@@ -119,7 +119,7 @@ def record_cold_problems(steps: int = 1500, seed: int = 0) -> list[tuple]:
     """The MLCPs that reached :func:`solve_box_mlcp` (the compiled warm step had failed)
     during ``steps`` random-action ``Push-v0`` steps of this tree: (D, b, lo, hi, findex, mu,
     warm_start) each."""
-    import pushctl.contact.world as world_module
+    import pushctl.contact.substep as world_module  # where the world step calls the solver
     from pushctl.rl.env import PushEnv
     from pushctl.rl.env_config import EnvConfig
 

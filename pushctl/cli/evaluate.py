@@ -36,7 +36,10 @@ def evaluate(
     profile: Annotated[str, typer.Option(help="constant, trapezoid, chirp or all")] = "all",
     trials: Annotated[int, typer.Option(help="trials per object × profile")] = 50,
     controller: Annotated[
-        str, typer.Option(help="pd (PD-only), feedback (PD + PI on the pose), rl or all")
+        str,
+        typer.Option(
+            help="pd (PD-only), feedback (PD + PI on the pose), rl, all, or several: pd,feedback"
+        ),
     ] = "all",
     plant: Annotated[
         str,

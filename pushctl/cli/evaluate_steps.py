@@ -54,12 +54,17 @@ push steps with a prong slipping, with a prong out of contact)."""
 
 
 def choose(option: str, value: str, names: tuple[str, ...], every: str) -> tuple[str, ...]:
-    """The names ``value`` selects: one of ``names``, or all of them for ``every``."""
+    """The names ``value`` selects: one of ``names``, several comma-separated (in the order
+    given; ``pd,feedback``), or all of them for ``every``."""
     if value == every:
         return names
-    if value not in names:
-        raise ConfigError(f"unknown {option} {value!r}; accepted: {', '.join(names)} or {every}")
-    return (value,)
+    chosen = tuple(value.split(","))
+    if not all(name in names for name in chosen):
+        raise ConfigError(
+            f"unknown {option} {value!r}; accepted: {', '.join(names)} or {every} "
+            "(or several, comma-separated)"
+        )
+    return chosen
 
 
 def choose_plants(value: str) -> tuple[str, ...]:
