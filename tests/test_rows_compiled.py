@@ -121,13 +121,8 @@ def test_step_state_and_contact_model_name_the_kernels_parameters():
     wrong parameter."""
     import inspect
 
-    from pushctl.contact.kernels import (
-        STEP_STATE,
-        ContactModel,
-        assemble,
-        warm_contact_step,
-        warm_slip_step,
-    )
+    from pushctl.contact.kernels import assemble, warm_contact_step, warm_slip_step
+    from pushctl.contact.substep import STEP_STATE, ContactModel
 
     names = list(STEP_STATE) + list(ContactModel._fields)
     assert len(names) == 18

@@ -10,12 +10,16 @@ compiled once and cached on disk (``cache=True``).
 Every compiled function, and every constant they read, lives in this one file: numba's disk
 cache is invalidated per source file and does not follow calls or globals into other files,
 so a kernel calling a kernel elsewhere could run stale code after an edit.
+
+The step's kernels (:func:`assemble`, :func:`warm_contact_step`, :func:`warm_slip_step`)
+take the step's state and then the world's contact model, named by
+:data:`~pushctl.contact.substep.STEP_STATE` and
+:class:`~pushctl.contact.substep.ContactModel`.
 """
 
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -121,50 +125,6 @@ def active_set_step(D, b, lo, hi, findex, mu, guess, threshold):
         if not r <= residual:  # also catches NaN
             residual = r if r == r else np.inf
     return p, w, residual, residual <= threshold
-
-
-STEP_STATE = (
-    "contacts", "jacobians", "M", "nle", "v_arm", "tau", "joint_damping", "pose", "velocity"
-)  # fmt: skip
-"""The leading parameters of :func:`assemble`, :func:`warm_contact_step` and
-:func:`warm_slip_step`: the state of one step, which changes every step (shapes and units
-in :func:`assemble`). The world passes them as a plain tuple in this order, then its
-:class:`ContactModel` (tests/test_rows_compiled.py checks both against the signatures)."""
-
-
-class ContactModel(NamedTuple):
-    """The world's side of the step's kernels, fixed for one world (built once, its arrays
-    updated in place): their parameters after :data:`STEP_STATE`, in this order; the world
-    calls them as ``kernel(*state, *model, ...)``. Arrays are float64 unless said otherwise.
-
-    Not one structure passed into the compiled code: numba dispatches a NamedTuple argument
-    through Python-level typing (about 2.3 µs more per call than flat arrays and floats,
-    measured), a structref or jitclass argument defeats its disk cache, and building a
-    NamedTuple of the step's state every step would cost about 1 µs (3 % of a world step,
-    measured with ``python -m pushctl.bench.compare``): unpacked, the names cost nothing.
-    """
-
-    obj_mass_inv: np.ndarray
-    """(3,) (1/m, 1/m, 1/I_z) [1/kg, 1/kg, 1/(kg·m²)]."""
-    support_points: np.ndarray
-    """(S, 2) the object's support points, object frame [m]."""
-    friction_limits: np.ndarray
-    """(S,) μ(p_j) N_j at each support point [N] (rewritten in place where a friction field
-    makes μ vary over the table)."""
-    slip_directions: np.ndarray
-    """(S, 2) each support point's friction box direction (unit), world frame; updated in
-    place by :func:`slip_state` and :func:`refine_slip`."""
-    sliding: np.ndarray
-    """(S,) bool: whether each support point slides (its box has no cross bound); updated
-    in place with ``slip_directions``."""
-    h: float
-    """The (sub)step [s]."""
-    stabilisation: float
-    """Fraction of a penetration removed per (sub)step, (0, 1]."""
-    tie_break: float
-    """Relative diagonal term on the prong rows of D [-]."""
-    mu_contact: float
-    """Prong–object Coulomb friction μ_c."""
 
 
 @njit(cache=True)

@@ -12,7 +12,7 @@ same order, so the same bits.
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -21,7 +21,6 @@ from pushctl.contact.ground_field import FrictionField
 from pushctl.contact.kernels import (
     SLIP_UNSETTLED,
     SLIP_WARM_FAILED,
-    ContactModel,
     apply_impulses,
     assemble,
     refine_slip,
@@ -31,6 +30,52 @@ from pushctl.contact.kernels import (
 )
 from pushctl.contact.mlcp import DEFAULT_TOL, MLCPResult, solve_box_mlcp
 from pushctl.types import ContactProblem, WorldStats
+
+STEP_STATE = (
+    "contacts", "jacobians", "M", "nle", "v_arm", "tau", "joint_damping", "pose", "velocity"
+)  # fmt: skip
+"""The leading parameters of the step's kernels (:func:`~pushctl.contact.kernels.assemble`,
+``warm_contact_step``, ``warm_slip_step``): the state of one step, which changes every step
+(shapes and units in ``assemble``). The world passes them as a plain tuple in this order,
+then its :class:`ContactModel` (tests/test_rows_compiled.py checks both against the
+kernels' signatures)."""
+
+
+class ContactModel(NamedTuple):
+    """The world's side of the step's kernels, fixed for one world (built once, its arrays
+    updated in place): their parameters after :data:`STEP_STATE`, in this order; the world
+    calls them as ``kernel(*state, *model, ...)``. Arrays are float64 unless said otherwise.
+
+    Not one structure passed into the compiled code: numba dispatches a NamedTuple argument
+    through Python-level typing (about 2.3 µs more per call than flat arrays and floats,
+    measured), a structref or jitclass argument defeats its disk cache, and building a
+    NamedTuple of the step's state every step would cost about 1 µs (3 % of a world step,
+    measured with ``python -m pushctl.bench.compare``): unpacked, the names cost nothing.
+    """
+
+    obj_mass_inv: np.ndarray
+    """(3,) (1/m, 1/m, 1/I_z) [1/kg, 1/kg, 1/(kg·m²)]."""
+    support_points: np.ndarray
+    """(S, 2) the object's support points, object frame [m]."""
+    friction_limits: np.ndarray
+    """(S,) μ(p_j) N_j at each support point [N] (rewritten in place where a friction field
+    makes μ vary over the table)."""
+    slip_directions: np.ndarray
+    """(S, 2) each support point's friction box direction (unit), world frame; updated in
+    place by :func:`~pushctl.contact.kernels.slip_state` and
+    :func:`~pushctl.contact.kernels.refine_slip`."""
+    sliding: np.ndarray
+    """(S,) bool: whether each support point slides (its box has no cross bound); updated
+    in place with ``slip_directions``."""
+    h: float
+    """The (sub)step [s]."""
+    stabilisation: float
+    """Fraction of a penetration removed per (sub)step, (0, 1]."""
+    tie_break: float
+    """Relative diagonal term on the prong rows of D [-]."""
+    mu_contact: float
+    """Prong–object Coulomb friction μ_c."""
+
 
 TIE_BREAK = 1e-6
 """Relative diagonal term added to the prong rows of D [-] (docs/design.md §3: 1e-6·diag D)."""
@@ -108,8 +153,8 @@ class SubstepSolver:
         self, h: float, tau: np.ndarray, damping: np.ndarray
     ) -> tuple[tuple[int, ...], tuple]:
         """The prongs in contact and the step's state: the kernels' leading arguments in the
-        order of :data:`~pushctl.contact.kernels.STEP_STATE` (the world's
-        :class:`~pushctl.contact.kernels.ContactModel` follows them). ``damping`` (nv,)
+        order of :data:`STEP_STATE` (the world's
+        :class:`ContactModel` follows them). ``damping`` (nv,)
         [N·m·s/rad]: all joint damping applied implicitly; ``h`` is the model's."""
         terms = self._terms
         prongs: tuple[int, ...]

@@ -31,7 +31,7 @@ from pushctl.arm import ArmModel, ArmTerms
 from pushctl.checks import finite_vector
 from pushctl.config import GRAVITY
 from pushctl.contact.ground_field import FrictionField
-from pushctl.contact.kernels import ContactModel, coriolis_energy_error
+from pushctl.contact.kernels import coriolis_energy_error
 from pushctl.contact.mlcp import MLCPResult
 from pushctl.contact.rows import edge_array, prong_contacts
 from pushctl.contact.substep import (
@@ -39,6 +39,7 @@ from pushctl.contact.substep import (
     MAX_SLIP_ITERATIONS,
     SLIP_COS_TOLERANCE,
     TIE_BREAK,
+    ContactModel,
     SubstepSolver,
 )
 from pushctl.errors import ConfigError, StateError
