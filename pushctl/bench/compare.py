@@ -220,7 +220,9 @@ def compare(against: str, repeats: int) -> tuple[pd.DataFrame, int]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(
+        prog="python -m pushctl.bench.compare", description=__doc__.splitlines()[0]
+    )
     parser.add_argument("--against", default=REFERENCE, help="reference commit (git)")
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--out", type=Path, default=None, help="also write the table as CSV")

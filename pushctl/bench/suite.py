@@ -251,7 +251,9 @@ def plan_rows(repeats: int = 7) -> list[dict[str, Any]]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(
+        prog="python -m pushctl.bench", description=__doc__.splitlines()[0]
+    )
     parser.add_argument("--out", type=Path, default=Path("results/bench.csv"))
     parser.add_argument("--repeats", type=int, default=2000)
     parser.add_argument(
