@@ -13,7 +13,7 @@ from test_report import write_results
 from typer.testing import CliRunner
 
 from pushctl.cli import app
-from pushctl.cli_report import write_chain
+from pushctl.cli.report_steps import write_chain
 
 runner = CliRunner()
 OUTPUTS = (

@@ -120,15 +120,17 @@ class Episode:
         self.approach = approach or ApproachSettings()
         plant, nominal = scenario.plant, scenario.nominal
         nominal_obj = resolve_object(
-            scenario.object, mass=nominal.object_mass, pusher_mass=nominal.pusher_mass
+            scenario.object, mass=nominal.object_mass, pusher_mass=scenario.pusher_mass(nominal)
         )
         unknowns = scenario.unknowns
         self.object: ObjectSpec = with_unknown_loads(
-            resolve_object(scenario.object, mass=plant.object_mass, pusher_mass=plant.pusher_mass),
+            resolve_object(
+                scenario.object, mass=plant.object_mass, pusher_mass=scenario.pusher_mass(plant)
+            ),
             unknowns,
         )
         self.friction_field: FrictionField | None = friction_field(unknowns)
-        planning_pusher = PusherConfig(mass=nominal_obj.pusher_mass)
+        planning_pusher = scenario.pusher_config(nominal_obj.pusher_mass)
         self.plan: Plan = (
             plan
             if plan is not None
@@ -145,7 +147,7 @@ class Episode:
             )
         )
         self.plan.raise_if_infeasible()
-        pusher = PusherConfig(mass=self.object.pusher_mass)
+        pusher = scenario.pusher_config(self.object.pusher_mass)
         if unknowns.has_mounting_error:
             pusher = replace(
                 pusher,

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from pushctl.config import GRAVITY
+from pushctl.config import GRAVITY, PusherConfig
 from pushctl.episode.unknowns import PlantUnknowns
 from pushctl.errors import ConfigError
 from pushctl.planning.profiles import PROFILE_NAMES
@@ -65,8 +65,11 @@ class Scenario:
     simulated world has (the same unless randomised). ``unknowns``: the plant unknowns the
     world has and the planner and controller do not know (docs/design.md §9; none by default).
     ``start`` is where the planner believes the object starts; the world puts it at
-    ``unknowns.true_start(start)``. ``seed``: where it was drawn from (recorded with
-    results), None when it was given by hand."""
+    ``unknowns.true_start(start)``. ``pusher``: the plate and its prongs (a pusher file's,
+    :mod:`pushctl.arm.pusher_file`); None: the paper's two-prong plate. Its ``mass`` is the
+    pusher's mass wherever the parameters leave ``pusher_mass`` None (else theirs).
+    ``seed``: where it was drawn from (recorded with results), None when it was given by
+    hand."""
 
     object: str
     profile: str
@@ -80,8 +83,11 @@ class Scenario:
     arm: str = "kinova-gen2-7dof"
     gravity: float = GRAVITY
     unknowns: PlantUnknowns = field(default_factory=PlantUnknowns)
+    pusher: PusherConfig | None = None
 
     def __post_init__(self) -> None:
+        if self.pusher is not None and not isinstance(self.pusher, PusherConfig):
+            raise ConfigError(f"pusher must be a PusherConfig, got {type(self.pusher).__name__}")
         if not isinstance(self.unknowns, PlantUnknowns):
             raise ConfigError(f"unknowns must be PlantUnknowns, got {type(self.unknowns).__name__}")
         if self.profile not in PROFILE_NAMES:
@@ -92,6 +98,17 @@ class Scenario:
             value = getattr(self, name)
             if not (_is_number(value) and math.isfinite(value) and value > 0.0):
                 raise ConfigError(f"{name} must be a positive number of seconds, got {value!r}")
+
+    def pusher_mass(self, parameters: PhysicalParameters) -> float | None:
+        """The pusher mass [kg] of ``parameters`` (the plant or the nominal ones): theirs if
+        set, else the pusher file's, else None (the object's Table II value)."""
+        if parameters.pusher_mass is not None or self.pusher is None:
+            return parameters.pusher_mass
+        return self.pusher.mass
+
+    def pusher_config(self, mass: float) -> PusherConfig:
+        """This scenario's pusher (the paper's plate when None) with ``mass`` [kg]."""
+        return replace(self.pusher or PusherConfig(), mass=mass)
 
     def with_plant(self, plant: PhysicalParameters) -> Scenario:
         return replace(self, plant=plant)

@@ -10,7 +10,7 @@ import numpy as np
 
 from pushctl.control.feedback import FeedbackGains, FeedbackLaw
 from pushctl.rl.env import PushEnv
-from pushctl.rl.spaces import index
+from pushctl.rl.spaces import index, observation_entries
 
 
 class FeedbackActor:
@@ -27,7 +27,11 @@ class FeedbackActor:
         lever = np.array([c * dx + s * dy, -s * dx + c * dy])  # fixed in the object's frame
         # one call per decision: every step while the gate is open, or every action_repeat
         self.law = FeedbackLaw(gains, lever, env.config.dt * env.config.action_repeat)
-        where = index(env.observation_entries)
+        # the observation's layout for this plan's k prongs (the environment's own table
+        # is sized for the paper's two; its observation follows the pusher it pushes with)
+        where = index(
+            observation_entries(plan.pusher.n_prongs, reference_offset=env.config.offset_observed)
+        )
         self._error = [where["error_x"], where["error_y"], where["error_theta"]]
         self._normal = [where[f"force_n_{i + 1}"] for i in range(plan.pusher.n_prongs)]
         config = env.config

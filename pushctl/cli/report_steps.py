@@ -1,5 +1,5 @@
 """``pushctl report``: Tables III and IV, ``tables.md`` and Figs. 5, 6 and 8 from a results
-directory. Registered on the app in :mod:`pushctl.cli`.
+directory. The command is :mod:`pushctl.cli.report`.
 
 Every input is read and checked, both tables computed and all three figures rendered to
 PNG bytes before the first file is written; the files are then written each to a temporary

@@ -1,5 +1,6 @@
 """``pushctl simulate`` and ``pushctl tune-pd``: scenario from options, tables for the
-terminal. Registered on the app in :mod:`pushctl.cli`."""
+terminal. The commands are in
+:mod:`pushctl.cli.simulate` and :mod:`pushctl.cli.tune_pd`."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ from pathlib import Path
 
 from rich.table import Table
 
+from pushctl.config import PusherConfig
 from pushctl.control.gains import PDGains, gains_toml
 from pushctl.episode.draw import draw_scenario
 from pushctl.episode.metrics import METRIC_UNITS, EpisodeMetrics
@@ -76,6 +78,16 @@ def push(
     return env.episode.trace(), env.plan
 
 
+def check_pusher(pusher: PusherConfig | None, controller: str) -> None:
+    """ConfigError for ``rl`` with a pusher other than the paper's: a policy is trained
+    for one pusher (its observation has a row per prong)."""
+    if pusher is not None and controller == "rl" and pusher != PusherConfig():
+        raise ConfigError(
+            "--pusher runs with --controller pd or feedback: the policy was trained for "
+            "the paper's two-prong pusher"
+        )
+
+
 def check_plant(name: str) -> None:
     if name not in PLANTS:
         raise ConfigError(f"unknown plant {name!r}; accepted: {', '.join(PLANTS)}")
@@ -96,12 +108,14 @@ def simulate_scenario(
     duration: float,
     arm: str,
     plant: str = "sim",
+    pusher: PusherConfig | None = None,
 ) -> tuple[Scenario, int]:
     """The scenario ``pushctl simulate`` runs and the goals redrawn to find it.
 
     The goal is ``goal`` if given, else drawn from ``seed`` (evaluation stream). With
     ``randomize`` the plant is drawn from ``plant``'s ranges of ``seed`` (mujoco: sim's).
     ``overrides`` (mu_ground, mu_contact, object_mass; None = keep) then set plant values by hand.
+    ``pusher``: the scenario's plate and prongs (None: the paper's).
     """
     check_profile(profile)
     if goal is None and seed is None:
@@ -118,6 +132,7 @@ def simulate_scenario(
             plant=plant if randomize else None,
             duration=duration,
             arm=arm,
+            pusher=pusher,
         )
         if goal is not None:
             scenario = replace(scenario, goal=PlanarPose.from_array(goal))
@@ -130,6 +145,7 @@ def simulate_scenario(
             goal=PlanarPose.from_array(goal),
             duration=duration,
             arm=arm,
+            pusher=pusher,
         )
     given = {key: value for key, value in overrides.items() if value is not None}
     if given:

@@ -1,5 +1,5 @@
 """``pushctl tune-feedback``: the search of :mod:`pushctl.evaluation.tune_feedback` with a
-status line, its table, and the gains file's text. Registered on the app in :mod:`pushctl.cli`."""
+status line, its table, and the gains file's text. The command: :mod:`pushctl.cli.tune_feedback`."""
 
 from __future__ import annotations
 
