@@ -1,0 +1,106 @@
+"""Issue 16's acceptance read from an evaluation's ``trials.csv``: per cell, plant and
+training seed, RL-assisted against PD-only (and against ``feedback``) on translation and
+angle error, as paired differences over the cell's trials with their 95 % confidence
+interval, and the ratio of the means.
+
+Run ``python -m pushctl.report.acceptance results/evaluation/trials.csv``: one Markdown table
+per plant. A cell *passes* on a metric when the paired difference's whole interval is below
+zero (RL lower on these trials beyond their noise).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from pushctl.report.tables import OBJECT_ORDER, PROFILE_ORDER, ci95_halfwidth
+
+METRICS = ("translation_error_pct", "angle_error_pct", "force_error")
+KEYS = ["object", "profile", "plant", "trial"]
+
+
+def paired(trials: pd.DataFrame, plant: str, other: str = "pd") -> pd.DataFrame:
+    """One row per (object, profile, policy seed) on ``plant``: for each metric of
+    :data:`METRICS`, RL's mean, ``other``'s mean, their ratio, and the paired difference
+    RL − other (mean and 95 % half-width over the trials both ran)."""
+    on_plant = trials[trials["plant"] == plant]
+    base = on_plant[on_plant["controller"] == other].set_index(KEYS)
+    rl = on_plant[on_plant["controller"] == "rl"]
+    seeds = sorted(pd.to_numeric(rl["policy_seed"]).dropna().astype(int).unique())
+    rows = []
+    for obj in OBJECT_ORDER:
+        for profile in PROFILE_ORDER:
+            for seed in seeds:
+                mine = rl[
+                    (rl["object"] == obj)
+                    & (rl["profile"] == profile)
+                    & (pd.to_numeric(rl["policy_seed"]) == seed)
+                ].set_index(KEYS)
+                if mine.empty:
+                    continue
+                row: dict[str, object] = {"object": obj, "profile": profile, "policy_seed": seed}
+                joined = mine.join(base, how="inner", suffixes=("_rl", "_other"))
+                for metric in METRICS:
+                    a = joined[f"{metric}_rl"].to_numpy(float)
+                    b = joined[f"{metric}_other"].to_numpy(float)
+                    keep = np.isfinite(a) & np.isfinite(b)
+                    diff = a[keep] - b[keep]
+                    row[f"{metric}_rl"] = float(np.mean(a[keep]))
+                    row[f"{metric}_{other}"] = float(np.mean(b[keep]))
+                    row[f"{metric}_ratio"] = row[f"{metric}_rl"] / row[f"{metric}_{other}"]
+                    row[f"{metric}_diff"] = float(np.mean(diff))
+                    row[f"{metric}_diff_ci95"] = ci95_halfwidth(diff)
+                rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def passes(table: pd.DataFrame, metric: str) -> pd.Series:
+    """Whether each row's paired difference on ``metric`` is below zero with its interval."""
+    return (table[f"{metric}_diff"] + table[f"{metric}_diff_ci95"]) < 0.0
+
+
+def markdown(table: pd.DataFrame, other: str) -> str:
+    """The rows as Markdown: ratios of the means, and whether RL is lower beyond the CI."""
+    lines = [
+        f"| object | profile | seed | translation RL/{other} | lower? | angle RL/{other} "
+        f"| lower? | force RL/{other} | lower? |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    for _, row in table.iterrows():
+        cells = [str(row["object"]), str(row["profile"]), str(row["policy_seed"])]
+        for metric in METRICS:
+            lower = row[f"{metric}_diff"] + row[f"{metric}_diff_ci95"] < 0.0
+            cells += [f"{row[f'{metric}_ratio']:.2f}", "yes" if lower else "no"]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m pushctl.report.acceptance")
+    parser.add_argument("trials", type=Path, help="an evaluation's trials.csv")
+    args = parser.parse_args(argv)
+    if not args.trials.is_file():
+        print(
+            f"acceptance: no file {args.trials}; give an evaluation's trials.csv", file=sys.stderr
+        )
+        return 2
+    trials = pd.read_csv(args.trials, comment="#")
+    if "policy_seed" not in trials.columns or not (trials["controller"] == "rl").any():
+        print(f"acceptance: {args.trials} has no rl rows with a policy_seed", file=sys.stderr)
+        return 2
+    for plant in [p for p in ("sim", "proxy", "mujoco") if p in set(trials["plant"])]:
+        for other in ("pd", "feedback"):
+            if not (trials["controller"] == other).any():
+                continue
+            table = paired(trials, plant, other)
+            print(f"\n### {plant}: RL-assisted against {other} (paired, 95 % CI)\n")
+            print(markdown(table, other))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

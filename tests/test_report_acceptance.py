@@ -1,0 +1,51 @@
+"""Issue 16's acceptance table: paired RL − PD differences per cell and seed."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from pushctl.report.acceptance import main, paired, passes
+
+
+def _trials() -> pd.DataFrame:
+    """Cube/constant, sim: PD errors 1..10 %; seed 0's RL half of PD's, seed 1's equal."""
+    rng = np.random.default_rng(0)
+    rows = []
+    for trial in range(10):
+        pd_error = 1.0 + trial + rng.uniform(0.0, 0.1)
+        for controller, seed, value in (
+            ("pd", None, pd_error),
+            ("rl", 0, 0.5 * pd_error),
+            ("rl", 1, pd_error),
+        ):
+            rows.append(
+                {
+                    "object": "cube",
+                    "profile": "constant",
+                    "plant": "sim",
+                    "controller": controller,
+                    "trial": trial,
+                    "policy_seed": seed,
+                    "translation_error_pct": value,
+                    "angle_error_pct": value,
+                    "force_error": value,
+                }
+            )
+    return pd.DataFrame(rows)
+
+
+def test_a_halving_policy_passes_and_an_equal_one_does_not() -> None:
+    table = paired(_trials(), "sim")
+    assert list(table["policy_seed"]) == [0, 1]
+    np.testing.assert_allclose(table["translation_error_pct_ratio"], [0.5, 1.0])
+    assert list(passes(table, "translation_error_pct")) == [True, False]
+
+
+def test_the_command_prints_a_table_and_refuses_a_missing_file(tmp_path, capsys) -> None:
+    path = tmp_path / "trials.csv"
+    _trials().to_csv(path, index=False)
+    assert main([str(path)]) == 0
+    assert "| cube | constant | 0 | 0.50 | yes |" in capsys.readouterr().out
+    assert main([str(tmp_path / "none.csv")]) == 2
+    assert "no file" in capsys.readouterr().err
