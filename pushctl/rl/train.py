@@ -36,7 +36,7 @@ from pushctl.rl.collect import (
     CURVE_METRICS,
     Behaviour,
     EpisodeRecord,
-    collect_episode,
+    collect_episodes,
     pd_only_metrics,
     portable,
     tensors,
@@ -48,6 +48,7 @@ from pushctl.rl.policy import save_atomic, write_policy
 from pushctl.rl.presets import Preset
 from pushctl.rl.spaces import observation_entries, scales
 from pushctl.rl.validate import Metrics, Validator, validation_env, validation_metrics
+from pushctl.rl.vector_env import PushVectorEnv
 
 CHECKPOINT = "checkpoint.pt"
 CURVE = "curve.csv"
@@ -148,8 +149,9 @@ class Trainer:
                 following = self._submit_round(collector, flight.episodes.stop, episodes)
                 episodes_ = flight.episodes
                 pd_metrics = [self._pd_metrics(e) if self._run_pd(e) else None for e in episodes_]
-                for future, metrics in zip(flight.futures, pd_metrics, strict=True):
-                    record = replace(future.result(), pd=metrics)
+                records = [record for future in flight.futures for record in future.result()]
+                for record, metrics in zip(records, pd_metrics, strict=True):
+                    record = replace(record, pd=metrics)
                     self._absorb(record)
                     if on_episode is not None:
                         on_episode(clock.progress(record, self.next_episode, episodes))
@@ -242,7 +244,7 @@ class Trainer:
             return None
         round_ = range(first, min(first + self.preset.train.episodes_per_round, episodes))
         behaviour = self._behaviour(first)
-        futures = [collector.submit(e, behaviour) for e in round_]
+        futures = collector.submit(round_, behaviour)
         due = [e for e in round_ if self._validate_due(e)]
         validation = self._submit_validation(collector, due[0]) if due else None
         return _RoundInFlight(round_, futures, validation)
@@ -334,10 +336,11 @@ def read_checkpoint(path: Path) -> dict[str, Any]:
 
 @dataclass(frozen=True)
 class _RoundInFlight:
-    """A submitted round: its episodes, their futures, and its validation (if due)."""
+    """A submitted round: its episodes, the futures of their records (one per collector,
+    each a list in episode order), and its validation (if due)."""
 
     episodes: range
-    futures: list[Future[EpisodeRecord]]
+    futures: list[Future[list[EpisodeRecord]]]
     validation: _PendingValidation | None
 
 
@@ -381,11 +384,17 @@ class _CollectorWorker:
 
     def __init__(self, preset: Preset, gains: PDGains) -> None:
         self.env = PushEnv(preset.env, gains)
+        self._vectors: dict[int, PushVectorEnv] = {}
         self._validation_env: PushEnv | None = None
 
-    def collect(self, seed: int, episode: int, behaviour: Behaviour) -> EpisodeRecord:
-        env = self.env
-        return collect_episode(env.config, env.gains, seed, episode, behaviour, env=env)
+    def collect(self, seed: int, episodes: list[int], behaviour: Behaviour) -> list[EpisodeRecord]:
+        """The records of ``episodes``, stepped together in a vector env of their number."""
+        vector = self._vectors.get(len(episodes))
+        if vector is None:
+            env = self.env
+            more = [PushEnv(env.config, env.gains) for _ in range(len(episodes) - 1)]
+            vector = self._vectors[len(episodes)] = PushVectorEnv.of([env, *more])
+        return collect_episodes(vector, seed, episodes, behaviour)
 
     def validate(self, actor_state: dict[str, Any], options: list[dict[str, Any]]) -> list[Metrics]:
         if self._validation_env is None:
@@ -419,11 +428,19 @@ class _Collector:
     def __exit__(self, *exc: object) -> None:
         self._stack.close()
 
-    def submit(self, episode: int, behaviour: Behaviour) -> Future[EpisodeRecord]:
-        if self._pool is not None:
-            return self._pool.submit("collect", self.seed, episode, behaviour)
-        assert self._local is not None
-        return _done(self._local.collect(self.seed, episode, behaviour))
+    def submit(self, episodes: range, behaviour: Behaviour) -> list[Future[list[EpisodeRecord]]]:
+        """Run ``episodes`` with ``behaviour``: split into one contiguous share per collector,
+        each stepping its share together (results in episode order; no record depends on
+        the split, :func:`~pushctl.rl.collect.collect_episodes`)."""
+        if self._pool is None:
+            assert self._local is not None
+            return [_done(self._local.collect(self.seed, list(episodes), behaviour))]
+        shares = min(self.workers, len(episodes))
+        bounds = [episodes.start + len(episodes) * i // shares for i in range(shares + 1)]
+        return [
+            self._pool.submit("collect", self.seed, list(range(a, b)), behaviour)
+            for a, b in zip(bounds, bounds[1:], strict=False)
+        ]
 
     def validate(
         self, actor_state: dict[str, Any], options: list[dict[str, Any]]

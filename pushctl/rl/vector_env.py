@@ -66,9 +66,23 @@ class PushVectorEnv(gym.vector.VectorEnv):
             accepted = ", ".join(m.value for m in AUTORESET_MODES)
             raise ConfigError(f"autoreset_mode must be one of {accepted}, got {autoreset_mode!r}")
         gains = gains if gains is not None else load_gains()
-        self.envs = [PushEnv(config, gains) for _ in range(int(num_envs))]
-        self.num_envs = len(self.envs)
-        first = self.envs[0]
+        self._hold([PushEnv(config, gains) for _ in range(int(num_envs))], mode)
+
+    @classmethod
+    def of(
+        cls, envs: Sequence[PushEnv], autoreset_mode: AutoresetMode | str = "NextStep"
+    ) -> PushVectorEnv:
+        """A vector env of existing PushEnvs (one config: a collector's reused env)."""
+        if not envs or any(env.config != envs[0].config for env in envs):
+            raise ConfigError("a vector env needs one or more PushEnvs of one config")
+        vector = cls.__new__(cls)
+        vector._hold(list(envs), AutoresetMode(autoreset_mode))
+        return vector
+
+    def _hold(self, envs: list[PushEnv], mode: AutoresetMode) -> None:
+        self.envs = envs
+        self.num_envs = len(envs)
+        first = envs[0]
         self.config = first.config
         self.metadata = {"render_modes": [], "autoreset_mode": mode}
         self.single_observation_space = first.observation_space
