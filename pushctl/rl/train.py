@@ -6,7 +6,10 @@ episodes run in rounds of ``episodes_per_round``; the episodes of round r run wi
 as it was after the updates credited to rounds ≤ r − 2, and while they run the learner does
 the updates credited to round r − 1 and then submits round r + 1, so two rounds are in
 flight and the collectors do not wait for the learner. A checkpoint after a round holds
-everything that schedule needs, so a resumed run continues bit for bit.
+everything that schedule needs, so a resumed run continues bit for bit. Each collector steps
+its contiguous share of a round together in a vector env, one batched actor forward per
+step (:func:`~pushctl.rl.collect.collect_episodes`), whose rows do not depend on the share's
+size: no result depends on the number of collectors.
 
 Files in a run directory: ``checkpoint.pt`` (atomic, every ``checkpoint_every`` episodes and
 at the end), ``curve.csv`` (one row per episode, rewritten atomically with each checkpoint),
