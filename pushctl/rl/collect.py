@@ -19,13 +19,13 @@ import torch
 
 from pushctl.control.gains import PDGains
 from pushctl.episode.metrics import compute_metrics, force_component_errors
-from pushctl.episode.runner import Episode
 from pushctl.episode.trace import Trace
 from pushctl.errors import ConfigError, StateError
 from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.networks import ActorPolicy
 from pushctl.rl.noise import OrnsteinUhlenbeckNoise
+from pushctl.rl.policy import pd_only_episode
 from pushctl.rl.vector_env import PushVectorEnv
 
 CURVE_METRICS = (
@@ -150,11 +150,12 @@ def collect_episodes(
 
 def pd_only_metrics(env: PushEnv, seed: int, episode: int) -> dict[str, float]:
     """PD-only on the scenario and plan episode ``episode`` of the run with ``seed`` draws
-    (``env`` only draws and plans it: the same draw as :func:`collect_episode`'s), as
+    (``env`` draws, plans and approaches it: the same draw as :func:`collect_episode`'s,
+    on the same plant, :func:`~pushctl.rl.policy.pd_only_episode`), as
     :data:`CURVE_METRICS`. The learner runs it while the collector runs the RL episode."""
     reset_seed, _ = episode_rngs(seed, episode)
     env.reset(seed=reset_seed)
-    return _curve_metrics(Episode(env.scenario, env.gains, plan=env.plan).run())
+    return _curve_metrics(pd_only_episode(env).finish())
 
 
 def _acting(behaviour: Behaviour, rngs: list[np.random.Generator]):
@@ -173,10 +174,12 @@ def _acting(behaviour: Behaviour, rngs: list[np.random.Generator]):
         policy = ActorPolicy.from_state(tensors(b.actor_state))
 
     def act(obs: np.ndarray) -> np.ndarray:
-        actions = np.zeros((len(noises), 3)) if policy is None else policy.batch(obs)
+        if policy is None:
+            return np.stack([noise.explore(None) for noise in noises])
+        actions = policy.batch(obs)
         for row, noise in zip(actions, noises, strict=True):
-            row += noise.step()
-        return np.clip(actions, -1.0, 1.0, out=actions)
+            noise.explore(row)  # in place
+        return actions
 
     return act
 

@@ -37,8 +37,10 @@ class DDPGConfig:
       ``target ← (1 − tau)·target + tau·online`` [-].
     - ``batch_size`` [256]: transitions per gradient update [transitions].
     - ``buffer_size`` [1_000_000]: replay capacity, >= ``batch_size`` [transitions].
-    - ``warmup_steps`` [10_000]: environment steps with uniform random actions before the actor
-      acts and before any update [env steps].
+    - ``warmup_steps`` [10_000]: environment steps whose actions are the OU exploration
+      noise alone, before the actor acts and before any update (training's episodes,
+      :mod:`pushctl.rl.collect`, and :meth:`DDPGAgent.act`; correlated noise rather than
+      uniform draws, see :func:`pushctl.rl.collect._acting`) [env steps].
     - ``updates_per_step`` [1.0]: gradient updates per environment step, may be fractional
       (0.1 = one update every 10 env steps) [updates/env step].
     - ``ou_theta`` [0.15]: mean-reversion rate of the Ornstein–Uhlenbeck exploration noise,

@@ -1,15 +1,28 @@
 """Batched collection: episodes stepped together in a vector env (one batched actor forward
-per step) leave the same records, bit for bit, as each episode run alone."""
+per step) leave the same records, bit for bit, as each episode run alone; the training
+curve's PD-only push runs on the episode's plant."""
 
 from __future__ import annotations
 
 import numpy as np
+import pytest
 import torch
 
 from pushctl.control.gains import load_gains
-from pushctl.rl.collect import Behaviour, collect_episode, collect_episodes, portable
+from pushctl.episode.runner import Episode
+from pushctl.errors import StateError
+from pushctl.rl.collect import (
+    Behaviour,
+    _curve_metrics,
+    collect_episode,
+    collect_episodes,
+    pd_only_metrics,
+    portable,
+)
+from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.networks import Actor, ActorPolicy, initialise
+from pushctl.rl.policy import pd_only_episode
 from pushctl.rl.spaces import observation_entries, scales
 from pushctl.rl.vector_env import PushVectorEnv
 
@@ -43,3 +56,17 @@ def test_episodes_stepped_together_equal_each_episode_alone() -> None:
     actions = [record.transitions["action"] for record in together]
     assert np.abs(actions[0]).max() > 0.1
     assert not np.array_equal(actions[0], actions[1])
+
+
+def test_the_pd_only_curve_push_runs_on_the_episodes_plant() -> None:
+    # A proxy-trained preset: PD-only must push with the proxy's effects, as the RL episode.
+    config = EnvConfig(duration=1.0, objects=("cube",), profiles=("constant",), plant="proxy")
+    env = PushEnv(config, load_gains())
+    metrics = pd_only_metrics(env, 5, 2)
+    fresh = Episode(env.scenario, env.gains, plan=env.plan, effects=env.effects, engine=env.engine)
+    assert metrics == _curve_metrics(fresh.run())
+    without = _curve_metrics(Episode(env.scenario, env.gains, plan=env.plan).run())
+    assert metrics != without
+    env.step(np.zeros(3))
+    with pytest.raises(StateError):
+        pd_only_episode(env)  # only from an episode just reset
