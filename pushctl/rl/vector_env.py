@@ -138,7 +138,7 @@ class PushVectorEnv(gym.vector.VectorEnv):
         rewards = np.zeros(n)
         terminations = np.zeros(n, dtype=bool)
         truncations = np.zeros(n, dtype=bool)
-        infos: dict[str, Any] = {}
+        infos = []
         for i, env in enumerate(self.envs):
             if self._autoreset[i]:
                 observations[i], info = env.reset()
@@ -146,10 +146,10 @@ class PushVectorEnv(gym.vector.VectorEnv):
                 observations[i], rewards[i], terminations[i], truncations[i], info = env.step(
                     actions[i]
                 )
-            infos = self._add_info(infos, info, i)
+            infos.append(info)
         if self.metadata["autoreset_mode"] == AutoresetMode.NEXT_STEP:
             self._autoreset = terminations | truncations
-        return observations, rewards, terminations, truncations, infos
+        return observations, rewards, terminations, truncations, self._batch_infos(infos)
 
     def get_attr(self, name: str) -> tuple[Any, ...]:
         """Attribute ``name`` of each sub-environment."""
@@ -160,6 +160,34 @@ class PushVectorEnv(gym.vector.VectorEnv):
             env.close()
 
     # ------------------------------------------------------------------ internals
+
+    def _batch_infos(self, infos: list[dict[str, Any]]) -> dict[str, Any]:
+        """The N infos in gymnasium's vector form, as ``VectorEnv._add_info`` builds it. Step
+        infos (same keys; numbers, bools or arrays) take one numpy call per key: the
+        generic path costs about 1 µs per key and sub-environment, 4 % of a collector's
+        time. Anything else (an auto-reset's info among them) takes the generic path."""
+        keys = infos[0].keys()
+        plain = all(info.keys() == keys for info in infos) and all(
+            type(value) in (bool, int, float, np.ndarray)
+            for info in infos
+            for value in info.values()
+        )
+        if not plain:
+            batched: dict[str, Any] = {}
+            for i, info in enumerate(infos):
+                batched = self._add_info(batched, info, i)
+            return batched
+        batched = {}
+        for key, first in infos[0].items():
+            values = [info[key] for info in infos]
+            is_array = type(first) is np.ndarray
+            array = np.stack(values) if is_array else np.array(values)
+            dtype = first.dtype if is_array else np.dtype(type(first))
+            if array.dtype != dtype:
+                array = array.astype(dtype)  # mixed types in a key: the first's, as gym's
+            batched[key] = array
+            batched[f"_{key}"] = np.ones(self.num_envs, dtype=bool)
+        return batched
 
     def _seeds(self, seed: int | Sequence[int | None] | None) -> list[int | None]:
         if seed is None:

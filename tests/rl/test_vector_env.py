@@ -47,15 +47,21 @@ def test_eight_envs_equal_eight_single_envs_over_an_episode_and_its_auto_reset()
     for _ in range(steps + 6):  # the episode, the auto-reset step, 5 steps of the next
         actions = rng.uniform(-1.0, 1.0, size=(N, 3))
         obs, reward, terminated, truncated, info = vector.step(actions)
-        rows = []
+        rows, expected_info = [], {}
         for i, env in enumerate(singles):
             if done[i]:  # NEXT_STEP: this step resets it, its action unused
-                observation, _ = env.reset()
+                observation, single_info = env.reset()
                 rows.append((observation, 0.0, False, False))
                 resets += 1
             else:
-                observation, r, term, trunc, _ = env.step(actions[i])
+                observation, r, term, trunc, single_info = env.step(actions[i])
                 rows.append((observation, r, term, trunc))
+            expected_info = vector._add_info(expected_info, single_info, i)  # gymnasium's
+        assert info.keys() == expected_info.keys()
+        for key, value in info.items():
+            if key not in ("scenario", "unknowns"):  # objects: compared through obs
+                assert np.asarray(value).dtype == np.asarray(expected_info[key]).dtype, key
+                assert np.array_equal(value, expected_info[key]), key
         assert obs.tobytes() == np.stack([row[0] for row in rows]).tobytes()
         assert reward.tobytes() == np.array([row[1] for row in rows]).tobytes()
         assert terminated.tolist() == [row[2] for row in rows]
