@@ -25,17 +25,18 @@ lint: $(STAMP)
 	$(PY) -m ruff format --check pushctl tests
 	$(PY) -m mypy pushctl
 
-# bench_compare: this tree against 551bcac side by side (git archive, interleaved children).
+# bench.compare: this tree against 551bcac side by side (git archive, interleaved children).
 bench: $(STAMP)
 	$(PY) -m pushctl.bench --profile --out results/bench.csv --force
-	$(PY) -m pushctl.bench_compare --against 551bcac --out results/bench_compare.csv --force
+	$(PY) -m pushctl.bench.compare --against 551bcac --out results/bench_compare.csv --force
 
 # Train (paper preset, seeds $(SEEDS) on Ray), evaluate (50 trials x 2 objects x 3 profiles x
 # 2 controllers x 2 plants), report, bench; QUICK=1: quick preset, 4 trials, into results-quick/;
-# SEEDS=0: one training seed (pushctl/reproduce.py).
+# SEEDS=0: one training seed; PRESET=quick: another training preset, full evaluation
+# (pushctl/cli/reproduce.py).
 SEEDS ?= 0,1,2
 reproduce-tables: $(STAMP)
-	$(PY) -m pushctl.reproduce $(if $(filter 1,$(QUICK)),--quick,) $(if $(filter 1,$(FORCE)),--force,) --seeds $(SEEDS)
+	$(PY) -m pushctl.cli.reproduce $(if $(filter 1,$(QUICK)),--quick,) $(if $(filter 1,$(FORCE)),--force,) --seeds $(SEEDS) $(if $(PRESET),--preset $(PRESET),)
 
 clean:
 	rm -rf $(VENV) .pytest_cache

@@ -1,9 +1,13 @@
 """pushctl: multi-point object pushing with a redundant arm.
 
-The stable Python API (see the README):
+The stable Python API (docs/model.md):
 
 - :func:`make_world` builds arm + pusher + object + table; ``World.reset``/``World.step``.
 - :func:`solve_box_mlcp` solves one box-friction mixed linear complementarity problem.
+- ``import pushctl`` registers the gymnasium environment ``pushctl/Push-v0`` (:data:`ENV_ID`)::
+
+      import gymnasium as gym, pushctl
+      env = gym.make("pushctl/Push-v0")
 """
 
 from pushctl.contact.build import make_world
@@ -11,9 +15,17 @@ from pushctl.contact.mlcp import MLCPResult, solve_box_mlcp
 from pushctl.contact.world import StepResult, World, WorldConfig
 from pushctl.errors import ConfigError, MLCPInputError, PushctlError, StateError
 
+# Importing pushctl.rl registers "pushctl/Push-v0" with a string entry point, so neither the
+# environment module nor torch loads until gymnasium.make. Registration at import is what
+# Gymnasium's own plugin packages do (ale_py, shimmy): Gymnasium 1.0 removed the entry-point
+# plugin loader ("gymnasium.envs" group), so pyproject.toml declares none. Without an import,
+# gymnasium.make("pushctl:pushctl/Push-v0") imports pushctl first (Gymnasium's module prefix).
+from pushctl.rl import ENV_ID
+
 __version__ = "0.1.0"
 
 __all__ = [
+    "ENV_ID",
     "ConfigError",
     "MLCPInputError",
     "MLCPResult",

@@ -1,7 +1,7 @@
 """Frozen configuration dataclasses shared by the core.
 
 Units: SI throughout (m, kg, s, N, N·m, rad). Defaults are the nominal values of
-DESIGN.md §9 and the paper's Table II.
+docs/design.md §9 and the paper's Table II.
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ class PusherConfig:
     ``height`` [m] vertically and ``thickness`` [m] along the push direction. Its prongs are
     points on the front face at mid-height, ``prong_spacing`` [m] apart, centred.
 
-    Mounting/calibration error (DESIGN.md §9; zero on the nominal pusher the planner and the
+    Mounting/calibration error (docs/design.md §9; zero on the nominal pusher the planner and the
     controllers use): ``mount_yaw`` [rad] turns the plate about the tool axis, counter-
     clockwise seen from above; ``prong_errors`` ((along the push, along the face) [m] per
     prong, or empty for none) displaces each prong on the plate.

@@ -1,4 +1,4 @@
-"""The project's Kinova j2s7s300 URDF against the published figures (FACTS.md §1–§7)."""
+"""The project's Kinova j2s7s300 URDF against the published figures (docs/kinova-facts.md §1–§7)."""
 
 import importlib.resources
 

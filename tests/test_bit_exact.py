@@ -15,7 +15,7 @@ import pytest
 from proxsuite import proxqp
 from test_contact_kernels import random_mlcp
 
-import pushctl.contact.world as world_module
+import pushctl.contact.substep as substep_module  # where the step calls solve_box_mlcp
 from pushctl.contact.active_set import evaluate, labels_at, solve_labels
 from pushctl.contact.mlcp import _box_problem, _fixed_point
 from pushctl.contact.mlcp_checks import validated_arrays
@@ -89,7 +89,7 @@ def _slipping_push(steps: int) -> tuple[str, int]:
     rng = np.random.default_rng(0)
     obs, _ = env.reset(seed=4, options={"object": "wedge", "profile": "chirp"})
     digest = hashlib.sha256(obs.tobytes())
-    cold = world_module.solve_box_mlcp.calls  # type: ignore[attr-defined]
+    cold = substep_module.solve_box_mlcp.calls  # type: ignore[attr-defined]
     for _ in range(steps):
         action = rng.uniform(-1.0, 1.0, size=3).astype(np.float32)
         obs, reward, terminated, truncated, _ = env.step(action)
@@ -99,18 +99,18 @@ def _slipping_push(steps: int) -> tuple[str, int]:
             break
     assert env.episode is not None
     digest.update(env.episode.trace().to_frame().to_numpy().tobytes())
-    return digest.hexdigest(), world_module.solve_box_mlcp.calls - cold  # type: ignore[attr-defined]
+    return digest.hexdigest(), substep_module.solve_box_mlcp.calls - cold  # type: ignore[attr-defined]
 
 
 def test_a_slipping_push_repeats_to_the_bit_with_allocations_between(monkeypatch) -> None:
-    solve = world_module.solve_box_mlcp
+    solve = substep_module.solve_box_mlcp
 
     def counted(*args, **kwargs):
         counted.calls += 1
         return solve(*args, **kwargs)
 
     counted.calls = 0
-    monkeypatch.setattr(world_module, "solve_box_mlcp", counted)
+    monkeypatch.setattr(substep_module, "solve_box_mlcp", counted)
     rng = np.random.default_rng(1)
     first, cold = _slipping_push(150)
     assert cold >= 5, "the push never left the warm path: it tests nothing"

@@ -22,7 +22,7 @@ MADE_BY = "# made by: a test run"
 
 def _policy(path: Path, n_obs: int | None = None) -> Path:
     """An untrained, acting actor (gate always open) with a 2 s push."""
-    entries = observation_entries(2)
+    entries = observation_entries(2, reference_offset=True)
     n = n_obs if n_obs is not None else len(entries)
     config = DDPGConfig(hidden=(8, 8), actor_final_init=0.5)
     agent = DDPGAgent(n, 3, config, seed=0, obs_scale=scales(entries)[:n])

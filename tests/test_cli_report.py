@@ -13,11 +13,13 @@ from test_report import write_results
 from typer.testing import CliRunner
 
 from pushctl.cli import app
-from pushctl.cli_report import write_chain
+from pushctl.cli.report_steps import write_chain
 
 runner = CliRunner()
 OUTPUTS = (
     "table3.csv",
+    "table3_proxy.csv",
+    "behaviour.csv",
     "table4.csv",
     "tables.md",
     "fig5_training.png",
@@ -165,14 +167,33 @@ def test_a_failed_write_renames_no_file(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a.txt"]
 
 
-def test_readme_names_every_output_and_table_column():
+def test_the_docs_name_every_output_and_table_column():
     from pushctl.report.tables import TABLE3_COLUMNS
 
-    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
-    section = readme.split("## Tables and figures: `pushctl report`")[1].split("\n## ")[0]
+    page = (Path(__file__).resolve().parents[1] / "docs" / "evaluation.md").read_text()
+    section = page.split("## Tables and figures: `pushctl report`")[1].split("\n## ")[0]
     for name in OUTPUTS:
         assert f"`{name}`" in section
     # the tables' columns, the feedback controller's included: its docs page
     docs = (Path(__file__).resolve().parents[1] / "docs" / "residual-and-feedback.md").read_text()
     assert ", ".join(["object", "profile", *TABLE3_COLUMNS]) in docs
     assert "`force_error_{pd,feedback,rl}_{sim,proxy}`" in docs
+
+
+def test_the_proxy_table_and_the_behaviour_table_hold_their_plants_means(report_run):
+    results, out, _ = report_run
+    trials = pd.read_csv(results / "evaluation" / "trials.csv", comment="#")
+    proxy = pd.read_csv(out / "table3_proxy.csv", comment="#").set_index(["object", "profile"])
+    behaviour = pd.read_csv(out / "behaviour.csv", comment="#").set_index(["object", "profile"])
+    for (obj, profile), row in proxy.iterrows():
+        cell = trials[(trials["object"] == obj) & (trials["profile"] == profile)]
+        pd_proxy = cell[(cell["plant"] == "proxy") & (cell["controller"] == "pd")]
+        assert row["translation_error_pd"] == pytest.approx(
+            pd_proxy["translation_error_pct"].mean(), rel=1e-6
+        )
+        pd_sim = cell[(cell["plant"] == "sim") & (cell["controller"] == "pd")]
+        assert behaviour.loc[(obj, profile), "slip_fraction_pd_sim"] == pytest.approx(
+            pd_sim["slip_fraction"].mean(), rel=1e-6
+        )
+    assert "gate_open_fraction_pd_sim" not in behaviour.columns
+    assert "gate_open_fraction_rl_proxy" in behaviour.columns

@@ -1,4 +1,4 @@
-"""Episode metrics (DESIGN.md §7) on hand-built traces with known answers: each error and
+"""Episode metrics (docs/design.md §7) on hand-built traces with known answers: each error and
 fraction, row 0 excluded, the NaN angle percentage of a straight push, the slip test at the
 friction cone's boundary, invalid inputs, and invariance of the translation error to a rigid
 motion of both paths and to a common scaling of the paths and the arc length."""

@@ -38,7 +38,7 @@ DURATION = 2.0
 
 def policy_file(tmp_path: Path, gate_threshold: float, n_obs: int | None = None) -> Path:
     """An untrained actor with large outputs, saved with a short push."""
-    entries = observation_entries(2)
+    entries = observation_entries(2, reference_offset=True)
     n = n_obs if n_obs is not None else len(entries)
     agent = DDPGAgent(
         n,
@@ -191,7 +191,7 @@ def test_the_outputs_read_back_with_their_provenance(tmp_path: Path) -> None:
             "force_error"
         ].iloc[0]
     )
-    assert result.redrawn == 0  # DESIGN.md §7's ranges: every goal feasible
+    assert result.redrawn == 0  # docs/design.md §7's ranges: every goal feasible
     assert sorted(result.trials["redrawn"].unique()) == [0]
 
 
@@ -216,7 +216,9 @@ def test_a_zero_feedback_law_is_pd_only_and_rl_rows_name_the_policy_seed(tmp_pat
     """k = k_i = 0: the law's action is zero, the reference path adds nothing, and the push
     is PD-only's to the bit; the rl row carries the policy's training seed, the others none."""
     path = tmp_path / "policy.pt"
-    agent = DDPGAgent(len(observation_entries(2)), 3, DDPGConfig(hidden=(4, 4)), seed=0)
+    agent = DDPGAgent(
+        len(observation_entries(2, reference_offset=True)), 3, DDPGConfig(hidden=(4, 4)), seed=0
+    )
     env = EnvConfig(duration=DURATION, gate_threshold=0.0)
     write_policy(path, agent.actor_state(), env, "# made by: x; seed 5 (training stream)")
     spec = _spec(controllers=("pd", "feedback", "rl"), plants=("sim", "proxy"))

@@ -32,7 +32,7 @@ METRICS = list(EpisodeMetrics.__dataclass_fields__)
 def _policy(path: Path, training_seed: int | None, init_seed: int, gate: float = 0.0) -> Path:
     """An untrained, acting actor (gate always open, 2 s push) whose provenance names
     ``training_seed``; ``init_seed`` sets its weights, so two policies push differently."""
-    entries = observation_entries(2)
+    entries = observation_entries(2, reference_offset=True)
     config = DDPGConfig(hidden=(8, 8), actor_final_init=0.5)
     agent = DDPGAgent(len(entries), 3, config, seed=init_seed, obs_scale=scales(entries))
     made_by = "# made by: a test run" + (

@@ -1,8 +1,8 @@
-"""make bench's engine rows (pushctl.bench_engines): both engines, same scenes, ratios."""
+"""make bench's engine rows (pushctl.bench.engines): both engines, same scenes, ratios."""
 
 import pytest
 
-from pushctl import bench_engines
+from pushctl.bench import engines as bench_engines
 
 
 def test_engine_rows_time_both_engines_and_give_their_ratio():

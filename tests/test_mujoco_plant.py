@@ -31,7 +31,7 @@ def test_evaluate_on_mujoco_writes_mujoco_rows(tmp_path):
 
 
 def test_plant_choices_and_their_errors(tmp_path):
-    from pushctl.cli_evaluate import choose_plants
+    from pushctl.cli.evaluate_steps import choose_plants
 
     assert choose_plants("both") == ("sim", "proxy")
     assert choose_plants("all") == ("sim", "proxy", "mujoco")

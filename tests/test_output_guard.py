@@ -12,10 +12,10 @@ import pytest
 from test_report import write_results
 from typer.testing import CliRunner
 
-from pushctl import bench, reproduce
-from pushctl.cli import app
+from pushctl.bench import suite as bench
+from pushctl.cli import app, reproduce
+from pushctl.cli.reproduce import MANIFEST, QUICK
 from pushctl.control.gains import PDGains, gains_toml
-from pushctl.reproduce import MANIFEST, QUICK
 
 runner = CliRunner()
 
@@ -243,7 +243,7 @@ def test_reproduce_main_refuses_with_one_line(
 def test_bench_compare_refuses_an_unknown_commit_and_an_existing_csv(
     tmp_path: Path, capsys: pytest.CaptureFixture
 ) -> None:
-    from pushctl import bench_compare
+    from pushctl.bench import compare as bench_compare
 
     out = tmp_path / "compare.csv"
     out.write_text("shipped\n")

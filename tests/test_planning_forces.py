@@ -1,7 +1,7 @@
-"""Ground friction and the force distribution (DESIGN.md §3–4, §7): the planner's friction
+"""Ground friction and the force distribution (docs/design.md §3–4, §7): the planner's friction
 model against the simulator, Newton–Euler and the friction cones on feasible plans, the
 minimum-norm tie-break, infeasibility reasons with consistent numbers, and the evaluation
-sweep of DESIGN §7."""
+sweep of docs/design.md §7."""
 
 import math
 import re
@@ -361,7 +361,7 @@ def test_torque_outside_the_prong_span_is_reported_with_a_consistent_range():
 # A warm-started ProxQP solve occasionally reports PROXQP_PRIMAL_INFEASIBLE on the per-step
 # QP — impossible, F = 0 satisfies every cone row — and returns x ≈ 0; the status is never
 # checked, so the step's Newton–Euler residual is the whole wrench (~0.88 N) and a goal
-# inside DESIGN §7's ranges is reported infeasible. Found in a 100-goal sweep at dt = 0.01:
+# inside docs/design.md §7's ranges is reported infeasible. Found in a 100-goal sweep at dt = 0.01:
 # 2/100 cube-chirp, 5/100 wedge-trapezoid, 1/100 wedge-chirp goals.
 FALSELY_INFEASIBLE = [  # object, profile, (Δx [m], Δy [m], Δθ [rad]) from the default start
     ("cube", "trapezoid", (0.10, 0.0, math.radians(-10.0))),
@@ -392,7 +392,7 @@ def test_evaluation_goals_are_not_falsely_infeasible(name, profile, delta):
     assert plan.feasible, (plan.problems, fp.residual.max())
 
 
-# ---------------------------------------------------------------- DESIGN §7
+# ---------------------------------------------------------------- docs/design.md §7
 
 
 def draw_targets(rng, n, lateral=(0.0, 0.05)):
@@ -441,7 +441,7 @@ def test_lateral_80_mm_against_the_rotation_is_infeasible(name):
 def test_design_sweep_200_targets(name):
     targets = draw_targets(np.random.default_rng(2000), 200)
     check_sweep_all_feasible(*sweep(name, targets, dt=0.1))
-    # DESIGN §7: about two thirds feasible for lateral moves of ±80 mm
+    # docs/design.md §7: about two thirds feasible for lateral moves of ±80 mm
     mixed = draw_targets(np.random.default_rng(80), 100, lateral=(-0.08, 0.08))
     _, plans = sweep(name, mixed, dt=0.2)
     share = np.mean([p.feasible for p in plans])

@@ -1,4 +1,4 @@
-"""make_plan end to end (DESIGN.md §4, §8): with the Kinova arm's reach, the pusher path on
+"""make_plan end to end (docs/design.md §4, §8): with the Kinova arm's reach, the pusher path on
 the pushed face, out-of-reach and malformed goals, and the plan table."""
 
 import math
@@ -36,7 +36,7 @@ def goal_from(obj, arm, dx, dy, dtheta_deg):
 
 @pytest.fixture(scope="module")
 def plans(arms):
-    """Feasible plans at the far corners of DESIGN §7's ranges (the hardest to reach)."""
+    """Feasible plans at the far corners of docs/design.md §7's ranges (the hardest to reach)."""
     out = {}
     for name in ("cube", "wedge"):
         obj, arm = make_object(name), arms[name]
@@ -51,7 +51,8 @@ def test_default_start_is_ahead_of_the_ready_pusher(arms):
         assert arm.name == "kinova-gen2-7dof"
         np.testing.assert_allclose(arm.ready_pusher_position, [0.30, 0.0, 0.06], atol=1e-9)
         start = default_start(obj, arm.ready_pusher_position)
-        # the pushed face 76 mm ahead of the ready prongs, CoM inside DESIGN's 0.40–0.45 m
+        # the pushed face 76 mm ahead of the ready prongs, CoM inside docs/design.md §3's
+        # 0.40–0.45 m
         assert start.x - obj.face_offset == pytest.approx(0.376, abs=1e-9)
         assert 0.40 <= start.x <= 0.45 and start.y == 0.0 and start.theta == 0.0
         plan = make_plan(obj, (start.x + 0.2, 0.0, 0.0), arm=arm, dt=0.1)
@@ -111,7 +112,7 @@ def test_far_goal_is_out_of_reach(arms):
         for v in re.search(r"pusher at \(([-\d.]+), ([-\d.]+), ([-\d.]+)\)", problem).groups()
     ]
     np.testing.assert_allclose(xyz, plan.pusher_positions[step], atol=5e-4)
-    # DESIGN §3: the tool-down posture reaches pushing height only to x ≈ 0.70 m
+    # docs/design.md §3: the tool-down posture reaches pushing height only to x ≈ 0.70 m
     assert 0.65 < xyz[0] < 0.80
     assert plan.reach.reached[: plan.reach.first_unreached].all()
 

@@ -1,4 +1,4 @@
-"""Angular profiles s(τ) (DESIGN.md §4): boundary values, monotonicity, analytic derivatives,
+"""Angular profiles s(τ) (docs/design.md §4): boundary values, monotonicity, analytic derivatives,
 mean rate, and the shape each profile promises (trapezoid cruise rate, rising chirp)."""
 
 import math

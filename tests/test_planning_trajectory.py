@@ -1,4 +1,4 @@
-"""The ICR arc (DESIGN.md §4): end points, the instant centre, rigid rotation of the whole
+"""The ICR arc (docs/design.md §4): end points, the instant centre, rigid rotation of the whole
 body about it, arc length, analytic derivatives against finite differences, the straight
 limit Δθ → 0, the push angle and input validation."""
 

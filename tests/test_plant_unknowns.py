@@ -1,4 +1,4 @@
-"""Plant unknowns (DESIGN.md §6, §9): drawn apart from every other draw, hidden from the
+"""Plant unknowns (docs/design.md §6, §9): drawn apart from every other draw, hidden from the
 planner and the controller, and each with the effect on the world it should have."""
 
 from __future__ import annotations

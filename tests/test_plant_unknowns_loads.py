@@ -1,4 +1,4 @@
-"""Plant unknowns that change the forces, not the motion (DESIGN.md §6): the centre of
+"""Plant unknowns that change the forces, not the motion (docs/design.md §6): the centre of
 pressure of the support loads (c) and ground friction varying over the table (d), and the
 two force errors they separate (issue 16 item 4)."""
 

@@ -1,4 +1,4 @@
-"""The reality proxy (DESIGN.md §7, §9): each effect against what it must agree with.
+"""The reality proxy (docs/design.md §7, §9): each effect against what it must agree with.
 
 Latency against the undelayed world shifted by one step; joint friction against the
 analytic deceleration of a coasting joint; the camera's hold, noise statistics and
@@ -333,7 +333,7 @@ OPTIONS = {"object": "cube", "profile": "trapezoid", "scenario_seed": 3}
 def test_the_proxy_environment_observes_noisy_forces_and_the_cameras_pose_errors(
     camera: bool,
 ) -> None:
-    """The observation's pose error reads the camera (DESIGN.md §7), or with
+    """The observation's pose error reads the camera (docs/design.md §7), or with
     ``observe_camera = false`` (policies trained before) the exact pose."""
     env = PushEnv(EnvConfig(plant="proxy", duration=2.0, observe_camera=camera))
     assert env.effects == ProxyEffects()

@@ -83,6 +83,7 @@ def trials_frame() -> pd.DataFrame:
                     "angle_error_pct": math.nan if straight else value / 10,
                     "force_error": value * 1e-3,
                     "torque_error": value * 1e-5,
+                    "slip_fraction": value / 100,
                 }
             )
     return pd.DataFrame(rows)

@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from pushctl import reproduce
-from pushctl.reproduce import FULL, MANIFEST, QUICK, TRAINING_FILES, Setup
+from pushctl.cli import reproduce
+from pushctl.cli.reproduce import FULL, MANIFEST, QUICK, TRAINING_FILES, Setup
 
 
 def test_the_full_setup_is_the_issue_s_protocol(

@@ -95,6 +95,7 @@ def _slipping_push_digest():
 def test_compiled_slip_loop_matches_the_python_loop_bit_for_bit(monkeypatch):
     """World._substep's compiled refine-and-re-solve loop (warm_slip_step) against the
     Python loop it replaces, on a push whose boxes are refined and re-solved many times."""
+    import pushctl.contact.substep as substep_module
     import pushctl.contact.world as world_module
 
     compiled, stats = _slipping_push_digest()
@@ -106,9 +107,40 @@ def test_compiled_slip_loop_matches_the_python_loop_bit_for_bit(monkeypatch):
     def never(*args):
         return (0, 0, None, None, 0, 0, 0.0)
 
-    monkeypatch.setattr(world_module, "warm_slip_step", never)
+    monkeypatch.setattr(substep_module, "warm_slip_step", never)
     monkeypatch.setattr(world_module.World, "_solve_step", python_solve)
     python, python_stats = _slipping_push_digest()
     assert compiled == python
     assert stats == python_stats
     assert stats.slip_iterations > 50 and stats.slip_unsettled > 0  # the loop ran, both ends
+
+
+def test_step_state_and_contact_model_name_the_kernels_parameters():
+    """The world calls the kernels as ``kernel(*state, *model, ...)``: STEP_STATE and the
+    ContactModel's fields must be their parameters in order, or arrays would land in the
+    wrong parameter."""
+    import inspect
+
+    from pushctl.contact.kernels import assemble, warm_contact_step, warm_slip_step
+    from pushctl.contact.substep import STEP_STATE, ContactModel
+
+    names = list(STEP_STATE) + list(ContactModel._fields)
+    assert len(names) == 18
+    for kernel in (assemble, warm_contact_step, warm_slip_step):
+        parameters = list(inspect.signature(kernel.py_func).parameters)
+        assert parameters[:18] == names, kernel.py_func.__name__
+    assert list(inspect.signature(assemble.py_func).parameters) == names
+
+
+def test_the_contact_model_follows_the_worlds_arrays():
+    """Built once per world: its arrays are the world's, so updates in place reach it."""
+    from pushctl import make_world
+
+    world = make_world("cube")
+    model = world._model
+    assert model.slip_directions is world._slip_directions
+    assert model.sliding is world._sliding
+    assert model.friction_limits is world._friction_limits
+    assert model.h == world.config.dt / world.config.substeps
+    world.contact_problem(np.zeros(world.v.size))  # restores the boxes in place
+    assert model.slip_directions is world._slip_directions

@@ -1,4 +1,4 @@
-"""Object-only worlds against analytic friction results (DESIGN.md §3, ground friction)."""
+"""Object-only worlds against analytic friction results (docs/design.md §3, ground friction)."""
 
 import math
 from pathlib import Path

@@ -1,7 +1,7 @@
 """The project's URDF of the Kinova Gen2 7-DOF spherical-wrist arm (j2s7s300).
 
 Written from the published kinematic and inertial figures collected in
-``shared/kinova/FACTS.md`` (§1 joints, §2 link inertials, §3 fingers), never from a copied
+docs/kinova-facts.md §1 (joints), §2 (link inertials), §3 (fingers), never from a copied
 file. Modelling choices:
 
 - The continuous joints 1, 3, 5, 7 are written ``revolute`` with ±2π limits, so that
@@ -9,7 +9,7 @@ file. Modelling choices:
 - The three-finger hand is rigid: the six finger links (§3, all finger joints at 0) are
   lumped into ``link_7`` together with its own 0.99 kg inertial (§2), by the parallel-axis
   theorem with each finger inertia rotated through its rpy chain. Total mass is then
-  5.55724 kg, of which 5.08940 kg moves (FACTS §6, "incl. 6 finger links").
+  5.55724 kg, of which 5.08940 kg moves (docs/kinova-facts.md §6, "incl. 6 finger links").
 - No visual or collision geometry: the dynamics need none.
 
 Regenerate the shipped file with ``python -m pushctl.arm.kinova_urdf``.
@@ -34,7 +34,7 @@ URDF_FILENAME = "kinova_gen2_7dof.urdf"
 
 @dataclass(frozen=True)
 class JointRow:
-    """One row of FACTS §1: a joint from ``parent`` to ``child``.
+    """One row of docs/kinova-facts.md §1: a joint from ``parent`` to ``child``.
 
     ``xyz`` [m] and ``rpy`` [rad] place the child frame in the parent frame; the axis is the
     child frame's z. Limits: position [rad], effort [N·m], velocity [rad/s].
@@ -53,8 +53,8 @@ class JointRow:
 
 @dataclass(frozen=True)
 class LinkInertial:
-    """One row of FACTS §2: mass [kg], CoM [m] in the link frame, principal inertia [kg·m²]
-    about the CoM in link-frame axes (products of inertia are zero)."""
+    """One row of docs/kinova-facts.md §2: mass [kg], CoM [m] in the link frame, principal
+    inertia [kg·m²] about the CoM in link-frame axes (products of inertia are zero)."""
 
     name: str
     mass: float
@@ -62,7 +62,7 @@ class LinkInertial:
     diag: tuple[float, float, float]
 
 
-# FACTS §1. Continuous joints (1, 3, 5, 7) carry the ±2π limits of the xacro.
+# docs/kinova-facts.md §1. Continuous joints (1, 3, 5, 7) carry the ±2π limits of the xacro.
 ARM_JOINTS: tuple[JointRow, ...] = (
     JointRow("joint_1", "link_base", "link_1", (0, 0, 0.15675), (0, PI, 0),
              -TWO_PI, TWO_PI, 40.0, 0.628319),
@@ -80,11 +80,11 @@ ARM_JOINTS: tuple[JointRow, ...] = (
              -TWO_PI, TWO_PI, 20.0, 0.837758),
 )  # fmt: skip
 
-# FACTS §1, fixed joint link_7 → end_effector.
+# docs/kinova-facts.md §1, fixed joint link_7 → end_effector.
 END_EFFECTOR_XYZ = (0.0, 0.0, -0.16)
 END_EFFECTOR_RPY = (PI, 0.0, HALF_PI)
 
-# FACTS §2.
+# docs/kinova-facts.md §2.
 LINK_INERTIALS: tuple[LinkInertial, ...] = (
     LinkInertial("link_base", 0.46784, (0, 0, 0.1255),
                  (9.512708616e-04, 9.512708616e-04, 3.742720000e-04)),
@@ -104,7 +104,8 @@ LINK_INERTIALS: tuple[LinkInertial, ...] = (
                  (3.453236187e-04, 3.453236187e-04, 5.816000000e-04)),
 )  # fmt: skip
 
-# FACTS §3: every finger link (proximal and distal) has this inertial in its own frame.
+# docs/kinova-facts.md §3: every finger link (proximal and distal) has this inertial in its
+# own frame.
 FINGER_LINK = LinkInertial("finger", 0.01, (0.022, 0, 0), (7.8999684e-07, 7.8999684e-07, 8e-08))
 # Finger base frames on link_7: (xyz [m], rpy [rad]); the proximal joint sits there at 0 rad.
 FINGER_BASES: tuple[tuple[tuple[float, float, float], tuple[float, float, float]], ...] = (

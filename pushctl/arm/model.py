@@ -305,8 +305,8 @@ class ArmModel:
 def _centre_full_turn_joints(q: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
     """Wrap the angles beyond ±π of joints that may turn ±2π into (−π, π], mid-range.
 
-    FACTS §7 pose A has q7 = 6.2757 rad, 8 mrad from the +2π limit; the same posture with
-    q7 − 2π leaves the joint a full turn of travel either way.
+    docs/kinova-facts.md §7 pose A has q7 = 6.2757 rad, 8 mrad from the +2π limit; the same
+    posture with q7 − 2π leaves the joint a full turn of travel either way.
     """
     wrapped = np.mod(q + math.pi, 2.0 * math.pi) - math.pi
     full_turn = (upper - lower) >= 4.0 * math.pi - 1e-6

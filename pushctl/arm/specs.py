@@ -13,18 +13,18 @@ Sources
 Ready configuration
     The pusher frame at ``ready_position`` with its axes on the world axes, solved by
     :func:`pushctl.arm.ik.solve_frame_ik` from ``seed_q``. Kinova 7-DOF: (0.30, 0, 0.06) m,
-    seeded with FACTS §7 pose A; holding the tool down at this height its pusher reaches
-    x ≈ 0.25–0.70 m for yaws up to ±45° (cond J ≤ 25 there), which covers objects starting
-    at x ≈ 0.40–0.45 m and pushed 0.25 m further. j2s6s200: same target, seeded with the
-    analogue of pose A (end effector at (0.55, 0, 0.045), tool down, elbow up). Panda: see
+    seeded with docs/kinova-facts.md §7 pose A; holding the tool down at this height its pusher
+    reaches x ≈ 0.25–0.70 m for yaws up to ±45° (cond J ≤ 25 there), which covers objects
+    starting at x ≈ 0.40–0.45 m and pushed 0.25 m further. j2s6s200: same target, seeded with
+    the analogue of pose A (end effector at (0.55, 0, 0.045), tool down, elbow up). Panda: see
     ``PANDA_READY_PUSHER_POSITION``, seeded with the srdf "default" pose.
 
 Joint armature (reflected rotor inertia) [kg·m²]
     None of the three manufacturers publishes rotor inertias, so the defaults are estimates:
 
     - Kinova Gen2 (``kinova-gen2-7dof``, ``kinova-j2s6s200``): armature = N²·J_rotor with the
-      transmission reduction N = 160 (FACTS §1) and an estimated rotor inertia for the two
-      actuator sizes: J_rotor ≈ 5.0e-6 kg·m² for the large KA-75+ actuators (40/80 N·m
+      transmission reduction N = 160 (docs/kinova-facts.md §1) and an estimated rotor inertia
+      for the two actuator sizes: J_rotor ≈ 5.0e-6 kg·m² for the large KA-75+ actuators (40/80 N·m
       joints) and ≈ 2.0e-6 kg·m² for the small KA-58 ones (20 N·m joints), the order of
       magnitude of the flat brushless motors that fit those housings. This gives 0.128 and
       0.0512 kg·m²; treat them as uncertain by a factor of about three.
@@ -33,8 +33,8 @@ Joint armature (reflected rotor inertia) [kg·m²]
       MuJoCo Menagerie description), not a Franka figure.
 
 Viscous joint damping [N·m·s/rad]
-    Kinova: 0, as in the published description (FACTS §1, "damping 0"). Panda: 0.003, the
-    ``<dynamics damping>`` of the example-robot-data URDF.
+    Kinova: 0, as in the published description (docs/kinova-facts.md §1, "damping 0").
+    Panda: 0.003, the ``<dynamics damping>`` of the example-robot-data URDF.
 """
 
 from __future__ import annotations
@@ -56,7 +56,7 @@ ARM_NAMES = ("kinova-gen2-7dof", "kinova-j2s6s200", "panda")
 """Names accepted by ``ArmConfig.name``; the first is the default (the paper's arm)."""
 
 KINOVA_REDUCTION = 160.0
-"""Kinova Gen2 transmission reduction N [-] (FACTS §1)."""
+"""Kinova Gen2 transmission reduction N [-] (docs/kinova-facts.md §1)."""
 KINOVA_ROTOR_LARGE = 5.0e-6
 """Estimated rotor inertia of a large (KA-75+) Kinova actuator [kg·m²]."""
 KINOVA_ROTOR_SMALL = 2.0e-6
@@ -143,7 +143,7 @@ def _build_panda() -> pin.Model:
 _L, _S = KINOVA_ARMATURE_LARGE, KINOVA_ARMATURE_SMALL
 
 ARM_SPECS: dict[str, ArmSpec] = {
-    # EE frame at FACTS §7 pose A: y_ee ≈ world +x, z_ee = world −z (tool down).
+    # EE frame at docs/kinova-facts.md §7 pose A: y_ee ≈ world +x, z_ee = world −z (tool down).
     "kinova-gen2-7dof": ArmSpec(
         name="kinova-gen2-7dof",
         nv=7,

@@ -1,4 +1,4 @@
-"""Ground friction that varies smoothly over the table (DESIGN.md §9, a plant unknown).
+"""Ground friction that varies smoothly over the table (docs/design.md §9, a plant unknown).
 
 μ(p) = μ_g · (1 + a · tanh(f(p) / 2)) at a table point p (2,) [m], with f a stationary
 Gaussian random field of unit variance and squared-exponential covariance

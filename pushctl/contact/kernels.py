@@ -10,6 +10,11 @@ compiled once and cached on disk (``cache=True``).
 Every compiled function, and every constant they read, lives in this one file: numba's disk
 cache is invalidated per source file and does not follow calls or globals into other files,
 so a kernel calling a kernel elsewhere could run stale code after an edit.
+
+The step's kernels (:func:`assemble`, :func:`warm_contact_step`, :func:`warm_slip_step`)
+take the step's state and then the world's contact model, named by
+:data:`~pushctl.contact.substep.STEP_STATE` and
+:class:`~pushctl.contact.substep.ContactModel`.
 """
 
 from __future__ import annotations

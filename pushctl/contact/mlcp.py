@@ -1,5 +1,5 @@
 """Box-friction MLCP solver: ProxSuite's dense ProxQP, a fixed point on the friction bounds,
-and an exact active-set finish (DESIGN.md §3 "MLCP solver").
+and an exact active-set finish (docs/design.md §3 "MLCP solver").
 
 The problem, in impulses p [N·s] and velocities w [m/s or rad/s] (one entry per constraint
 row): find p (n,) with ``w = D p + b``, ``lo ≤ p ≤ hi`` and w complementary to the bounds —
@@ -287,7 +287,7 @@ def _fixed_point(
 
 _QPS: dict[int, proxqp.dense.QP] = {}
 """One ProxQP problem per size, reused: a fresh one's answers differ in the last bit with
-where its workspace lands in the heap, a reused one's do not (README, *Reproducibility*)."""
+where its workspace lands in the heap, a reused one's do not (docs/reproducibility.md)."""
 
 
 def _reused_qp(n: int) -> proxqp.dense.QP:

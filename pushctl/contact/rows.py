@@ -1,4 +1,4 @@
-"""Constraint rows of the world step: prong contacts and ground friction (DESIGN.md §3).
+"""Constraint rows of the world step: prong contacts and ground friction (docs/design.md §3).
 
 Each row maps the generalised velocity ``v = [q̇_arm (nv); v_obj (3)]`` to one constraint
 velocity; the impulse of the row acts along the same direction (``Aᵀ p``). Object columns are

@@ -1,7 +1,7 @@
 """The world step: arm + pusher + planar object + table, one box-friction MLCP per step.
 
 Generalised velocity ``v = [q̇_arm (nv); v_obj (3)]`` with ``v_obj = (vx, vy, ω)`` in the world
-frame. Per step of length h (DESIGN.md §3, the paper's eq. 6–8):
+frame. Per step of length h (docs/design.md §3, the paper's eq. 6–8):
 
 1. arm terms at (q, q̇): M (with armature), c + g, prong positions and Jacobians;
 2. free velocity with implicit joint damping: ``(M + h K_d) q̇_free = M q̇ + h (τ − c − g)``,
@@ -31,37 +31,23 @@ from pushctl.arm import ArmModel, ArmTerms
 from pushctl.checks import finite_vector
 from pushctl.config import GRAVITY
 from pushctl.contact.ground_field import FrictionField
-from pushctl.contact.kernels import (
-    SLIP_UNSETTLED,
-    SLIP_WARM_FAILED,
-    apply_impulses,
-    assemble,
-    coriolis_energy_error,
-    refine_slip,
-    slip_state,
-    warm_contact_step,
-    warm_slip_step,
-)
-from pushctl.contact.mlcp import DEFAULT_TOL, MLCPResult, solve_box_mlcp
+from pushctl.contact.kernels import coriolis_energy_error
+from pushctl.contact.mlcp import MLCPResult
 from pushctl.contact.rows import edge_array, prong_contacts
+from pushctl.contact.substep import (
+    _NO_CONTACTS,
+    MAX_SLIP_ITERATIONS,
+    SLIP_COS_TOLERANCE,
+    TIE_BREAK,
+    ContactModel,
+    SubstepSolver,
+)
 from pushctl.errors import ConfigError, StateError
 from pushctl.objects import ObjectSpec
 from pushctl.types import ContactProblem, StepResult, WorldStats
 
-_TIE_BREAK = 1e-6
-"""Relative diagonal term added to the prong rows of D [-] (DESIGN.md: 1e-6·diag D)."""
+__all__ = ["MAX_SLIP_ITERATIONS", "SLIP_COS_TOLERANCE", "World", "WorldConfig"]
 
-SLIP_COS_TOLERANCE = math.cos(math.radians(5.0))
-"""A sliding support point whose velocity after a step leaves the slip direction its friction
-box was built on by more than 5° gets a corrected box and the step is solved again."""
-
-MAX_SLIP_ITERATIONS = 6
-"""Re-solves of one step for its friction directions. If they have not settled by then, the
-step keeps its first solution (the boxes aligned with the velocity before the step)."""
-
-_NO_CONTACTS = np.zeros((0, 5))
-_NO_JACOBIANS = np.zeros((0, 3, 0))
-_NO_ARM_MATRIX = np.zeros((0, 0))
 
 DEFAULT_OBJECT_POSE = (0.42, 0.0, 0.0)
 """Object pose (x [m], y [m], θ [rad]) of ``World.reset()`` without arguments: 12 cm ahead
@@ -104,8 +90,12 @@ class WorldConfig:
             raise ConfigError(f"gravity must be a finite number >= 0 m/s², got {self.gravity!r}")
 
 
-class World:
-    """Arm (optional) + pusher + one object on the table. Build it with :func:`make_world`."""
+class World(SubstepSolver):
+    """Arm (optional) + pusher + one object on the table. Build it with :func:`make_world`.
+
+    The state, the step's orchestration and integration live here; solving one (sub)step's
+    MLCP (its inputs, the compiled warm solve, the friction boxes' refinement, the full
+    MLCP) in :class:`~pushctl.contact.substep.SubstepSolver`."""
 
     def __init__(
         self,
@@ -125,10 +115,23 @@ class World:
         self._support_points = np.ascontiguousarray(obj.support_points, dtype=float)
         self._edges = edge_array(obj.polygon)
         # Support loads are computed at GRAVITY; the friction bounds follow the world's.
-        self._friction_limits = config.mu_ground * obj.support_loads * (config.gravity / GRAVITY)
-        self._uniform_limits = self._friction_limits  # scaled by the friction field, if any
+        self._uniform_limits = config.mu_ground * obj.support_loads * (config.gravity / GRAVITY)
+        # the bounds of the step: the uniform ones scaled by the friction field, if any
+        self._friction_limits = self._uniform_limits.copy()
         self._slip_directions = np.zeros_like(self._support_points)
         self._sliding = np.zeros(len(self._support_points), dtype=np.bool_)
+        # The kernels' world side, once: its arrays are the ones above, updated in place.
+        self._model = ContactModel(
+            obj_mass_inv=self._M_obj_inv,
+            support_points=self._support_points,
+            friction_limits=self._friction_limits,
+            slip_directions=self._slip_directions,
+            sliding=self._sliding,
+            h=config.dt / config.substeps,
+            stabilisation=config.stabilisation,
+            tie_break=TIE_BREAK,
+            mu_contact=config.mu_contact,
+        )
         self._n_prongs = 0 if arm is None else arm.pusher.n_prongs
         self._nv = 0 if arm is None else arm.nv
         self._damping = np.zeros(self._nv) if arm is None else np.asarray(arm.damping, float)
@@ -230,180 +233,8 @@ class World:
         h = self.config.dt / self.config.substeps
         self._start_slip_state()
         problem = self._build_problem(h, tau_arm, self._damping + kv)
-        self._slip_directions, self._sliding = directions, sliding  # keep the state
+        self._slip_directions[:], self._sliding[:] = directions, sliding  # keep the state
         return problem
-
-    def _start_slip_state(self) -> None:
-        """Friction boxes for the next step, from the object's velocity (see :meth:`_substep`),
-        and their bounds from the friction field at the support points' table positions."""
-        if self.friction_field is not None:
-            self._update_friction_bounds()
-        slip_state(
-            self.object_pose,
-            self.object_velocity,
-            self._support_points,
-            self._slip_directions,
-            self._sliding,
-        )
-
-    def _update_friction_bounds(self) -> None:
-        """Each support point's μ(p_j) N_j from the friction field at its table position.
-        The warm start's ground impulses (the last 2 S rows) scale with their bounds, so a
-        row that slid at its old bound is read as sliding at the new one."""
-        assert self.friction_field is not None
-        self._friction_limits, self._last_p = self.friction_field.support_bounds(
-            self.object_pose,
-            self._support_points,
-            self._uniform_limits,
-            self._friction_limits,
-            self._last_p,
-        )
-
-    def _step_inputs(self, h: float, tau: np.ndarray, damping: np.ndarray) -> tuple:
-        """Arguments of :func:`assemble` for one time step of length h, and the prongs.
-        ``damping`` (nv,) [N·m·s/rad]: all joint damping applied implicitly."""
-        terms = self._terms
-        prongs: tuple[int, ...]
-        if terms is None:
-            prongs, contacts, jacobians = (), _NO_CONTACTS, _NO_JACOBIANS
-            M, nle = _NO_ARM_MATRIX, self.v
-        else:
-            prongs, contacts = self._prongs, self._contacts
-            jacobians = terms.prong_jacobians
-            if len(prongs) < self._n_prongs:
-                jacobians = jacobians[list(prongs)]
-            M, nle = terms.M, terms.nle
-        cfg = self.config
-        inputs = (
-            contacts, jacobians, M, nle, self.v, tau, damping, self.object_pose,
-            self.object_velocity, self._M_obj_inv, self._support_points, self._friction_limits,
-            self._slip_directions, self._sliding, h, cfg.stabilisation, _TIE_BREAK,
-            cfg.mu_contact,
-        )  # fmt: skip
-        return prongs, inputs
-
-    def _build_problem(self, h: float, tau: np.ndarray, damping: np.ndarray) -> ContactProblem:
-        """Free velocities and the contact MLCP of one time step of length h."""
-        prongs, inputs = self._step_inputs(h, tau, damping)
-        D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, A_arm = assemble(*inputs)
-        return ContactProblem(
-            h, D, b, lo, hi, findex, mu, prongs, A_arm, v_arm_free, Minv_At_arm, Minv_At_obj
-        )
-
-    def _substep(self, h: float, tau: np.ndarray, damping: np.ndarray):
-        """One MLCP time step of length h. Returns (prong forces (k, 2) [N], MLCP result).
-
-        Ground friction is Coulomb's, against each support point's slip velocity *after*
-        the step. The step is first solved with each point's box aligned with its velocity
-        before the step (:func:`slip_state`): a sliding box bounds friction along that
-        direction only. Where the solved velocity leaves a box's direction by more than
-        5°, the box is turned half-way towards it (:func:`refine_slip`) and the step solved
-        again, until the directions agree. Without this a turning object's rotation rate
-        alternated step by step between stuck and twice its true value (a lagging box is
-        frictionless across the motion). Near stick–slip transitions the iteration may
-        not settle within ``MAX_SLIP_ITERATIONS``: the step then keeps its first solution,
-        the one-step-lag model, whose friction is dissipative whatever the directions.
-        """
-        self._start_slip_state()
-        prongs, inputs = self._step_inputs(h, tau, damping)
-        guess = self._last_p if prongs == self._last_prongs else None
-        start, status = 0, 0
-        if guess is not None:  # the common case: the whole loop in one compiled call
-            status, solves, first_t, last_t, attempt, iterations, worst = warm_slip_step(
-                *inputs, guess, DEFAULT_TOL, SLIP_COS_TOLERANCE, MAX_SLIP_ITERATIONS
-            )  # type: ignore[call-arg]  # numba's Dispatcher hides the signature
-        if status:
-            stats = self.stats
-            stats.solves += solves
-            stats.warm_starts += solves
-            stats.max_residual = max(stats.max_residual, worst)
-            stats.slip_iterations += iterations
-            self._last_prongs, self._last_p = prongs, last_t[0]
-            first = _warm_solution(first_t)
-            solution = first if solves == 1 else _warm_solution(last_t)
-            if status == SLIP_UNSETTLED:
-                solution = first
-                self._start_slip_state()
-                stats.slip_unsettled += 1
-            elif status == SLIP_WARM_FAILED:
-                self.stats.slip_iterations += 1
-                solution = self._solve_step(h, tau, damping, inputs, solution[0].p, False)
-                self._record(solution[0], prongs)
-                start = attempt + 1
-        else:  # no warm start, or it failed in the call above: the full MLCP
-            first = self._solve_step(h, tau, damping, inputs, guess, guess is None)
-            self._record(first[0], prongs)
-            solution = first
-        if status in (0, SLIP_WARM_FAILED):
-            solution = self._settle_slip(h, tau, damping, inputs, prongs, first, solution, start)
-        result, v_arm, v_obj, contact_forces = solution
-        if len(prongs) == self._n_prongs:
-            forces = contact_forces
-        else:
-            forces = np.zeros((self._n_prongs, 2))
-            forces[list(prongs)] = contact_forces
-        self._advance_object(v_obj, h)
-        if self.arm is not None:
-            self._advance_arm(v_arm, h)
-        self._find_contacts()
-        return forces, result
-
-    def _settle_slip(self, h, tau, damping, inputs, prongs, first, solution, start: int):
-        """The refine-and-re-solve loop of :meth:`_substep` from loop index ``start``, in
-        Python (a solve on it needed the full MLCP): returns the step's solution."""
-        for attempt in range(start, MAX_SLIP_ITERATIONS + 1):
-            if not refine_slip(
-                self.object_pose, solution[2], self._support_points, self._slip_directions,
-                self._sliding, SLIP_COS_TOLERANCE,
-            ):  # fmt: skip
-                break
-            if attempt == MAX_SLIP_ITERATIONS:  # not settled: keep the first solution
-                solution = first
-                self._start_slip_state()  # and its boxes (the velocity is still the old one)
-                self.stats.slip_unsettled += 1
-                break
-            self.stats.slip_iterations += 1
-            solution = self._solve_step(h, tau, damping, inputs, solution[0].p)
-            self._record(solution[0], prongs)
-        return solution
-
-    def _solve_step(
-        self, h: float, tau: np.ndarray, damping: np.ndarray, inputs, guess, try_warm=True
-    ):
-        """The step's MLCP with the current friction boxes: (MLCPResult, v_arm (nv,), v_obj (3,),
-        forces (p, 2) of the prongs in contact). ``inputs``: :meth:`_step_inputs`' (they hold
-        the box arrays, which :func:`refine_slip` changes in place). While the same prongs
-        touch, the previous impulses' active set (``guess``) usually still holds: the whole
-        step is then one compiled call; otherwise ProxQP and pivoting
-        (:func:`solve_box_mlcp`). ``try_warm=False``: that compiled call already failed on
-        these inputs (in :func:`warm_slip_step`), go to the full MLCP."""
-        if guess is not None and try_warm:
-            verified, p, w, residual, v_arm, v_obj, contact_forces = warm_contact_step(
-                *inputs, guess, DEFAULT_TOL
-            )  # type: ignore[call-arg]  # numba's Dispatcher hides the signature
-            if verified:
-                return (
-                    MLCPResult(p, w, residual, 0, True, "warm-start"),
-                    v_arm,
-                    v_obj,
-                    contact_forces,
-                )
-        problem = self._build_problem(h, tau, damping)
-        result = solve_box_mlcp(
-            problem.D,
-            problem.b,
-            problem.lo,
-            problem.hi,
-            problem.findex,
-            problem.mu,
-            warm_start=guess,
-            validate=False,  # built here, valid by construction
-        )
-        v_arm, v_obj, contact_forces = apply_impulses(
-            result.p, problem.v_arm_free, problem.Minv_At_arm, self.object_velocity,
-            problem.Minv_At_obj, h,
-        )  # fmt: skip
-        return result, v_arm, v_obj, contact_forces
 
     def _advance_object(self, v_obj: np.ndarray, h: float) -> None:
         """Semi-implicit Euler: the pose moves with the new velocity. θ is not wrapped: the
@@ -441,14 +272,6 @@ class World:
             # c(q, v) is quadratic in v: rescale it instead of recomputing the terms.
             self._terms = new._replace(nle=new.g + scale**2 * (new.nle - new.g))
             self.stats.energy_corrections += 1
-
-    def _record(self, result: MLCPResult, prongs: tuple[int, ...]) -> None:
-        stats = self.stats
-        stats.solves += 1
-        stats.fallbacks += not result.converged
-        stats.warm_starts += result.method == "warm-start"
-        stats.max_residual = max(stats.max_residual, result.residual)
-        self._last_prongs, self._last_p = prongs, result.p
 
     # ---------------------------------------------------------------- helpers
 
@@ -512,10 +335,3 @@ class World:
             mlcp_converged=True if result is None else bool(result.converged),
             mlcp_iterations=iterations,
         )
-
-
-def _warm_solution(solved: tuple) -> tuple:
-    """(MLCPResult, v_arm, v_obj, forces) of a verified compiled warm solve's
-    ``(p, w, residual, v_arm, v_obj, forces)``."""
-    p, w, residual, v_arm, v_obj, forces = solved
-    return MLCPResult(p, w, residual, 0, True, "warm-start"), v_arm, v_obj, forces

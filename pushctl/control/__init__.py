@@ -1,4 +1,5 @@
-"""Control: the PD baseline (operational-space IK + joint PD, DESIGN.md §5) and its references."""
+"""Control: the PD baseline (operational-space IK + joint PD, docs/design.md §5) and its
+references."""
 
 from pushctl.control.gains import DEFAULT_GAINS_FILE, PDGains, load_gains
 from pushctl.control.pd import PDCommand, PDController

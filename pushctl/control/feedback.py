@@ -1,4 +1,4 @@
-"""The ``feedback`` baseline's law (DESIGN.md §5): a PI law on the object's pose error.
+"""The ``feedback`` baseline's law (docs/design.md §5): a PI law on the object's pose error.
 
 With e = (e_x [m], e_y [m], e_θ [rad]) the planned minus the actual object pose in the plan
 frame (x along the push), the law asks the object for the twist u = k e + k_i ∫ e dt

@@ -1,4 +1,4 @@
-"""Gains of the PD baseline (DESIGN.md §5) and their TOML file, ``experiments/pd_gains.toml``.
+"""Gains of the PD baseline (docs/design.md §5) and their TOML file, ``experiments/pd_gains.toml``.
 
 The file is written by ``pushctl tune-pd`` and read by every command that runs the PD
 controller. Keys, all under ``[pd]``::
@@ -29,7 +29,7 @@ DEFAULT_GAINS_FILE = Path(__file__).resolve().parents[2] / "experiments" / "pd_g
 
 @dataclass(frozen=True)
 class PDGains:
-    """Gains of the joint PD baseline with operational-space IK (DESIGN.md §5, eq. 14–15).
+    """Gains of the joint PD baseline with operational-space IK (docs/design.md §5, eq. 14–15).
 
     ``kp`` [N·m/rad] and ``kv`` [N·m·s/rad]: the joint gains of eq. 15, the same on every
     joint. ``kx_linear`` and ``kx_angular`` [1/s]: feedback of the pusher frame's position

@@ -1,4 +1,4 @@
-"""The PD baseline (the paper's π_H, DESIGN.md §5): operational-space IK and a joint PD.
+"""The PD baseline (the paper's π_H, docs/design.md §5): operational-space IK and a joint PD.
 
 Per control step, from the pusher frame's desired pose and feed-forward twist:
 
@@ -14,7 +14,7 @@ Per control step, from the pusher frame's desired pose and feed-forward twist:
    (applied to the new joint velocity: a stiff PD at h = 0.01 s is then unconditionally
    stable); the rest, clipped to the joint torque limits, is returned as the torque.
 
-Note that with ``q_des = q + h q̇_des`` (DESIGN.md's form of eq. 15) the stiffness term is
+Note that with ``q_des = q + h q̇_des`` (docs/design.md §5's form of eq. 15) the stiffness term is
 ``K_p h q̇_des``: the joint loop is a velocity loop of gain ``K_p h + K_v``, and position is
 held by the operational-space feedback ``K_x``.
 

@@ -1,4 +1,4 @@
-"""How a residual planar twist reaches the PD baseline (Algorithm 1, DESIGN.md §5).
+"""How a residual planar twist reaches the PD baseline (Algorithm 1, docs/design.md §5).
 
 A residual is a planar pusher twist v_θ = (vx [m/s], vy [m/s], ω_z [rad/s]), world axes. Two
 paths carry it into the PD law ``v_e = v_ff + K_x (x_ref − x)``:

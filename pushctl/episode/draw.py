@@ -1,7 +1,9 @@
 """Scenarios drawn from a seed: a goal from the target ranges, the plant's parameters from a
-plant's ranges, redrawn until the planner accepts the goal (DESIGN.md §7)."""
+plant's ranges, redrawn until the planner accepts the goal (docs/design.md §7)."""
 
 from __future__ import annotations
+
+from dataclasses import replace
 
 from pushctl.arm import ArmConfig, load_arm
 from pushctl.config import GRAVITY, PusherConfig
@@ -44,6 +46,7 @@ def draw_planned_scenario(
     duration: float = 20.0,
     dt: float = 0.01,
     gravity: float = GRAVITY,
+    pusher: PusherConfig | None = None,
 ) -> tuple[Scenario, int, Plan]:
     """The scenario of ``seed`` in ``stream``, how many goals were redrawn, and its plan
     (made with the nominal parameters, as :class:`~pushctl.episode.runner.Episode` makes it).
@@ -56,14 +59,19 @@ def draw_planned_scenario(
     (:func:`~pushctl.episode.unknowns.unknowns_rng`), so the goals and parameters above are
     the same with or without them.
     A goal the planner (with the nominal parameters) cannot execute is redrawn; PlanError
-    after :data:`MAX_DRAWS` attempts.
+    after :data:`MAX_DRAWS` attempts. ``pusher``: the scenario's plate and prongs (None: the
+    paper's); its mass stands for the object's Table II pusher mass where ``nominal`` leaves
+    it None (the plant's pusher mass is drawn as a multiple of it).
     """
     ranges = ranges if ranges is not None else load_ranges()
     nominal = nominal if nominal is not None else PhysicalParameters()
     plant_ranges = ranges.plant(plant) if plant is not None else None
     rng = stream_rng(seed, stream)
+    if nominal.pusher_mass is None and pusher is not None:
+        nominal = replace(nominal, pusher_mass=pusher.mass)
     obj = resolve_object(object_name, mass=nominal.object_mass, pusher_mass=nominal.pusher_mass)
-    arm_model = load_arm(ArmConfig(name=arm, pusher=PusherConfig(mass=obj.pusher_mass)))
+    plate = replace(pusher or PusherConfig(), mass=obj.pusher_mass)
+    arm_model = load_arm(ArmConfig(name=arm, pusher=plate))
     start = default_start(obj, arm_model.ready_pusher_position)
     settings = ForceSettings(mu_contact=nominal.mu_contact, mu_ground=nominal.mu_ground)
     unknowns = NO_UNKNOWNS
@@ -99,6 +107,7 @@ def draw_planned_scenario(
                 arm=arm,
                 gravity=gravity,
                 unknowns=unknowns,
+                pusher=pusher,
             )
             return scenario, attempt, plan
         reason = plan.problems[0]

@@ -1,4 +1,5 @@
-"""The metrics of one push (DESIGN.md §7), computed from its :class:`~pushctl.episode.trace.Trace`.
+"""The metrics of one push (docs/design.md §7), computed from its
+:class:`~pushctl.episode.trace.Trace`.
 
 Every mean is over the N push steps, rows 1 … N of the trace; row 0 (the state the approach
 left) never counts. With p = object (x, y), p_des = desired (x, y), θ and θ_des the object's
@@ -23,7 +24,7 @@ the contact force of prong i and F_des,i the plan's force for it:
 - ``angle_error_deg`` [deg] = mean |θ − θ_des| in degrees (defined for straight pushes too).
 
 The pose (p, θ) is the trace's ``measured_pose`` when it has one (the reality proxy's camera,
-DESIGN.md §7: on the proxy, as on the paper's robot, poses are measured, not known), else its
+docs/design.md §7: on the proxy, as on the paper's robot, poses are measured, not known), else its
 true ``object_pose``. Forces are always the true contact forces.
 """
 

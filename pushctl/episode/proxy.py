@@ -1,4 +1,4 @@
-"""The reality proxy (``--plant proxy``, DESIGN.md §7, §9): what the simulator adds to stand in
+"""The reality proxy (``--plant proxy``, docs/design.md §7, §9): what the simulator adds to stand in
 for the paper's real robot. It is not the real robot, and no result on it is a real result.
 
 Besides the wider parameter ranges of ``experiments/randomisation.toml`` (drawn by
@@ -44,7 +44,8 @@ estimates the policy read, so a PD-only run and an RL-assisted run share it."""
 LARGE_JOINT_COULOMB, SMALL_JOINT_COULOMB = 1.0, 0.5
 """Assumed Coulomb friction [N·m] of the Kinova Gen2's large (joints 1–4, 40/80 N·m) and
 small (joints 5–7, 20 N·m) actuators: 2.5 % of the rated torque, within the 1–5 % usual for
-harmonic-drive joints. The Kinova description publishes none (FACTS §1, Gazebo uses 0)."""
+harmonic-drive joints. The Kinova description publishes none (docs/kinova-facts.md §1,
+Gazebo uses 0)."""
 
 LARGE_JOINT_VISCOUS, SMALL_JOINT_VISCOUS = 0.5, 0.2
 """Assumed viscous friction [N·m·s/rad] of the same actuators (an assumption too): at the
@@ -53,7 +54,7 @@ push's joint speeds (≲ 0.05 rad/s) it adds ≲ 0.025 N·m, the Coulomb part do
 
 @dataclass(frozen=True)
 class ProxyEffects:
-    """What the reality proxy adds to the simulator (DESIGN.md §9 values as defaults).
+    """What the reality proxy adds to the simulator (docs/design.md §9 values as defaults).
 
     ``latency_steps``: control steps between computing a torque and its reaching the joints.
     ``coulomb_friction`` [N·m] and ``viscous_friction`` [N·m·s/rad]: per joint (one value for

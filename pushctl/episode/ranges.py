@@ -1,11 +1,11 @@
-"""The randomisation ranges of ``experiments/randomisation.toml`` (DESIGN.md §7, §9).
+"""The randomisation ranges of ``experiments/randomisation.toml`` (docs/design.md §7, §9).
 
 Tables ``[sim]`` and ``[proxy]`` hold :class:`~pushctl.episode.scenario.ParameterRanges`
 (``mu_ground``, ``mu_contact``, ``object_mass_scale``, ``pusher_mass_scale``, each
 ``[lo, hi]``); ``[targets]`` holds :class:`~pushctl.episode.scenario.TargetRanges`
 (``forward`` [m], ``rotation_deg`` [deg], ``lateral`` [m]). Optional tables
 ``[unknowns.sim]`` and ``[unknowns.proxy]`` hold each plant's
-:class:`~pushctl.episode.unknowns.UnknownRanges` (DESIGN.md §9's plant unknowns); a file
+:class:`~pushctl.episode.unknowns.UnknownRanges` (docs/design.md §9's plant unknowns); a file
 without them has none (every half-width 0).
 """
 

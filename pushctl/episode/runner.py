@@ -6,7 +6,7 @@ or all at once (:meth:`Episode.run`). The planner and the controller use the sce
 trace (and any reward) are the force distribution recomputed with the plant's parameters at
 the plan's prong offset: what the pushed object really needed where the prongs really were.
 
-Plant unknowns (``Scenario.unknowns``, DESIGN.md §9) live in the world only: the object
+Plant unknowns (``Scenario.unknowns``, docs/design.md §9) live in the world only: the object
 starts at its true pose (the believed start ⊕ the placement error) while the plan and the
 approach aim at the believed one, and the world's pusher has the mounting error while the
 controller's arm model (:meth:`Episode.controller_terms`) keeps the nominal pusher; the
@@ -120,15 +120,17 @@ class Episode:
         self.approach = approach or ApproachSettings()
         plant, nominal = scenario.plant, scenario.nominal
         nominal_obj = resolve_object(
-            scenario.object, mass=nominal.object_mass, pusher_mass=nominal.pusher_mass
+            scenario.object, mass=nominal.object_mass, pusher_mass=scenario.pusher_mass(nominal)
         )
         unknowns = scenario.unknowns
         self.object: ObjectSpec = with_unknown_loads(
-            resolve_object(scenario.object, mass=plant.object_mass, pusher_mass=plant.pusher_mass),
+            resolve_object(
+                scenario.object, mass=plant.object_mass, pusher_mass=scenario.pusher_mass(plant)
+            ),
             unknowns,
         )
         self.friction_field: FrictionField | None = friction_field(unknowns)
-        planning_pusher = PusherConfig(mass=nominal_obj.pusher_mass)
+        planning_pusher = scenario.pusher_config(nominal_obj.pusher_mass)
         self.plan: Plan = (
             plan
             if plan is not None
@@ -145,7 +147,7 @@ class Episode:
             )
         )
         self.plan.raise_if_infeasible()
-        pusher = PusherConfig(mass=self.object.pusher_mass)
+        pusher = scenario.pusher_config(self.object.pusher_mass)
         if unknowns.has_mounting_error:
             pusher = replace(
                 pusher,
@@ -187,7 +189,7 @@ class Episode:
         self.controller = self._controller(gains)
 
     def _plant_forces(self, pusher: PusherConfig) -> ForcePlan:
-        """The prong forces the plant needs to follow the plan (DESIGN.md §7's F_des): its
+        """The prong forces the plant needs to follow the plan (docs/design.md §7's F_des): its
         true parameters, support loads and friction field, at the plan's plate offset with
         the prongs where they really are on the plate (along the face)."""
         plant, trajectory = self.scenario.plant, self.plan.trajectory

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from pushctl.config import GRAVITY
+from pushctl.config import GRAVITY, PusherConfig
 from pushctl.episode.unknowns import PlantUnknowns
 from pushctl.errors import ConfigError
 from pushctl.planning.profiles import PROFILE_NAMES
@@ -36,7 +36,7 @@ def stream_rng(seed: int, stream: str) -> np.random.Generator:
 
 @dataclass(frozen=True)
 class PhysicalParameters:
-    """The plant's physical parameters (DESIGN.md §9). ``object_mass`` and ``pusher_mass``
+    """The plant's physical parameters (docs/design.md §9). ``object_mass`` and ``pusher_mass``
     [kg]: None means the object's Table II value. μ_g and μ_c are Coulomb coefficients."""
 
     mu_ground: float = 0.30
@@ -63,10 +63,13 @@ class Scenario:
     pose (:func:`pushctl.planning.workspace.default_start`). ``goal``: absolute pose.
     ``nominal``: the parameters the planner and controller assume; ``plant``: the ones the
     simulated world has (the same unless randomised). ``unknowns``: the plant unknowns the
-    world has and the planner and controller do not know (DESIGN.md §9; none by default).
+    world has and the planner and controller do not know (docs/design.md §9; none by default).
     ``start`` is where the planner believes the object starts; the world puts it at
-    ``unknowns.true_start(start)``. ``seed``: where it was drawn from (recorded with
-    results), None when it was given by hand."""
+    ``unknowns.true_start(start)``. ``pusher``: the plate and its prongs (a pusher file's,
+    :mod:`pushctl.arm.pusher_file`); None: the paper's two-prong plate. Its ``mass`` is the
+    pusher's mass wherever the parameters leave ``pusher_mass`` None (else theirs).
+    ``seed``: where it was drawn from (recorded with results), None when it was given by
+    hand."""
 
     object: str
     profile: str
@@ -80,8 +83,11 @@ class Scenario:
     arm: str = "kinova-gen2-7dof"
     gravity: float = GRAVITY
     unknowns: PlantUnknowns = field(default_factory=PlantUnknowns)
+    pusher: PusherConfig | None = None
 
     def __post_init__(self) -> None:
+        if self.pusher is not None and not isinstance(self.pusher, PusherConfig):
+            raise ConfigError(f"pusher must be a PusherConfig, got {type(self.pusher).__name__}")
         if not isinstance(self.unknowns, PlantUnknowns):
             raise ConfigError(f"unknowns must be PlantUnknowns, got {type(self.unknowns).__name__}")
         if self.profile not in PROFILE_NAMES:
@@ -93,6 +99,17 @@ class Scenario:
             if not (_is_number(value) and math.isfinite(value) and value > 0.0):
                 raise ConfigError(f"{name} must be a positive number of seconds, got {value!r}")
 
+    def pusher_mass(self, parameters: PhysicalParameters) -> float | None:
+        """The pusher mass [kg] of ``parameters`` (the plant or the nominal ones): theirs if
+        set, else the pusher file's, else None (the object's Table II value)."""
+        if parameters.pusher_mass is not None or self.pusher is None:
+            return parameters.pusher_mass
+        return self.pusher.mass
+
+    def pusher_config(self, mass: float) -> PusherConfig:
+        """This scenario's pusher (the paper's plate when None) with ``mass`` [kg]."""
+        return replace(self.pusher or PusherConfig(), mass=mass)
+
     def with_plant(self, plant: PhysicalParameters) -> Scenario:
         return replace(self, plant=plant)
 
@@ -103,7 +120,7 @@ class Scenario:
 @dataclass(frozen=True)
 class ParameterRanges:
     """Uniform ranges (lo, hi) of a plant's parameters: μ_g, μ_c, and the object's and the
-    pusher's mass as multiples of their Table II values (DESIGN.md §9)."""
+    pusher's mass as multiples of their Table II values (docs/design.md §9)."""
 
     mu_ground: tuple[float, float]
     mu_contact: tuple[float, float]
@@ -132,7 +149,7 @@ _DRAW_ORDER = ("mu_ground", "mu_contact", "object_mass_scale", "pusher_mass_scal
 
 @dataclass(frozen=True)
 class TargetRanges:
-    """Goal offsets from the start (DESIGN.md §7): forward Δx [m], |Δθ| [deg] of either sign,
+    """Goal offsets from the start (docs/design.md §7): forward Δx [m], |Δθ| [deg] of either sign,
     and the lateral Δy·sign(Δθ) [m] (the object moves towards the side it turns to)."""
 
     forward: tuple[float, float] = (0.10, 0.25)

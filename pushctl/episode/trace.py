@@ -1,4 +1,4 @@
-"""What one push leaves behind: the per-step trace of DESIGN.md §8, in memory and as CSV.
+"""What one push leaves behind: the per-step trace of docs/design.md §8, in memory and as CSV.
 
 Rows are the samples t = 0, h, …, T of the push (N + 1 rows for N steps). Row 0 is the
 state the approach left (its forces are those of the approach's last step); row n ≥ 1 holds
@@ -16,7 +16,7 @@ import pandas as pd
 
 @dataclass(frozen=True)
 class Trace:
-    """A push, N + 1 samples. Object frame quantities as in DESIGN.md §2.
+    """A push, N + 1 samples. Object frame quantities as in docs/design.md §2.
 
     ``t`` (N+1,) [s]; ``object_pose``, ``desired_pose`` (N+1, 3) (x [m], y [m], θ [rad]);
     ``contact_forces``, ``desired_forces`` (N+1, k, 2) (normal, tangential) [N] per prong;
@@ -63,7 +63,7 @@ class Trace:
         return self.contact_forces.shape[1]
 
     def to_frame(self) -> pd.DataFrame:
-        """The trace CSV's columns (DESIGN.md §8), SI units and radians: ``t, obj_x, obj_y,
+        """The trace CSV's columns (docs/design.md §8), SI units and radians: ``t, obj_x, obj_y,
         obj_theta, des_x, des_y, des_theta, lambda_n_i, lambda_t_i …, force_n_des_i,
         force_t_des_i …, tau_z, tau_z_des``, then the arm joints ``q_j, dq_j, tau_j``, then
         the prong gaps ``gap_i`` and the pusher frame ``pusher_x, pusher_y, pusher_z``, with

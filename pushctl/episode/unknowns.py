@@ -1,4 +1,4 @@
-"""Plant unknowns (DESIGN.md §6, §9): what the simulated world has and the planner and the
+"""Plant unknowns (docs/design.md §6, §9): what the simulated world has and the planner and the
 controllers never see.
 
 - object placement error: the object's true start pose is the believed one composed with
@@ -38,7 +38,7 @@ draw does not depend on the pusher."""
 
 @dataclass(frozen=True)
 class UnknownRanges:
-    """Half-widths of the plant unknowns' uniform ranges (each drawn in [−w, w]), DESIGN.md §9.
+    """Half-widths of the plant unknowns' uniform ranges (each drawn in [−w, w]), docs/design.md §9.
 
     ``placement_along``, ``placement_across`` [m] and ``placement_yaw_deg`` [deg]: the object's
     placement error; ``mount_yaw_deg`` [deg]: the plate's yaw on the end effector;

@@ -12,46 +12,15 @@ environment's gate, action scale and residual path.
 
 from __future__ import annotations
 
-import math
 from dataclasses import replace
 
-import numpy as np
-
-from pushctl.control.feedback import FeedbackGains, FeedbackLaw
-from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
-from pushctl.rl.spaces import index
+from pushctl.rl.feedback_actor import FeedbackActor
+
+__all__ = ["CONTROLLERS", "FeedbackActor", "feedback_config"]
 
 CONTROLLERS = ("pd", "feedback", "rl")
 """PD-only, PD + the PI feedback law, PD + the learned residual (the tables' order)."""
-
-
-class FeedbackActor:
-    """The feedback law of the push ``env`` was just reset to, as an actor: observation
-    (float32, :mod:`pushctl.rl.spaces`) → action (3,) in [−1, 1] (the law's twist over the
-    environment's action scale, clipped). Called only while the gate is open, so the
-    integral covers the steps the law acted on."""
-
-    def __init__(self, env: PushEnv, gains: FeedbackGains) -> None:
-        plan = env.plan
-        start = plan.trajectory.pose[0]
-        c, s = math.cos(start[2]), math.sin(start[2])
-        dx, dy = plan.pusher_positions[0, :2] - start[:2]
-        lever = np.array([c * dx + s * dy, -s * dx + c * dy])  # fixed in the object's frame
-        self.law = FeedbackLaw(gains, lever, env.config.dt)
-        where = index(env.observation_entries)
-        self._error = [where["error_x"], where["error_y"], where["error_theta"]]
-        self._normal = [where[f"force_n_{i + 1}"] for i in range(plan.pusher.n_prongs)]
-        config = env.config
-        self._scale = np.array([config.action_scale_linear] * 2 + [config.action_scale_angular])
-
-    def twist(self, observation: np.ndarray) -> np.ndarray:
-        """The law's pusher twist (3,) [m/s, m/s, rad/s], plan frame, before the clip."""
-        obs = np.asarray(observation, dtype=float)
-        return self.law.twist(obs[self._error], obs[self._normal])
-
-    def __call__(self, observation: np.ndarray) -> np.ndarray:
-        return np.clip(self.twist(observation) / self._scale, -1.0, 1.0)
 
 
 def feedback_config(config: EnvConfig) -> EnvConfig:
@@ -67,4 +36,5 @@ def feedback_config(config: EnvConfig) -> EnvConfig:
         gate_threshold=default.gate_threshold,
         gate_length=default.gate_length,
         observe_camera=default.observe_camera,
+        action_repeat=default.action_repeat,
     )

@@ -10,7 +10,7 @@ world, the proxy's noise is seeded from the scenario), and results are gathered 
 so any number of workers writes the same bytes.
 
 Outputs (``DIR/trials.csv`` and ``DIR/steps.csv``, see :func:`write_evaluation` and the
-README's *Evaluating* section for the columns) are written only once every trial has run.
+docs/evaluation.md for the columns) are written only once every trial has run.
 """
 
 from __future__ import annotations
@@ -86,7 +86,9 @@ def load_evaluation_policy(path: str | Path) -> TrainedPolicy:
     fits the environment: its observation and action sizes."""
     policy = load_policy(path)
     actor = policy.actor.actor
-    n_obs = len(observation_entries(PusherConfig().n_prongs))
+    n_obs = len(
+        observation_entries(PusherConfig().n_prongs, reference_offset=policy.env.offset_observed)
+    )
     if (actor.obs_dim, actor.act_dim) != (n_obs, len(ACTION_ENTRIES)):
         raise ConfigError(
             f"policy file {path} is incompatible: its actor takes {actor.obs_dim} observations "
@@ -138,7 +140,8 @@ def evaluate(
     )
     policy_seed = tuple(seeds) if several else (seeds[0] if seeds else None)
     setup = (
-        config, gains, actor_state, spec.plants, spec.controllers, feedback_gains, policy_seed
+        config, gains, actor_state, spec.plants, spec.controllers, feedback_gains, policy_seed,
+        spec.pusher, spec.stream,
     )  # fmt: skip
     jobs = spec.jobs()
     gathered = _Gathered(spec)
@@ -222,16 +225,18 @@ class _Context:
         controllers: tuple[str, ...],
         feedback_gains: FeedbackGains | None = None,
         policy_seed: int | None | tuple[int | None, ...] = None,
+        pusher: PusherConfig | None = None,
+        stream: str = "evaluation",
     ) -> None:
+        self.pusher = pusher
         self.envs = {
-            plant: PushEnv(replace(config, stream="evaluation", plant=plant), gains)
-            for plant in plants
+            plant: PushEnv(replace(config, stream=stream, plant=plant), gains) for plant in plants
         }
         self.feedback = {}
         if "feedback" in controllers:
             assert feedback_gains is not None
             for plant in plants:
-                own = feedback_config(replace(config, stream="evaluation", plant=plant))
+                own = feedback_config(replace(config, stream=stream, plant=plant))
                 self.feedback[plant] = (PushEnv(own, gains), feedback_gains)
         if isinstance(actor_state, tuple):  # several policies: (actor, seed) pairs
             assert isinstance(policy_seed, tuple)
@@ -255,6 +260,7 @@ class _Context:
             self.feedback.get(job.plant),
             self.policy_seed,
             self.policies,
+            self.pusher,
         )
 
 

@@ -5,7 +5,7 @@ Run as ``python -m pushctl.evaluation.pd_sweep [--plant sim|proxy|nominal] [--se
 is seed i of the stream (:func:`pushctl.episode.draw.draw_scenario`); the CSV records the
 command, and per row the seed, goal, plant parameters and metrics. The summary printed per
 object × profile is the mean of each metric and the share of episodes with more than 1 %
-of their steps in slip or in contact loss (DESIGN.md §6 asks for that share).
+of their steps in slip or in contact loss (docs/design.md §6 asks for that share).
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The evaluation's trials (DESIGN.md §7): which scenarios run, and one paired trial (the
+"""The evaluation's trials (docs/design.md §7): which scenarios run, and one paired trial (the
 CSV columns, ``TRIAL_COLUMNS`` and ``STEP_COLUMNS``, are in :mod:`pushctl.evaluation.columns`).
 
 Trial i of every object × profile cell of an evaluation with seed S pushes the scenario of
@@ -22,13 +22,15 @@ from typing import Any
 
 import numpy as np
 
+from pushctl.config import PusherConfig
 from pushctl.control.feedback import FeedbackGains
+from pushctl.episode.draw import draw_planned_scenario
 from pushctl.episode.metrics import compute_metrics
 from pushctl.episode.ranges import DEFAULT_PLANTS, PLANTS
 from pushctl.episode.trace import Trace
 from pushctl.errors import ConfigError
 from pushctl.evaluation.controllers import CONTROLLERS, FeedbackActor
-from pushctl.objects import OBJECT_NAMES
+from pushctl.objects import OBJECT_NAMES, resolve_object
 from pushctl.planning import PROFILE_NAMES
 from pushctl.rl.env import PushEnv
 from pushctl.rl.networks import ActorPolicy
@@ -37,12 +39,20 @@ from pushctl.rl.policy import finish_with_policy, pd_only_episode
 SEEDS_PER_EVALUATION = 100_000
 """Scenario seeds reserved for one evaluation seed: S × this + trial."""
 
+STREAMS_EVALUATED = ("evaluation", "tuning")
+"""The random streams an evaluation may draw from (never ``training``'s)."""
+
 
 @dataclass(frozen=True)
 class TrialSpec:
     """Which trials run: distinct names from :data:`OBJECT_NAMES`, :data:`PROFILE_NAMES`,
     :data:`PLANTS` and :data:`CONTROLLERS` (the outputs keep the order given), ``trials``
     per object × profile (1 … :data:`SEEDS_PER_EVALUATION`) and the evaluation ``seed`` >= 0.
+    An object may also be a TOML object file (``experiments/objects/hexagon.toml``).
+    ``pusher``: the plate and prongs of every trial (a pusher file's; None: the paper's),
+    for PD-only and feedback only: a policy was trained for the paper's pusher.
+    ``stream``: where the scenarios are drawn: ``evaluation`` (the held-out targets), or
+    ``tuning`` for looking around (other pushers and shapes, gains) without touching them.
     ConfigError (one line) for anything else."""
 
     objects: tuple[str, ...] = OBJECT_NAMES
@@ -51,10 +61,20 @@ class TrialSpec:
     controllers: tuple[str, ...] = CONTROLLERS
     trials: int = 50
     seed: int = 0
+    pusher: PusherConfig | None = None
+    stream: str = "evaluation"
 
     def __post_init__(self) -> None:
+        if self.stream not in STREAMS_EVALUATED:
+            raise ConfigError(
+                f"unknown --stream {self.stream!r}; accepted: {', '.join(STREAMS_EVALUATED)}"
+            )
+        for name in self.objects:
+            if name not in OBJECT_NAMES and name.lower().endswith(".toml"):
+                resolve_object(name)  # a bad file fails here, naming itself
+        files = tuple(name for name in self.objects if name.lower().endswith(".toml"))
         for option, chosen, accepted in (
-            ("object", self.objects, OBJECT_NAMES),
+            ("object", self.objects, OBJECT_NAMES + files),
             ("profile", self.profiles, PROFILE_NAMES),
             ("plant", self.plants, PLANTS),
             ("controller", self.controllers, CONTROLLERS),
@@ -73,6 +93,11 @@ class TrialSpec:
             )
         if not _is_int(self.seed) or self.seed < 0:
             raise ConfigError(f"--seed must be an integer >= 0, got {self.seed!r}")
+        if self.pusher is not None and "rl" in self.controllers and self.pusher != PusherConfig():
+            raise ConfigError(
+                "--pusher runs with --controller pd or feedback: the policy was trained for "
+                "the paper's two-prong pusher"
+            )
 
     def scenario_seed(self, trial: int) -> int:
         """The evaluation-stream seed of trial ``trial`` (the same in every cell and plant)."""
@@ -132,6 +157,7 @@ def run_trial(
     feedback: tuple[PushEnv, FeedbackGains] | None = None,
     policy_seed: int | None = None,
     policies: tuple[tuple[ActorPolicy, int | None], ...] | None = None,
+    pusher: PusherConfig | None = None,
 ) -> TrialResult:
     """Run ``controllers`` (a subset of :data:`CONTROLLERS`) on ``job``'s scenario.
 
@@ -144,9 +170,20 @@ def run_trial(
     same scenario (the environment reset again with the same options) and adding its own
     ``rl`` row; ``rl``'s per-step quantities are then their mean. The reset draws the
     scenario even when only PD runs, so PD-only's rows are the same with and without the
-    others.
+    others. ``pusher``: the trial's plate and prongs (None: the paper's); the scenario of
+    ``job.seed`` is then drawn here as the environment would draw it, with that pusher.
     """
-    options = {"object": job.object, "profile": job.profile, "scenario_seed": job.seed}
+    options: dict[str, Any] = {
+        "object": job.object, "profile": job.profile, "scenario_seed": job.seed
+    }  # fmt: skip
+    redrawn = None
+    if pusher is not None:
+        config = env.config
+        scenario, redrawn, _ = draw_planned_scenario(
+            job.seed, config.stream, job.object, job.profile,
+            plant=config.plant, duration=config.duration, dt=config.dt, pusher=pusher,
+        )  # fmt: skip
+        options = {"scenario": scenario}
     traces: dict[str, tuple[Trace, float]] = {}
     _, info = env.reset(options=options)
     assert env.episode is not None
@@ -171,7 +208,7 @@ def run_trial(
         traces["feedback"] = _push_with(feedback_env, FeedbackActor(feedback_env, gains))
     if pd_episode is not None:
         traces["pd"] = (pd_episode.finish(), 0.0)
-    redrawn = int(info["goals_redrawn"])
+    redrawn = int(info["goals_redrawn"]) if redrawn is None else redrawn
     rows, steps = [], {}
     for controller in CONTROLLERS:
         if controller == "rl" and rl_runs:

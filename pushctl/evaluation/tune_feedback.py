@@ -1,5 +1,5 @@
 """``pushctl tune-feedback``: the feedback baseline's gains (k, k_i), chosen by a documented
-search on the tuning stream (DESIGN.md §5; never on the evaluation set).
+search on the tuning stream (docs/design.md §5; never on the evaluation set).
 
 The procedure:
 
@@ -14,7 +14,7 @@ The procedure:
    through the environment's gate, action scale and residual path: today's defaults of
    :class:`~pushctl.rl.env_config.EnvConfig`, the settings ``pushctl evaluate`` runs it with.
 3. Objective: the mean over the tuning set of translation error % + angle error %
-   (DESIGN.md §7), as for the PD gains; a push that fails (a non-finite state) scores
+   (docs/design.md §7), as for the PD gains; a push that fails (a non-finite state) scores
    infinity.
 4. Search: the grid :data:`GRID` of (k, k_i), then a refinement of the best point, each gain
    times and divided by 2 and then by √2 (:data:`REFINE_FACTORS`). PD-only (k = k_i = 0) is
@@ -40,7 +40,7 @@ from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.policy import finish_with_policy
 
 GRID = {"k": (0.1, 0.2, 0.35, 0.5), "k_i": (0.0, 0.02, 0.05, 0.1)}
-"""The coarse grid: k [1/s] × k_i [1/s²], 16 candidates (DESIGN.md §5's prototype: k = 0.5 /s
+"""The coarse grid: k [1/s] × k_i [1/s²], 16 candidates (docs/design.md §5's prototype: k = 0.5 /s
 helped, k ≥ 1 /s lost the wedge's turning pushes)."""
 REFINE_FACTORS = (2.0, math.sqrt(2.0))
 """Refinement: each gain of the best point times and divided by these, in turn."""

@@ -1,13 +1,13 @@
 """``pushctl tune-pd``: the PD baseline's gains, chosen by a documented search.
 
-The procedure (DESIGN.md §5: never on the evaluation set):
+The procedure (docs/design.md §5: never on the evaluation set):
 
 1. Tuning set: for every object × profile, ``per_case`` scenarios drawn from the *tuning*
    random stream of ``seed`` (:func:`pushctl.episode.scenario.stream_rng`), goals from the
    evaluation's target ranges, the plant drawn from the ``sim`` ranges (the plant the
    baseline is evaluated on), goals the planner rejects redrawn.
 2. Objective: the mean over the tuning set of the tracking error, translation error % +
-   angle error % (DESIGN.md §7). A candidate whose episode fails (non-finite state) scores
+   angle error % (docs/design.md §7). A candidate whose episode fails (non-finite state) scores
    infinity.
 3. Search over (K_p, K_v, K_x) with K_x shared by the position and orientation feedback:
    a coarse grid (:data:`GRID`), then coordinate refinement from the best point — each gain

@@ -13,7 +13,7 @@ of the arm (Pinocchio's, from the same URDF) evaluated at MuJoCo's joint state �
 robot, whose controller carries its own model; the tests check MuJoCo's model agrees with it.
 Contact forces, gaps and the object's state come from MuJoCo.
 
-Frames as in our world (DESIGN.md §2): ``contact_forces`` (k, 2) is each prong's force on the
+Frames as in our world (docs/design.md §2): ``contact_forces`` (k, 2) is each prong's force on the
 object (normal along the inward normal of the footprint face nearest the prong point,
 tangential along e_z × e_n), averaged over the substeps; ``prong_gaps`` the planar signed
 distance of the prong points to the footprint (negative: penetration).

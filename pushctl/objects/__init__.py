@@ -1,6 +1,6 @@
 """Rigid planar objects on the table: shapes, mass properties, support loads and geometry.
 
-See DESIGN.md §3 ("Objects", "Ground friction", "Pusher–object contacts").
+See docs/design.md §3 ("Objects", "Ground friction", "Pusher–object contacts").
 """
 
 from pushctl.objects.geometry import (

@@ -14,15 +14,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from pushctl.objects.footprint import normalise_footprint
-
-if TYPE_CHECKING:
-    from pushctl.objects.spec import ObjectSpec
 
 
 @dataclass(frozen=True, eq=False)
@@ -115,7 +112,19 @@ class ConvexPolygon:
         return distance, (px - cx) / distance, (py - cy) / distance, cx, cy
 
 
-def _as_polygon(shape: ConvexPolygon | ObjectSpec | ArrayLike) -> ConvexPolygon:
+class Shaped(Protocol):
+    """Anything with a footprint and its precomputed edge data, such as an
+    :class:`~pushctl.objects.spec.ObjectSpec` (named structurally, so this module, which
+    the spec builds on, does not import it back)."""
+
+    @property
+    def footprint(self) -> np.ndarray: ...
+
+    @property
+    def polygon(self) -> ConvexPolygon: ...
+
+
+def _as_polygon(shape: ConvexPolygon | Shaped | ArrayLike) -> ConvexPolygon:
     """The edge data of ``shape``: precomputed for a polygon or an ObjectSpec, else built."""
     if isinstance(shape, ConvexPolygon):
         return shape
@@ -126,7 +135,7 @@ def _as_polygon(shape: ConvexPolygon | ObjectSpec | ArrayLike) -> ConvexPolygon:
 
 
 def signed_distance(
-    shape: ConvexPolygon | ObjectSpec | ArrayLike, point: ArrayLike
+    shape: ConvexPolygon | Shaped | ArrayLike, point: ArrayLike
 ) -> tuple[float, np.ndarray, np.ndarray]:
     """Signed distance from a point to a convex polygon, with the nearest feature.
 
@@ -149,7 +158,7 @@ def signed_distance(
 
 
 def signed_distance_batch(
-    shape: ConvexPolygon | ObjectSpec | ArrayLike, points: ArrayLike
+    shape: ConvexPolygon | Shaped | ArrayLike, points: ArrayLike
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """:func:`signed_distance` for ``points (k, 2)`` [m].
 
@@ -197,6 +206,6 @@ def vectors_to_local(pose: Any, vectors_world: ArrayLike) -> np.ndarray:
     return np.asarray(vectors_world, dtype=float) @ rotation(pose_components(pose)[2])
 
 
-def polygon_world(spec: ObjectSpec, pose: Any) -> np.ndarray:
+def polygon_world(spec: Shaped, pose: Any) -> np.ndarray:
     """The footprint of ``spec`` placed at ``pose``: vertices ``(V, 2)`` [m] in the world."""
     return to_world(pose, spec.footprint)

@@ -101,7 +101,7 @@ def support_loads(
     Solves ``Σ N_j = weight`` and ``Σ N_j r_j = 0`` (no moment about the CoM) with
     ``N ≥ 0``. With ``centre`` c (2,) [m] the loads balance about c instead,
     ``Σ N_j (r_j − c) = 0``: their centre of pressure is c (an uneven pressure distribution,
-    a plant unknown of DESIGN.md §9; the total stays ``weight``). With four or more points
+    a plant unknown of docs/design.md §9; the total stays ``weight``). With four or more points
     the loads are statically indeterminate; the minimum-norm solution is taken (equal loads
     on a symmetric support, the lever rule along a wedge's length).
 

@@ -1,7 +1,7 @@
 """The objects of the paper's Table II, and name-or-file resolution.
 
 Presets are built from their physical description (footprint, height field, mass) exactly as
-in DESIGN.md §3; everything else (CoM, inertia, support loads, face geometry) is computed.
+in docs/design.md §3; everything else (CoM, inertia, support loads, face geometry) is computed.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """The rigid planar object resting on the table: geometry, mass properties, support loads.
 
-Object local frame (DESIGN.md §2): origin at the centre of mass projected on the table,
+Object local frame (docs/design.md §2): origin at the centre of mass projected on the table,
 x = e_n, the inward normal of the pushed face, y = e_t = e_z × e_n. In this frame the pushed
 face is the footprint's edge 0 (vertex 0 → vertex 1), a segment of the line
 ``x = -face_offset``; prongs on it sit at ``r = (-face_offset, t)`` with ``t`` in
@@ -48,7 +48,7 @@ class ObjectSpec:
             corners.
         pressure_offset: the support loads' centre of pressure ``(2,)`` [m] relative to the
             CoM, or None for the CoM itself (static equilibrium). A plant unknown of
-            DESIGN.md §9: a real object's pressure distribution on the table is uneven.
+            docs/design.md §9: a real object's pressure distribution on the table is uneven.
 
     Derived on construction (never given): ``volume`` [m³], ``inertia_z`` [kg·m²] about the
     vertical axis through the CoM, ``com_height`` [m], ``support_loads (S,)`` [N],

@@ -6,7 +6,7 @@ its slip direction (the world's slip-aligned friction box with the cross row rel
 planner evaluates this at the planned motion; the slip direction of each point is taken
 from the motion's geometric direction (dp/ds, dθ/ds), which is the limit of the velocity's
 direction as the speed goes to 0, so a plan that starts or ends at rest still knows which
-way friction will act when it moves (DESIGN.md §4).
+way friction will act when it moves (docs/design.md §4).
 """
 
 from __future__ import annotations

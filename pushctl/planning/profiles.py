@@ -2,7 +2,7 @@
 
 A profile is a map s: [0, 1] → [0, 1] of normalised time τ = t/T to the fraction of the arc
 covered, with s(0) = 0, s(1) = 1 and s'(τ) ≥ 0, so every profile shares the geometry of the
-arc and only its timing differs (DESIGN.md §4). :meth:`AngularProfile.evaluate` returns s and
+arc and only its timing differs (docs/design.md §4). :meth:`AngularProfile.evaluate` returns s and
 its first two derivatives with respect to τ, analytically; divide by T and T² for time
 derivatives.
 

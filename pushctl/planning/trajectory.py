@@ -1,4 +1,4 @@
-"""The instant-centre-of-rotation arc from a start pose to a goal pose (DESIGN.md §4).
+"""The instant-centre-of-rotation arc from a start pose to a goal pose (docs/design.md §4).
 
 For Δθ ≠ 0 the ICR is the unique point c with R(Δθ)(p0 − c) + c = p1: rotating the start
 pose by Δθ about c gives the goal, every point of the body moves on a circle about c, and

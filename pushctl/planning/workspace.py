@@ -1,11 +1,11 @@
 """Where the object starts and where the pusher has to be along a plan.
 
-Default start (documented in the README): the object sits straight in front of the arm's
+Default start (documented in docs/planning.md): the object sits straight in front of the arm's
 ready configuration, heading 0 (pushed face towards the arm), its pushed face
 ``FACE_AHEAD_OF_READY`` = 76 mm ahead of the ready prongs along +x, on the ready pusher's y.
 For the Kinova Gen2 7-DOF (ready pusher at x = 0.30 m) that puts the cube's centre of mass at
-x = 0.420 m and the wedge's at 0.4227 m, inside DESIGN.md's 0.40–0.45 m, which keeps every
-evaluation target (up to 0.25 m further) within the arm's reach.
+x = 0.420 m and the wedge's at 0.4227 m, inside the 0.40–0.45 m of docs/design.md §3, which
+keeps every evaluation target (up to 0.25 m further) within the arm's reach.
 
 During the push the pusher frame (the prongs' midpoint on the plate's front face) sits on
 the pushed face at the plan's offset δ, at the object's centre-of-mass height, x along the

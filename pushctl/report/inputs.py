@@ -1,7 +1,7 @@
 """Reading and checking the CSVs ``pushctl report`` is made from.
 
 ``IN/evaluation/trials.csv`` and ``IN/evaluation/steps.csv`` come from ``pushctl evaluate``
-and ``IN/training/curve.csv`` from ``pushctl train`` (their columns: the README's *Tables
+and ``IN/training/curve.csv`` from ``pushctl train`` (their columns: docs/evaluation.md, *Tables
 and figures* section). Every file is read whole and checked before anything is computed:
 a missing, empty or malformed file (a missing column, no data rows, a value that is not a
 number, a plant or controller name not in the interface, a duplicated row) raises

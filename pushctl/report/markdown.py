@@ -21,7 +21,7 @@ NOTES = (
     "Paper Table III was measured on the paper's **real robot** (camera poses, 50 trials per "
     "row); ours on the `sim` plant. The paper does not define its percentages; ours are the "
     "mean ‖p − p_des‖ over the push relative to the planned arc length, and the mean "
-    "|θ − θ_des| relative to |Δθ| (DESIGN.md §7).",
+    "|θ − θ_des| relative to |Δθ| (docs/design.md §7).",
     "Paper Table IV prints force in 10⁻¹ N and torque in 10⁻³ N·m; both are converted to mN "
     "and mN·m here. Its *real* columns are the real robot's internal force/torque estimates; "
     "our `proxy` plant (wider parameter ranges, latency, joint friction, a noisy 30 Hz camera) "

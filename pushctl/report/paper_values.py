@@ -7,7 +7,7 @@ What the numbers are, and why they are not ours:
 - **Table III** ("Mean tracking percentage errors for each object and angular trajectory
   over 50 real-world trials"): translation and angle error [%], PD-only and RL-assisted,
   measured **on the real robot** with a 30 Hz camera. The paper does not say what the
-  percentages are relative to; ours (DESIGN.md §7) are the mean ‖p − p_des‖ over the push
+  percentages are relative to; ours (docs/design.md §7) are the mean ‖p − p_des‖ over the push
   relative to the planned arc length, and the mean |θ − θ_des| relative to |Δθ|, on the
   ``sim`` plant.
 - **Table IV** ("Mean planar force/torque tracking errors"): printed in units of 10⁻¹ N and

@@ -48,6 +48,24 @@ TABLE4_COLUMNS: dict[str, Source] = {
 """Columns of ``table4.csv`` (force against the plant's needs and against the nominal plan
 [N], torque [N·m]) and where each comes from."""
 
+TABLE3_PROXY_COLUMNS: dict[str, Source] = {
+    f"{name}_error_{controller}": (f"{name}_error_pct", "proxy", controller)
+    for name in ("translation", "angle")
+    for controller in CONTROLLER_ORDER
+}
+"""Columns of ``table3_proxy.csv`` [%]: Table III on the reality proxy."""
+
+BEHAVIOUR_COLUMNS: dict[str, Source] = {
+    f"{metric}_{controller}_{plant}": (metric, plant, controller)
+    for metric in ("slip_fraction", "contact_loss_fraction", "gate_open_fraction")
+    for controller in CONTROLLER_ORDER
+    for plant in ("sim", "proxy")
+    if metric != "gate_open_fraction" or controller != "pd"
+}
+"""Columns of ``behaviour.csv`` [share of the push's steps]: with a slipping prong, with a
+prong out of contact, and (``feedback``, ``rl``) with the gate open, per controller and plant:
+where PD-only never slips or loses contact, a residual has little to fix (docs/design.md §6)."""
+
 
 @dataclass(frozen=True)
 class ResultTable:
@@ -139,6 +157,16 @@ def table3(trials: pd.DataFrame) -> ResultTable:
     feedback and RL-assisted, ``sim`` plant (and ``mujoco``, ``…_mujoco`` columns, if it
     was run)."""
     return summarise(trials, TABLE3_COLUMNS | _mujoco_columns(trials, TABLE3_COLUMNS))
+
+
+def table3_proxy(trials: pd.DataFrame) -> ResultTable:
+    """Table III's errors on the ``proxy`` plant: :data:`TABLE3_PROXY_COLUMNS`."""
+    return summarise(trials, TABLE3_PROXY_COLUMNS)
+
+
+def behaviour_table(trials: pd.DataFrame) -> ResultTable:
+    """Slip, contact-loss and gate-open shares per cell: :data:`BEHAVIOUR_COLUMNS`."""
+    return summarise(trials, BEHAVIOUR_COLUMNS)
 
 
 def table4(trials: pd.DataFrame) -> ResultTable:

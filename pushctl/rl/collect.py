@@ -17,12 +17,14 @@ from typing import Any
 import numpy as np
 import torch
 
+from pushctl.control.feedback import FeedbackGains
 from pushctl.control.gains import PDGains
 from pushctl.episode.metrics import compute_metrics, force_component_errors
 from pushctl.episode.trace import Trace
 from pushctl.errors import ConfigError, StateError
 from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
+from pushctl.rl.feedback_actor import FeedbackActor
 from pushctl.rl.networks import ActorPolicy
 from pushctl.rl.noise import OrnsteinUhlenbeckNoise
 from pushctl.rl.policy import pd_only_episode
@@ -39,22 +41,24 @@ CURVE_METRICS = (
     "contact_loss_fraction",
 )
 """Per-episode errors recorded for the training curves (Fig. 5): mean |ΔF_n|, |ΔF_t| [N]
-per prong and step, mean |Δτ_z| [N·m], then DESIGN.md §7's force error [N], translation and
+per prong and step, mean |Δτ_z| [N·m], then docs/design.md §7's force error [N], translation and
 angle error [%], and the shares of steps with a slipping prong and with a prong out of
-contact (DESIGN.md §6 asks for them: where PD-only never slips, the residual has little to
+contact (docs/design.md §6 asks for them: where PD-only never slips, the residual has little to
 fix)."""
 
 
 @dataclass(frozen=True)
 class Behaviour:
-    """How episode e acts: OU noise (θ, σ, dt) alone while ``warmup``, else the actor of
-    ``actor_state`` (None only in warm-up) plus that noise."""
+    """How episode e acts: while ``warmup``, OU noise (θ, σ, dt) alone, or the law of
+    ``demonstrator`` (the feedback controller's gains; None: no demonstrator) without noise;
+    else the actor of ``actor_state`` (None only in warm-up) plus the noise."""
 
     warmup: bool
     actor_state: dict[str, Any] | None
     ou_theta: float
     ou_sigma: float
     ou_dt: float
+    demonstrator: FeedbackGains | None = None
 
 
 @dataclass(frozen=True)
@@ -110,14 +114,14 @@ def collect_episodes(
         )
     draws = [episode_rngs(seed, e) for e in episodes]
     obs, _ = vector.reset(seed=[reset_seed for reset_seed, _ in draws])
-    act = _acting(behaviour, [rng for _, rng in draws])
+    act = _acting(behaviour, [rng for _, rng in draws], vector.envs)
     lengths = {env.episode.n_steps for env in vector.envs if env.episode is not None}
     if len(lengths) != 1:  # a round's pushes share EnvConfig.duration and dt
         raise StateError(f"episodes of one batch must be equally long, got {sorted(lengths)}")
-    steps = lengths.pop()
-    rows = _allocate(steps, *obs.shape)
+    decisions = -(-lengths.pop() // vector.config.action_repeat)  # step() holds an action
+    rows = _allocate(decisions, *obs.shape)
     gate_open = np.zeros(len(episodes))
-    for n in range(steps):
+    for n in range(decisions):
         action = act(obs)
         next_obs, reward, terminated, _, info = vector.step(action)
         active = info["residual_active"]
@@ -128,6 +132,7 @@ def collect_episodes(
         rows["done"][n] = terminated
         gate_open += active
         obs = next_obs
+    assert all(env.episode is not None and env.episode.done for env in vector.envs)
     seconds = (time.perf_counter() - started) / len(episodes)
     records = []
     for i, (episode, env) in enumerate(zip(episodes, vector.envs, strict=True)):
@@ -140,7 +145,7 @@ def collect_episodes(
                 transitions=transitions,
                 rl=_curve_metrics(env.episode.trace()),
                 pd=None,
-                gate_open_fraction=float(gate_open[i]) / max(steps, 1),
+                gate_open_fraction=float(gate_open[i]) / max(decisions, 1),
                 episode_return=float(transitions["reward"].sum()),
                 seconds=seconds,
             )
@@ -158,10 +163,10 @@ def pd_only_metrics(env: PushEnv, seed: int, episode: int) -> dict[str, float]:
     return _curve_metrics(pd_only_episode(env).finish())
 
 
-def _acting(behaviour: Behaviour, rngs: list[np.random.Generator]):
-    """obs (B, d) → actions (B, 3) in [−1, 1]: the OU noise alone in warm-up, else actor +
-    noise; row i's noise from ``rngs[i]`` (its episode's), so a row does not depend on the
-    others.
+def _acting(behaviour: Behaviour, rngs: list[np.random.Generator], envs: list[PushEnv]):
+    """obs (B, d) → actions (B, 3) in [−1, 1]: in warm-up the OU noise alone or the
+    demonstrator's law (on each of ``envs``' pushes, just reset), else actor + noise; row
+    i's noise from ``rngs[i]`` (its episode's), so a row does not depend on the others.
 
     Warm-up explores with the (temporally correlated) noise rather than uniform draws: a
     uniform action every 10 ms is a velocity step every step, whose force spikes are 100
@@ -169,9 +174,17 @@ def _acting(behaviour: Behaviour, rngs: list[np.random.Generator]):
     """
     b = behaviour
     noises = [OrnsteinUhlenbeckNoise(3, b.ou_theta, b.ou_sigma, b.ou_dt, rng) for rng in rngs]
-    policy = None
-    if not (b.warmup or b.actor_state is None):
-        policy = ActorPolicy.from_state(tensors(b.actor_state))
+    if b.warmup or b.actor_state is None:
+        if b.demonstrator is None:
+            return lambda obs: np.stack([noise.explore(None) for noise in noises])
+        # The law alone, no noise: the actor is cloned from these actions, and the noise,
+        # held for action_repeat steps, is a function of time that an actor seeing the phase
+        # and the forces would learn by heart from a few episodes.
+        laws = [FeedbackActor(env, b.demonstrator) for env in envs]
+        return lambda obs: np.stack(
+            [np.clip(law(row), -1.0, 1.0) for law, row in zip(laws, obs, strict=True)]
+        )
+    policy = ActorPolicy.from_state(tensors(b.actor_state))
 
     def act(obs: np.ndarray) -> np.ndarray:
         if policy is None:

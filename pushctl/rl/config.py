@@ -18,9 +18,12 @@ _NON_NEGATIVE_FLOATS = (
     "critic_grad_clip",
     "actor_final_init",
     "action_penalty",
+    "prior_weight",
 )
 _UNIT_FLOATS = ("gamma", "tau")
 _POSITIVE_INTS = ("batch_size", "buffer_size", "torch_threads")
+DEMONSTRATORS = ("none", "feedback")
+"""Who acts in the warm-up episodes: OU noise alone, or the feedback law alone."""
 
 
 @dataclass(frozen=True)
@@ -37,10 +40,11 @@ class DDPGConfig:
       ``target ← (1 − tau)·target + tau·online`` [-].
     - ``batch_size`` [256]: transitions per gradient update [transitions].
     - ``buffer_size`` [1_000_000]: replay capacity, >= ``batch_size`` [transitions].
-    - ``warmup_steps`` [10_000]: environment steps whose actions are the OU exploration
-      noise alone, before the actor acts and before any update (training's episodes,
-      :mod:`pushctl.rl.collect`, and :meth:`DDPGAgent.act`; correlated noise rather than
-      uniform draws, see :func:`pushctl.rl.collect._acting`) [env steps].
+    - ``warmup_steps`` [10_000]: environment steps (decisions) of the warm-up, before the
+      actor acts and before any update: their actions are the OU exploration noise alone
+      (correlated rather than uniform draws, see :func:`pushctl.rl.collect._acting`; the
+      same rule in :meth:`DDPGAgent.act`) or, in training with a ``demonstrator``, its law
+      [env steps].
     - ``updates_per_step`` [1.0]: gradient updates per environment step, may be fractional
       (0.1 = one update every 10 env steps) [updates/env step].
     - ``ou_theta`` [0.15]: mean-reversion rate of the Ornstein–Uhlenbeck exploration noise,
@@ -60,6 +64,20 @@ class DDPGConfig:
       where the critic's gain outweighs it, and, unlike a penalty on the action itself,
       whose gradient vanishes where the tanh saturates, it pulls a saturated actor back;
       in the critic's units (scaled reward) [-].
+    - ``demonstrator`` ["none"]: who acts in the warm-up episodes: ``none``, the OU noise
+      alone; ``feedback``, the ``feedback`` controller's law (experiments/feedback_gains.toml)
+      without noise, so the replay buffer starts with a good policy's transitions.
+    - ``imitation_updates`` [0]: when the warm-up ends, gradient steps fitting the actor to
+      the warm-up's actions (mean squared error, batches of ``batch_size``, the actor's
+      optimiser), before any DDPG update: the policy starts from the demonstrator and the
+      critic's burn-in then learns that policy's returns (demonstrations as in DDPGfD,
+      Večerík et al. 2017; 0: the actor starts at its initialisation) [updates].
+    - ``prior_weight`` [0.0]: after imitation, keep the actor near the cloned one π₀: the
+      actor's loss becomes −Q / mean|Q| + prior_weight·‖π(s) − π₀(s)‖² (+ the action
+      penalty), the critic's term normalised by its batch's mean |Q| as in TD3+BC (Fujimoto
+      & Gu, 2021), so the weight means the same whatever the reward's scale. 0: plain DDPG's
+      −Q (measured: from a cloned feedback law, plain DDPG's first few hundred actor updates
+      left pushes 20–30 % off their plan; docs/learning-the-residual.md) [-].
     - ``torch_threads`` [1]: intra-op torch threads, applied by the caller through
       :func:`pushctl.rl.ddpg.configure_torch` (process-wide, so not by the agent) [threads].
     """
@@ -81,6 +99,9 @@ class DDPGConfig:
     actor_final_init: float = 3e-3
     critic_burn_in: int = 0
     action_penalty: float = 0.0
+    demonstrator: str = "none"
+    imitation_updates: int = 0
+    prior_weight: float = 0.0
     torch_threads: int = 1
 
     def __post_init__(self) -> None:
@@ -98,7 +119,12 @@ class DDPGConfig:
             value = getattr(self, name)
             _check(name, value, _is_int(value) and value > 0, "a positive integer")
             object.__setattr__(self, name, int(value))
-        for name in ("warmup_steps", "critic_burn_in"):
+        if self.demonstrator not in DEMONSTRATORS:
+            raise ConfigError(
+                f"ddpg demonstrator must be one of {', '.join(DEMONSTRATORS)}, "
+                f"got {self.demonstrator!r}"
+            )
+        for name in ("warmup_steps", "critic_burn_in", "imitation_updates"):
             value = getattr(self, name)
             _check(name, value, _is_int(value) and value >= 0, "an integer >= 0")
             object.__setattr__(self, name, int(value))

@@ -103,6 +103,9 @@ class DDPGAgent:
         self._env_steps = 0
         self._updates = 0
         self._credit = 0
+        self._imitated = False
+        self.prior: Actor | None = None
+        """The actor as imitation left it (frozen), once :meth:`imitate` ran."""
         self._set_policy(obs_scale)
 
     @property
@@ -178,6 +181,38 @@ class DDPGAgent:
         due, self._credit = divmod(self._credit, self._credit_per_update)
         return due
 
+    @property
+    def imitation_due(self) -> bool:
+        """Whether :meth:`imitate` should run now: the config asks for it, the warm-up is
+        over and it has not run."""
+        cfg = self.config
+        return (
+            cfg.imitation_updates > 0
+            and not self._imitated
+            and self._env_steps >= cfg.warmup_steps
+            and len(self.replay) >= cfg.batch_size
+        )
+
+    def imitate(self) -> float:
+        """Fit the actor to the actions in the buffer (the warm-up's demonstrations):
+        ``imitation_updates`` Adam steps (learning rate 1e-3, its own optimiser) on the mean
+        squared error between ``actor(obs)`` and the stored action, batches of
+        ``batch_size``; then the target actor copies it. Runs once; returns the last loss."""
+        cfg = self.config
+        optim = torch.optim.Adam(self.actor.parameters(), lr=1e-3)
+        loss = torch.zeros(())
+        for _ in range(cfg.imitation_updates):
+            batch = self.replay.sample(cfg.batch_size, self._replay_rng)
+            obs = torch.from_numpy(batch["obs"]) / self._scale_t
+            loss = nn.functional.mse_loss(self.actor(obs), torch.from_numpy(batch["action"]))
+            optim.zero_grad(set_to_none=True)
+            loss.backward()
+            optim.step()
+        soft_update(self.actor_target, self.actor, 1.0)
+        self.prior = copy.deepcopy(self.actor).requires_grad_(False)
+        self._imitated = True
+        return float(loss.item())
+
     def update(self) -> dict[str, float]:
         """One gradient step of critic and actor on a sampled batch, then the target updates.
 
@@ -208,7 +243,16 @@ class DDPGAgent:
 
         if self._updates >= cfg.critic_burn_in:
             pre_tanh = self.actor.net(obs)
-            actor_loss = -self.critic(obs, torch.tanh(pre_tanh)).mean()
+            if cfg.prior_weight > 0.0 and self.prior is not None:
+                action = torch.tanh(pre_tanh)
+                q_pi = self.critic(obs, action)
+                with torch.no_grad():
+                    prior_action = self.prior(obs)
+                    q_size = q_pi.abs().mean().clamp_min(1e-6)
+                distance = (action - prior_action).square().sum(dim=1).mean()
+                actor_loss = -q_pi.mean() / q_size + cfg.prior_weight * distance
+            else:
+                actor_loss = -self.critic(obs, torch.tanh(pre_tanh)).mean()
             if cfg.action_penalty > 0.0:
                 penalty = pre_tanh.square().sum(dim=1).mean()
                 actor_loss = actor_loss + cfg.action_penalty * penalty
@@ -258,9 +302,12 @@ class DDPGAgent:
                 "env_steps": self._env_steps,
                 "updates": self._updates,
                 "credit": self._credit,
+                "imitated": self._imitated,
             },
             obs_scale=torch.tensor(self._policy.obs_scale),
         )
+        if self.prior is not None:
+            state["prior"] = {k: v.clone() for k, v in self.prior.state_dict().items()}
         return state
 
     def load_state_dict(self, state: dict[str, Any]) -> None:
@@ -288,6 +335,11 @@ class DDPGAgent:
         counters = state["counters"]
         self._env_steps, self._updates = int(counters["env_steps"]), int(counters["updates"])
         self._credit = int(counters["credit"])
+        self._imitated = bool(counters.get("imitated", False))
+        self.prior = None
+        if "prior" in state:
+            self.prior = copy.deepcopy(self.actor).requires_grad_(False)
+            self.prior.load_state_dict(state["prior"])
         self._set_policy(np.asarray(state["obs_scale"], dtype=np.float64))
 
     def _numpy_rngs(self) -> dict[str, np.random.Generator]:

@@ -1,17 +1,96 @@
 """``pushctl/Push-v0``: one randomised push as a gymnasium environment.
 
-A reset draws an object, a profile and a scenario (goal and plant parameters, DESIGN.md §6)
-from the environment's seeded ``np_random``, plans it with the nominal parameters and runs
-the approach; each step is one 10 ms push step of the PD baseline with the residual twist of
-the action taken by the config's residual path (Algorithm 1; ``reference``: integrated into
-an offset of the pusher reference), 2000 steps per episode. Observation and action: the tables of
-:mod:`pushctl.rl.spaces`. Reward: eq. 17 against the force plan recomputed with the episode's
-true (plant) parameters, which the observation never sees.
+The manual of the environment, in the layout of Gymnasium's own ``pusher_v5.py``. Numbers that
+live in code are named, not copied: the observation and action tables are generated from
+:mod:`pushctl.rl.spaces` (``python -m pushctl.rl.spaces`` prints them as Markdown; in Python
+``markdown_table(observation_entries(k))`` and ``markdown_table(ACTION_ENTRIES)``), and every
+default is a field of :class:`~pushctl.rl.env_config.EnvConfig`, whose docstring gives its unit
+and its reason. Rules behind it: docs/design.md §5–§7; a narrative with measurements:
+docs/learning.md and docs/residual-and-feedback.md.
 
-With ``plant = "proxy"`` the episodes run on the reality proxy (:mod:`pushctl.episode.proxy`):
-latency and joint friction in the world, the observation's measured contact forces are
-noisy estimates and, with ``observe_camera`` (the default), the observation's pose error and
-the gate read the 30 Hz camera (DESIGN.md §7); the reward stays exact.
+Description
+    A Kinova Gen2 arm with a k-prong pusher (default 2) pushes a cube or a wedge along a
+    planned arc (ICR arc, ``constant``/``trapezoid``/``chirp`` profile) under a joint PD
+    baseline. The agent is the *residual*: a planar pusher twist added to the baseline through
+    the config's ``residual_path`` (``reference``: integrated into an offset of the pusher
+    reference, the default; ``velocity``: added to the commanded twist, the paper's
+    Algorithm 1), and only while the gate is open. A zero action, or a shut gate, is PD-only
+    to the bit. The physics is pushctl's contact simulator (one box-friction MLCP per step),
+    or MuJoCo on the ``mujoco`` plant kind (evaluation only).
+
+Action space
+    ``Box(-1, 1, (3,), float32)``: rows :data:`pushctl.rl.spaces.ACTION_ENTRIES`
+    (``residual_x``, ``residual_y`` in the plan frame, ``residual_wz``), multiplied by
+    ``EnvConfig.action_scale_linear`` [m/s] and ``action_scale_angular`` [rad/s], rotated from
+    the plan frame (x along the push) to the world. Actions outside [−1, 1] are clipped; a
+    non-finite action or a wrong shape raises ``ConfigError``.
+
+Observation space
+    ``Box(-inf, inf, (d,), float32)`` with the rows of
+    :func:`pushctl.rl.spaces.observation_entries` for the pusher's prong count, in that order:
+    index, name, meaning, unit and the ``scale`` the learner divides by. In short: the planned
+    (nominal) prong forces of the next step, the measured prong forces of the last step, the
+    pusher's planar velocity, the object's pose error to the plan (plan frame) and the phase
+    of the push. Everything in it is deployable on a real arm: the planned forces come from the
+    nominal plan, never from the plant's parameters. On the ``proxy`` plant kind the measured
+    forces are noisy estimates and, with ``observe_camera``, the pose error reads the 30 Hz
+    camera.
+
+Rewards
+    Per step, the paper's eq. 17 plus an optional pose term, each term ≤ 0 and returned by
+    name in ``info``:
+
+    - ``reward_normal`` = −``w_normal`` · Σ_i |F_n,des,i − λ_n,i|
+    - ``reward_tangential`` = −``w_tangential`` · Σ_i |F_t,des,i − λ_t,i|
+    - ``reward_torque`` = −``w_torque`` · Σ_i |τ_z,des,i − τ_z,i|
+    - ``reward_pose`` = −``w_pose`` · (the exact pose deviation the gate measures); 0 at the
+      default ``w_pose`` = 0 (the paper's reward); the shipped presets set it.
+
+    F_des and τ_des are the force plan recomputed with the episode's *true* (plant) parameters
+    at the plan's prong offset, which the observation never sees; λ is the simulator's mean
+    contact force over the step. The reward stays exact on every plant kind.
+
+Starting state
+    ``reset(seed=…)`` seeds ``np_random``, which draws (always these three, so fixing one does
+    not shift the others) an object and a profile uniformly from ``EnvConfig.objects`` and
+    ``profiles``, and a scenario seed. The scenario (goal, plant parameters, plant unknowns)
+    is drawn from ``EnvConfig.stream`` (``training`` by default) with the ranges of
+    ``EnvConfig.plant``, redrawn until the planner accepts the goal; it is planned with the
+    nominal parameters and the arm runs the approach (a minimum-jerk move onto the pushed
+    face, not part of the episode). ``options`` (:data:`RESET_OPTIONS`) fixes the object,
+    the profile, the scenario seed, or gives a whole ``Scenario``. ``info`` at reset:
+    ``scenario``, ``goals_redrawn``, ``unknowns`` (the drawn plant unknowns, for logs only).
+
+Episode end
+    ``terminated`` after ``duration`` / ``dt`` push steps (2000 at the defaults): the phase is
+    observed, so the end is a true terminal. ``truncated`` is always False; a time limit a
+    wrapper adds is the user's. There is no early termination: a lost object ends the push
+    with large errors, as a real run would.
+
+Arguments
+    ``PushEnv(config=EnvConfig(...), gains=None)`` or ``gymnasium.make("pushctl/Push-v0",
+    config=EnvConfig(...))``. ``EnvConfig`` fields: the episode's draws (``objects``,
+    ``profiles``, ``plant``, ``stream``, ``duration``, ``dt``), the residual (``residual_path``,
+    ``action_scale_linear``, ``action_scale_angular``, ``gate_threshold``, ``gate_length``,
+    ``observe_camera``) and the reward (``w_normal``, ``w_tangential``, ``w_torque``,
+    ``w_pose``); ``EnvConfig.from_mapping`` reads the ``[env]`` table of a preset. ``gains``:
+    the PD baseline's (default ``experiments/pd_gains.toml``). Step ``info`` besides the reward
+    terms: ``residual_active`` (the gate), ``residual`` (3,) the world-frame twist applied
+    [m/s, m/s, rad/s], ``pose_deviation`` [m] the gate compared with its threshold.
+
+Version history
+    One id, ``Push-v0``, so far; behaviour changes are recorded here and in the saved settings
+    of every policy (:data:`~pushctl.rl.env_config.LEGACY_VALUES` loads an older policy with
+    the settings it was trained with).
+
+    - issue 5: the environment, eq. 17 with ``w_pose``, the gate, the ``velocity`` path.
+    - issue 6: the ``proxy`` plant kind (latency, joint friction, noisy force estimates);
+      ``advance`` for loops that only act; gate threshold raised to clear the proxy's lag.
+    - issue 16: ``residual_path`` (``reference`` the new default) and ``observe_camera``;
+      policies saved before load as ``velocity`` with the exact pose; the plant unknowns drawn
+      at reset and reported in ``info["unknowns"]``; action scale resized for the reference
+      path.
+    - issue 17: the ``mujoco`` plant kind, evaluation only (training on it is refused).
 """
 
 from __future__ import annotations
@@ -57,7 +136,9 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
     def __init__(self, config: EnvConfig | None = None, gains: PDGains | None = None) -> None:
         self.config = config or EnvConfig()
         self.gains = gains if gains is not None else load_gains()
-        self.observation_entries = observation_entries(PusherConfig().n_prongs)
+        self.observation_entries = observation_entries(
+            PusherConfig().n_prongs, reference_offset=self.config.offset_observed
+        )
         self.action_entries = ACTION_ENTRIES
         self.observation_space = gym.spaces.Box(
             -np.inf, np.inf, shape=(len(self.observation_entries),), dtype=np.float32
@@ -98,7 +179,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         self._last = self.episode.reset()
         self._error = self._pose_error(0)
         self._measured = self.episode.measured_forces(self._last.contact_forces)
-        # the plant unknowns (DESIGN.md §9) drawn for this episode, for logs: never observed
+        # the plant unknowns (docs/design.md §9) drawn for this episode, for logs: never observed
         unknowns = scenario.unknowns.as_dict(self.episode.plan.pusher.n_prongs)
         info = {"scenario": scenario, "goals_redrawn": redrawn, "unknowns": unknowns}
         return self.observation(), info
@@ -110,24 +191,30 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         action = np.asarray(action, dtype=float)
         if action.shape != (3,) or not np.all(np.isfinite(action)):
             raise ConfigError(f"action must be 3 finite numbers in [-1, 1], got {action!r}")
-        n = episode.step_index
         deviation = self._deviation()
-        residual = self.advance(action)
-        active = residual is not None
-        exact = self._error if self._exact_pose else self._pose_error(n + 1, exact=True)
-        pose_term = -self.config.w_pose * self._deviation(exact)
-        terms = (*self._reward_terms(n + 1), pose_term)
-        terminated = episode.done
+        sums = [0.0, 0.0, 0.0, 0.0]
+        first = None
+        for held in range(self.config.action_repeat):
+            n = episode.step_index
+            residual = self.advance(action)
+            if held == 0:
+                first = residual
+            exact = self._error if self._exact_pose else self._pose_error(n + 1, exact=True)
+            pose_term = -self.config.w_pose * self._deviation(exact)
+            for k, term in enumerate((*self._reward_terms(n + 1), pose_term)):
+                sums[k] += term
+            if episode.done:
+                break
         info = {
-            "reward_normal": terms[0],
-            "reward_tangential": terms[1],
-            "reward_torque": terms[2],
-            "reward_pose": terms[3],
-            "residual_active": bool(active),
-            "residual": np.zeros(3) if residual is None else residual,
+            "reward_normal": sums[0],
+            "reward_tangential": sums[1],
+            "reward_torque": sums[2],
+            "reward_pose": sums[3],
+            "residual_active": first is not None,
+            "residual": np.zeros(3) if first is None else first,
             "pose_deviation": deviation,
         }
-        return self.observation(), float(sum(terms)), terminated, False, info
+        return self.observation(), float(sum(sums)), episode.done, False, info
 
     # ------------------------------------------------------------------ acting without gym
 
@@ -165,11 +252,19 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         velocity = [c * twist[0] + s * twist[1], -s * twist[0] + c * twist[1], twist[5]]
         planned = self._plan_forces[min(n + 1, n_steps)]
         measured = self._measured  # noisy on the proxy: one draw per step, even unobserved
-        parts = (planned[:, 0], planned[:, 1], measured[:, 0], measured[:, 1])
-        observation = np.concatenate(
-            [*parts, velocity, self._error, [n / n_steps]], dtype=np.float32
-        )
-        return observation
+        parts = [
+            planned[:, 0],
+            planned[:, 1],
+            measured[:, 0],
+            measured[:, 1],
+            velocity,
+            self._error,
+        ]
+        if self.config.offset_observed:
+            offset = episode.reference_offset  # world x, y, yaw
+            parts.append([c * offset[0] + s * offset[1], -s * offset[0] + c * offset[1], offset[2]])
+        parts.append([n / n_steps])
+        return np.concatenate(parts, dtype=np.float32)
 
     # ------------------------------------------------------------------ what it exposes
 

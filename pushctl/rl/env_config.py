@@ -38,8 +38,16 @@ class EnvConfig:
         ``gate_threshold`` [m]: the residual acts only while the object's pose deviation
         from the plan, √(e_x² + e_y² + (gate_length·e_θ)²), exceeds it; ``gate_length`` [m]
         turns the angle error into a distance. ``observe_camera``: on the ``proxy`` plant the
-        observation's pose error and the gate read the 30 Hz camera (DESIGN.md §7), as a
+        observation's pose error and the gate read the 30 Hz camera (docs/design.md §7), as a
         real arm must; False reads the exact pose (how policies were trained before).
+        ``observe_offset``: on the ``reference`` path, the observation carries the offset
+        built so far (:mod:`pushctl.rl.spaces`); the policy's own integrator state, without
+        which the pose error alone cannot tell an offset still to build from one built.
+        ``action_repeat``: environment steps one action is held for (the policy decides
+        every ``action_repeat`` × ``dt``; a step() returns their summed reward). One 10 ms
+        step of the reference path moves the offset by at most 0.05 mm, an effect the
+        critic cannot tell from its own error; holding an action for 10 steps makes each
+        decision's effect ten times larger and its horizon ten times shorter.
     Reward (eq. 17)
         ``w_normal`` [1/N], ``w_tangential`` [1/N], ``w_torque`` [1/(N·m)]: per-step reward
         −Σ_i (w1 |ΔF_n,i| + w2 |ΔF_t,i| + w3 |Δτ_z,i|), dimensionless. The default w3 of
@@ -69,6 +77,8 @@ class EnvConfig:
     gate_threshold: float = 1.5e-4
     gate_length: float = 0.05
     observe_camera: bool = True
+    observe_offset: bool = True
+    action_repeat: int = 1
     w_normal: float = 1.0
     w_tangential: float = 1.0
     w_torque: float = 25.0
@@ -76,10 +86,12 @@ class EnvConfig:
 
     def __post_init__(self) -> None:
         check_residual_path(self.residual_path)
-        if not isinstance(self.observe_camera, bool):
-            raise ConfigError(
-                f"env observe_camera must be true or false, got {self.observe_camera!r}"
-            )
+        for name in ("observe_camera", "observe_offset"):
+            if not isinstance(getattr(self, name), bool):
+                raise ConfigError(f"env {name} must be true or false, got {getattr(self, name)!r}")
+        repeat = self.action_repeat
+        if isinstance(repeat, bool) or not isinstance(repeat, int) or not 1 <= repeat <= 100:
+            raise ConfigError(f"env action_repeat must be an integer in 1..100, got {repeat!r}")
         _check_choice("objects", self.objects, OBJECT_NAMES)
         _check_choice("profiles", self.profiles, PROFILE_NAMES)
         if self.plant not in PLANTS:
@@ -127,10 +139,22 @@ class EnvConfig:
             for key, value in asdict(self).items()
         }
 
+    @property
+    def offset_observed(self) -> bool:
+        """Whether the observation carries the reference offset (``observe_offset`` on the
+        ``reference`` path; the ``velocity`` path builds none)."""
+        return self.observe_offset and self.residual_path == "reference"
 
-LEGACY_VALUES: dict[str, Any] = {"residual_path": "velocity", "observe_camera": False}
+
+LEGACY_VALUES: dict[str, Any] = {
+    "residual_path": "velocity",
+    "observe_camera": False,
+    "observe_offset": False,
+    "action_repeat": 1,
+}
 """Settings of the keys added by issue 16 as every policy trained before them used them: the
-residual added to v_e, and the exact object pose in the observation and the gate."""
+residual added to v_e, the exact object pose in the observation and the gate, no offset in
+the observation, and a decision every step."""
 
 
 def _check_choice(name: str, chosen: object, accepted: tuple[str, ...]) -> None:

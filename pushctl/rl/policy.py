@@ -114,18 +114,26 @@ def finish_with_policy(env: PushEnv, actor: Callable[[np.ndarray], np.ndarray]) 
     action; a policy, or any controller of that form); return the number of steps its gate
     was open.
 
-    The same push as step() after step() with the actor's actions, but the actor, and the
-    observation it reads, run only while the gate is open: the step ignores the action
-    otherwise (:meth:`PushEnv.advance`).
+    The same push as step() after step() with the actor's actions, but the observation and
+    the actor run only where the action can matter. With ``action_repeat`` = 1, only while
+    the gate is open (the step ignores the action otherwise: :meth:`PushEnv.advance`). With
+    ``action_repeat`` = k > 1 the actor decides at every k-th step, as step() does, and its
+    action is held for the k steps (the gate may open within them).
     """
     episode = env.episode
     if episode is None:
         raise StateError("call reset() before pushing with a policy")
+    repeat = env.config.action_repeat
     opened = 0
+    held: np.ndarray | None = None
     while not episode.done:
+        if repeat > 1 and episode.step_index % repeat == 0:
+            held = actor(np.asarray(env.observation(), dtype=np.float64))
         if env.gate_open:
             opened += 1
-            env.advance(actor(np.asarray(env.observation(), dtype=np.float64)))
+            if repeat == 1:
+                held = actor(np.asarray(env.observation(), dtype=np.float64))
+            env.advance(held)
         else:
             env.advance(None)
     return opened

@@ -12,6 +12,7 @@ from typing import Any
 from pushctl.errors import ConfigError
 from pushctl.rl.config import DDPGConfig
 from pushctl.rl.env_config import EnvConfig
+from pushctl.rl.validate import SELECTION_RULES
 from pushctl.toml_files import check_keys, read_toml
 
 EXPERIMENTS = Path(__file__).resolve().parents[2] / "experiments"
@@ -32,7 +33,8 @@ class TrainConfig:
     depend on it. ``validate_every``: score the deterministic
     actor on the validation set every n-th episode and keep the best for ``policy.pt``
     (0: never; keep the last); ``validation_per_cell``: its scenarios per object × profile
-    (:mod:`pushctl.rl.validate`).
+    (:mod:`pushctl.rl.validate`); ``select_on``: what a kept actor must beat PD-only on
+    (:data:`~pushctl.rl.validate.SELECTION_RULES`).
     """
 
     episodes: int = 40
@@ -42,6 +44,7 @@ class TrainConfig:
     workers: int = 1
     validate_every: int = 0
     validation_per_cell: int = 2
+    select_on: str = "force_and_translation"
 
     def __post_init__(self) -> None:
         for name, low in (
@@ -54,6 +57,11 @@ class TrainConfig:
         ):
             _check_int(name, getattr(self, name), low)
         _check_int("workers", self.workers, 0)
+        if self.select_on not in SELECTION_RULES:
+            raise ConfigError(
+                f"train select_on must be one of {', '.join(SELECTION_RULES)}, "
+                f"got {self.select_on!r}"
+            )
         if self.workers > 8:
             raise ConfigError(f"train workers must be an integer in 0..8, got {self.workers!r}")
 

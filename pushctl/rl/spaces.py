@@ -1,6 +1,7 @@
 """The push environment's observation and action, as tables of index, name, meaning, unit and
-scale. The environment builds its vectors in this order and the README's tables are printed
-from here (``python -m pushctl.rl.spaces``), so the documentation cannot drift from the code.
+scale. The environment builds its vectors in this order and the tables of docs/learning.md
+are printed from here (``python -m pushctl.rl.spaces``), so the documentation cannot drift
+from the code.
 
 Frames: "plan frame" is the planned object frame at the current step (x along the push into
 the object, the pushed face's normal at θ = 0; y to its left), so the same correction means
@@ -25,10 +26,12 @@ class Entry:
     scale: float
 
 
-def observation_entries(n_prongs: int) -> tuple[Entry, ...]:
+def observation_entries(n_prongs: int, reference_offset: bool = False) -> tuple[Entry, ...]:
     """The observation's rows for a pusher with ``n_prongs`` prongs (all deployable: the
     planned forces come from the nominal plan, the measured ones from the contact model, or a
-    force estimate on a real arm)."""
+    force estimate on a real arm). ``reference_offset``: add the offset the ``reference``
+    residual path has built so far (the controller's own state: the actor integrates it, so
+    without it the same observation can call for opposite corrections)."""
     forces = (
         ("force_n_des", "planned normal force", "next step"),
         ("force_t_des", "planned tangential force", "next step"),
@@ -47,8 +50,14 @@ def observation_entries(n_prongs: int) -> tuple[Entry, ...]:
         Entry("error_x", "planned minus actual object position, plan frame x", "m", 1e-4),
         Entry("error_y", "planned minus actual object position, plan frame y", "m", 1e-4),
         Entry("error_theta", "planned minus actual object heading", "rad", 2e-3),
-        Entry("phase", "push steps taken / push steps (0 … 1)", "1", 1.0),
     ]
+    if reference_offset:
+        rows += [
+            Entry("offset_x", "pusher reference offset built so far, plan frame x", "m", 1e-3),
+            Entry("offset_y", "pusher reference offset built so far, plan frame y", "m", 1e-3),
+            Entry("offset_theta", "pusher reference yaw offset built so far", "rad", 2e-2),
+        ]
+    rows.append(Entry("phase", "push steps taken / push steps (0 … 1)", "1", 1.0))
     return tuple(rows)
 
 
@@ -83,6 +92,6 @@ def markdown_table(entries: tuple[Entry, ...]) -> str:
 
 
 if __name__ == "__main__":
-    print(markdown_table(observation_entries(2)))
+    print(markdown_table(observation_entries(2, reference_offset=True)))
     print()
     print(markdown_table(ACTION_ENTRIES))

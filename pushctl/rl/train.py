@@ -31,6 +31,7 @@ from typing import Any
 import pandas as pd
 import torch
 
+from pushctl.control.feedback import load_feedback_gains
 from pushctl.control.gains import PDGains, load_gains
 from pushctl.errors import ConfigError
 from pushctl.provenance import write_csv
@@ -80,7 +81,11 @@ class Trainer:
 
     def __init__(self, preset: Preset, seed: int, out: Path, gains: PDGains) -> None:
         self.preset, self.seed, self.out, self.gains = preset, seed, out, gains
-        entries = observation_entries(n_prongs=2)
+        self._demonstrator = (
+            load_feedback_gains() if preset.ddpg.demonstrator == "feedback" else None
+        )
+        """The warm-up's demonstrator: the feedback controller's gains (DDPGConfig)."""
+        entries = observation_entries(2, reference_offset=preset.env.offset_observed)
         self.agent = DDPGAgent(len(entries), 3, preset.ddpg, seed, obs_scale=scales(entries))
         self.next_episode = 0
         self.pending_updates = 0
@@ -216,12 +221,14 @@ class Trainer:
             ou_theta=config.ou_theta,
             ou_sigma=config.ou_sigma,
             ou_dt=config.ou_dt,
+            demonstrator=self._demonstrator if warmup else None,
         )
 
     @property
     def _steps_per_episode(self) -> int:
+        """Transitions per episode: one per decision (every ``action_repeat`` steps)."""
         env = self.preset.env
-        return round(env.duration / env.dt)
+        return -(-round(env.duration / env.dt) // env.action_repeat)
 
     def _validate_due(self, episode: int) -> bool:
         """A positive multiple of ``validate_every`` not yet validated. Episode 0's actor is
@@ -254,7 +261,9 @@ class Trainer:
         validation set, spread over the collectors."""
         if self._validator is None:
             train = self.preset.train
-            self._validator = Validator(self.preset.env, self.gains, train.validation_per_cell)
+            self._validator = Validator(
+                self.preset.env, self.gains, train.validation_per_cell, rule=train.select_on
+            )
         actor = self.agent.actor_state()
         chunks = self._validator.chunks(3 * max(1, self.collectors))
         futures = [collector.validate(portable(actor), chunk) for chunk in chunks]
@@ -279,6 +288,8 @@ class Trainer:
                 "pd_force_error": result.pd_force_error,
                 "translation_error_pct": result.translation_error_pct,
                 "pd_translation_error_pct": result.pd_translation_error_pct,
+                "angle_error_pct": result.angle_error_pct,
+                "pd_angle_error_pct": result.pd_angle_error_pct,
                 "score": result.score,
                 "kept": kept,
             }
@@ -293,6 +304,8 @@ class Trainer:
         return episode % self.preset.train.pd_every == 0
 
     def _do_pending_updates(self) -> None:
+        if self.agent.imitation_due:  # the warm-up's demonstrations, once, before any update
+            self.agent.imitate()
         for _ in range(self.pending_updates):
             self.agent.update()
         self.pending_updates = 0

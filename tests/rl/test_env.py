@@ -22,7 +22,7 @@ from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.policy import finish_with_policy
 from pushctl.rl.spaces import ACTION_ENTRIES, index, markdown_table, observation_entries
 
-README = Path(__file__).resolve().parents[2] / "README.md"
+LEARNING_PAGE = Path(__file__).resolve().parents[2] / "docs" / "learning.md"
 SHORT = EnvConfig(duration=2.0)  # 200 push steps (shorter chirps can need a pull)
 OPTIONS = {"object": "wedge", "profile": "trapezoid", "scenario_seed": 3}
 
@@ -293,7 +293,7 @@ def test_env_config_round_trips_through_a_mapping() -> None:
     assert EnvConfig.from_mapping(config.to_dict()) == config
 
 
-def test_the_readme_tables_are_the_code_tables() -> None:
-    text = README.read_text()
-    assert markdown_table(observation_entries(2)) in text
+def test_the_docs_tables_are_the_code_tables() -> None:
+    text = LEARNING_PAGE.read_text()
+    assert markdown_table(observation_entries(2, reference_offset=True)) in text
     assert markdown_table(ACTION_ENTRIES) in text

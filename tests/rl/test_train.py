@@ -139,7 +139,7 @@ def test_resuming_a_finished_run_changes_nothing(straight: Trainer, tmp_path: Pa
     after = {path.name: path.read_bytes() for path in run.iterdir() if path.suffix == ".csv"}
     assert after == before
     _assert_same_weights(_weights(resumed), _weights(straight))
-    obs = np.linspace(-1.0, 1.0, 15)
+    obs = np.linspace(-1.0, 1.0, load_policy(run / POLICY).actor.actor.obs_dim)
     expected = load_policy(straight.out / POLICY).actor(obs)
     np.testing.assert_array_equal(load_policy(run / POLICY).actor(obs), expected)
 
@@ -172,7 +172,7 @@ def test_rounds_of_episodes_give_the_same_run_with_any_number_of_collectors(
 
 def test_the_last_policy_file_holds_the_trained_actor(straight: Trainer) -> None:
     policy = load_policy(straight.out / LAST_POLICY)
-    obs = np.linspace(-1.0, 1.0, 15)
+    obs = np.linspace(-1.0, 1.0, 18)
     np.testing.assert_array_equal(policy.actor(obs), straight.agent.policy_action(obs))
     assert policy.env == straight.preset.env
 
@@ -191,7 +191,7 @@ def test_validation_keeps_the_best_actor_that_beats_pd_on_both_errors(straight: 
     # PD-only is the same validation set every time.
     assert table["pd_force_error"].nunique() == 1
     chosen = load_policy(straight.out / POLICY)
-    obs = np.linspace(-1.0, 1.0, 15)
+    obs = np.linspace(-1.0, 1.0, 18)
     from pushctl.rl.networks import ActorPolicy
 
     if any(kept):

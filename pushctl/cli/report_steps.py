@@ -1,5 +1,5 @@
 """``pushctl report``: Tables III and IV, ``tables.md`` and Figs. 5, 6 and 8 from a results
-directory. Registered on the app in :mod:`pushctl.cli`.
+directory. The command is :mod:`pushctl.cli.report`.
 
 Every input is read and checked, both tables computed and all three figures rendered to
 PNG bytes before the first file is written; the files are then written each to a temporary
@@ -27,12 +27,14 @@ from pushctl.report.figures import (
 )
 from pushctl.report.inputs import ResultsTable, read_report_inputs, summary
 from pushctl.report.markdown import tables_markdown
-from pushctl.report.seeds import seed_tables
-from pushctl.report.tables import ResultTable
+from pushctl.report.seeds import across_seeds, seed_tables
+from pushctl.report.tables import ResultTable, behaviour_table, table3_proxy
 
 TABLE3_FILE = "table3.csv"
 TABLE4_FILE = "table4.csv"
 SEEDS_FILE = "table3_seeds.csv"
+TABLE3_PROXY_FILE = "table3_proxy.csv"
+BEHAVIOUR_FILE = "behaviour.csv"
 """Each training seed's own Table III means and RL/PD, RL/feedback ratios per cell."""
 MARKDOWN_FILE = "tables.md"
 FIG5_FILE = "fig5_training.png"
@@ -54,11 +56,15 @@ class Report:
     per_seed: pd.DataFrame | None = None
     """``table3_seeds.csv`` (:func:`~pushctl.report.seeds.seed_ratios`), written only when
     the trials hold several training seeds."""
+    more: dict[str, ResultTable] | None = None
+    """``table3_proxy.csv`` (Table III on the proxy, RL across seeds as Table III) and
+    ``behaviour.csv`` (slip, contact-loss and gate-open shares), by file name."""
 
     @property
     def files(self) -> list[str]:
         seeds = [SEEDS_FILE] if self.per_seed is not None else []
-        return [TABLE3_FILE, TABLE4_FILE, *seeds, MARKDOWN_FILE, *self.figures]
+        more = list(self.more or {})
+        return [TABLE3_FILE, TABLE4_FILE, *more, *seeds, MARKDOWN_FILE, *self.figures]
 
 
 def _source(table: ResultsTable) -> str:
@@ -98,6 +104,14 @@ def make_report(in_dir: Path, command: str) -> Report:
         markdown=markdown,
         figures=figures,
         per_seed=seeds.per_seed if seeds.several else None,  # one seed: as before
+        more={
+            TABLE3_PROXY_FILE: (
+                across_seeds(inputs.trials.frame, table3_proxy, seeds.seeds)
+                if seeds.several
+                else table3_proxy(inputs.trials.frame)
+            ),
+            BEHAVIOUR_FILE: behaviour_table(inputs.trials.frame),
+        },
     )
 
 
@@ -122,7 +136,17 @@ def check_out_dir(out_dir: Path) -> None:
 def report_paths(out_dir: Path) -> list[Path]:
     """Every file ``pushctl report`` writes into ``out_dir`` (its results directory also
     holds its inputs, so the check is per file, not on the directory)."""
-    names = (TABLE3_FILE, TABLE4_FILE, SEEDS_FILE, MARKDOWN_FILE, FIG5_FILE, FIG6_FILE, FIG8_FILE)
+    names = (
+        TABLE3_FILE,
+        TABLE4_FILE,
+        TABLE3_PROXY_FILE,
+        BEHAVIOUR_FILE,
+        SEEDS_FILE,
+        MARKDOWN_FILE,
+        FIG5_FILE,
+        FIG6_FILE,
+        FIG8_FILE,
+    )
     return [out_dir / name for name in names]
 
 
@@ -131,7 +155,8 @@ def write_report(report: Report, out_dir: Path) -> list[Path]:
     check_out_dir(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     steps: list[Callable[[Callable[[], None]], None]] = []
-    for name, table in ((TABLE3_FILE, report.table3), (TABLE4_FILE, report.table4)):
+    tables = [(TABLE3_FILE, report.table3), (TABLE4_FILE, report.table4)]
+    for name, table in [*tables, *(report.more or {}).items()]:
         steps.append(_csv_step(out_dir / name, table.values, report.table_provenance))
     if report.per_seed is not None:
         steps.append(_csv_step(out_dir / SEEDS_FILE, report.per_seed, report.table_provenance))

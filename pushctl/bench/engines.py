@@ -1,11 +1,11 @@
 """``make bench``, engines side by side: our world and the MuJoCo world on the same scenes.
 
-Part of :mod:`pushctl.bench`. Three scenes, each built once per engine: the arm pushing the
+Part of :mod:`pushctl.bench.suite`. Three scenes, each built once per engine: the arm pushing the
 cube at 1 cm/s (``world.step`` alone timed), a closed-loop PD push step (``Episode.step``:
 controller and world), and the cube alone sliding. The process is pinned to one core while it
 runs, the engines alternate in blocks of :data:`BLOCK` steps (so both see the same machine
 load), and each figure is the median of the single-step times; the rows give both medians
-and their ratio ours / mujoco. Run alone: ``python -m pushctl.bench_engines``.
+and their ratio ours / mujoco. Run alone: ``python -m pushctl.bench.engines``.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """``make bench``, closed loop: wall time of PD episodes and where a control step's time goes.
 
-Part of :mod:`pushctl.bench`. The episode is the README's example push (cube and wedge,
+Part of :mod:`pushctl.bench.suite`. The episode is the README's example push (cube and wedge,
 chirp, to (0.62, 0.03, 30 deg)) with the shipped gains; times are medians over repeats on
 one core, after one warm-up episode (numba's compiled kernels load from the disk cache).
 """

@@ -1,13 +1,13 @@
 """``make bench``'s side-by-side timing: this tree against a reference commit, in one run.
 
-Run as ``python -m pushctl.bench_compare [--against 551bcac] [--repeats 5] [--out FILE]
+Run as ``python -m pushctl.bench.compare [--against 551bcac] [--repeats 5] [--out FILE]
 [--force]``. Timings on a shared machine drift by tens of percent from minute to minute, so
 a speed claim is a ratio measured side by side: the reference commit's ``pushctl/`` (and
 ``experiments/``) is unpacked with ``git archive`` into a temporary directory, and each
 repeat runs one fresh child process per tree, alternating which goes first, pinned to one
 core (``taskset -c 0`` where it exists). Each child times, on the same inputs:
 
-- ``world step``: the arm pushing the cube at 1 cm/s (:func:`pushctl.bench._pushing_world`),
+- ``world step``: the arm pushing the cube at 1 cm/s (:func:`pushctl.bench.suite._pushing_world`),
   median of 2000 steps [µs];
 - ``cold MLCP``: ``solve_box_mlcp`` on the cold-path problems (the warm active set failed)
   recorded from random-action ``Push-v0`` steps in this tree, median over problems of each
@@ -58,7 +58,10 @@ METRICS = (
 _CHILD = r"""
 import json, pickle, statistics, sys, time
 import numpy as np
-from pushctl.bench import _pushing_world
+try:  # the reference tree may predate pushctl/bench/ (a module then)
+    from pushctl.bench.suite import _pushing_world
+except ImportError:
+    from pushctl.bench import _pushing_world
 from pushctl.contact.mlcp import solve_box_mlcp
 from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
@@ -116,7 +119,7 @@ def record_cold_problems(steps: int = 1500, seed: int = 0) -> list[tuple]:
     """The MLCPs that reached :func:`solve_box_mlcp` (the compiled warm step had failed)
     during ``steps`` random-action ``Push-v0`` steps of this tree: (D, b, lo, hi, findex, mu,
     warm_start) each."""
-    import pushctl.contact.world as world_module
+    import pushctl.contact.substep as world_module  # where the world step calls the solver
     from pushctl.rl.env import PushEnv
     from pushctl.rl.env_config import EnvConfig
 
@@ -217,7 +220,9 @@ def compare(against: str, repeats: int) -> tuple[pd.DataFrame, int]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(
+        prog="python -m pushctl.bench.compare", description=__doc__.splitlines()[0]
+    )
     parser.add_argument("--against", default=REFERENCE, help="reference commit (git)")
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--out", type=Path, default=None, help="also write the table as CSV")

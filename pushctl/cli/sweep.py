@@ -9,7 +9,10 @@ from typing import Annotated
 
 import typer
 
+app = typer.Typer()
 
+
+@app.command()
 def sweep(
     ctx: typer.Context,
     config: Annotated[Path, typer.Argument(help="sweep file (see experiments/sweep_gate.toml)")],
@@ -25,8 +28,8 @@ def sweep(
 ) -> None:
     """Train every configuration of a sweep file × its seeds (one Ray task each), score each
     run's policy on the validation set, and write trials.csv, summary.csv and sweep.png."""
-    from pushctl.cli import _fail, _fail_write, _invocation, console, error_console
-    from pushctl.cli_seeds import run_jobs_with_progress
+    from pushctl.cli.common import console, error_console, fail, fail_write, invocation
+    from pushctl.cli.train_seeds import run_jobs_with_progress
     from pushctl.distributed.sweep import gather, score_policy, sweep_jobs
     from pushctl.distributed.sweep_config import read_sweep
     from pushctl.errors import ConfigError, PushctlError
@@ -42,20 +45,20 @@ def sweep(
                 f"{directory} already holds a sweep; pass --resume to continue it "
                 "or choose another --out"
             )
-        made_by = provenance_line(_invocation(ctx).replace(" config ", " ", 1))
+        made_by = provenance_line(invocation(ctx).replace(" config ", " ", 1))
         jobs = sweep_jobs(chosen, directory, made_by)
         results = run_jobs_with_progress(jobs, address, console, finish=score_policy)
         result = gather(chosen, results)
         written = write_sweep(directory, result, made_by)
     except PushctlError as error:
-        _fail(error)
+        fail(error)
     except KeyboardInterrupt:
         error_console.print(
             f"interrupted: `pushctl sweep {config} --resume --out {directory}` continues"
         )
         raise typer.Exit(code=130) from None
     except OSError as error:
-        _fail_write(error)
+        fail_write(error)
     console.print(summary_table(result))
     for path in written:
         console.print(f"wrote {path}")

@@ -1,5 +1,6 @@
 """``pushctl simulate`` and ``pushctl tune-pd``: scenario from options, tables for the
-terminal. Registered on the app in :mod:`pushctl.cli`."""
+terminal. The commands are in
+:mod:`pushctl.cli.simulate` and :mod:`pushctl.cli.tune_pd`."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ from pathlib import Path
 
 from rich.table import Table
 
+from pushctl.config import PusherConfig
 from pushctl.control.gains import PDGains, gains_toml
 from pushctl.episode.draw import draw_scenario
 from pushctl.episode.metrics import METRIC_UNITS, EpisodeMetrics
@@ -76,6 +78,16 @@ def push(
     return env.episode.trace(), env.plan
 
 
+def check_pusher(pusher: PusherConfig | None, controller: str) -> None:
+    """ConfigError for ``rl`` with a pusher other than the paper's: a policy is trained
+    for one pusher (its observation has a row per prong)."""
+    if pusher is not None and controller == "rl" and pusher != PusherConfig():
+        raise ConfigError(
+            "--pusher runs with --controller pd or feedback: the policy was trained for "
+            "the paper's two-prong pusher"
+        )
+
+
 def check_plant(name: str) -> None:
     if name not in PLANTS:
         raise ConfigError(f"unknown plant {name!r}; accepted: {', '.join(PLANTS)}")
@@ -96,12 +108,14 @@ def simulate_scenario(
     duration: float,
     arm: str,
     plant: str = "sim",
+    pusher: PusherConfig | None = None,
 ) -> tuple[Scenario, int]:
     """The scenario ``pushctl simulate`` runs and the goals redrawn to find it.
 
     The goal is ``goal`` if given, else drawn from ``seed`` (evaluation stream). With
     ``randomize`` the plant is drawn from ``plant``'s ranges of ``seed`` (mujoco: sim's).
     ``overrides`` (mu_ground, mu_contact, object_mass; None = keep) then set plant values by hand.
+    ``pusher``: the scenario's plate and prongs (None: the paper's).
     """
     check_profile(profile)
     if goal is None and seed is None:
@@ -118,6 +132,7 @@ def simulate_scenario(
             plant=plant if randomize else None,
             duration=duration,
             arm=arm,
+            pusher=pusher,
         )
         if goal is not None:
             scenario = replace(scenario, goal=PlanarPose.from_array(goal))
@@ -130,6 +145,7 @@ def simulate_scenario(
             goal=PlanarPose.from_array(goal),
             duration=duration,
             arm=arm,
+            pusher=pusher,
         )
     given = {key: value for key, value in overrides.items() if value is not None}
     if given:
@@ -167,7 +183,7 @@ def scenario_table(scenario: Scenario, start: PlanarPose, redrawn: int) -> Table
 
 
 def _unknowns_text(unknowns: PlantUnknowns) -> str:
-    """The drawn plant unknowns in mm, deg and percent (DESIGN.md §9)."""
+    """The drawn plant unknowns in mm, deg and percent (docs/design.md §9)."""
     along, across, turn = unknowns.placement
     prongs = ", ".join(f"({1e3 * a:+.2f}, {1e3 * b:+.2f})" for a, b in unknowns.prong_errors[:2])
     pressure_n, pressure_t = unknowns.pressure_offset
@@ -196,7 +212,7 @@ _LABELS = {
 
 
 def metrics_table(metrics: EpisodeMetrics, title: str = "metrics (push phase)") -> Table:
-    """DESIGN.md §7's metrics and the extra diagnostics, with units."""
+    """docs/design.md §7's metrics and the extra diagnostics, with units."""
     table = Table(title=title)
     table.add_column("metric")
     table.add_column("value", justify="right")
@@ -251,5 +267,5 @@ def tuning_record(
         ],
     }
     header = provenance_line(command).removeprefix("# ")
-    header += "\nPD gains of the baseline (DESIGN.md §5). Regenerate with the command above."
+    header += "\nPD gains of the baseline (docs/design.md §5). Regenerate with the command above."
     return gains_toml(best.gains, header, search)

@@ -19,6 +19,7 @@ from rich.progress import (
 )
 from rich.table import Table
 
+from pushctl.arm.pusher_file import resolve_pusher
 from pushctl.control.feedback import load_feedback_gains
 from pushctl.episode.ranges import DEFAULT_PLANTS, PLANTS
 from pushctl.errors import ConfigError
@@ -53,12 +54,17 @@ push steps with a prong slipping, with a prong out of contact)."""
 
 
 def choose(option: str, value: str, names: tuple[str, ...], every: str) -> tuple[str, ...]:
-    """The names ``value`` selects: one of ``names``, or all of them for ``every``."""
+    """The names ``value`` selects: one of ``names``, several comma-separated (in the order
+    given; ``pd,feedback``), or all of them for ``every``."""
     if value == every:
         return names
-    if value not in names:
-        raise ConfigError(f"unknown {option} {value!r}; accepted: {', '.join(names)} or {every}")
-    return (value,)
+    chosen = tuple(value.split(","))
+    if not all(name in names for name in chosen):
+        raise ConfigError(
+            f"unknown {option} {value!r}; accepted: {', '.join(names)} or {every} "
+            "(or several, comma-separated)"
+        )
+    return chosen
 
 
 def choose_plants(value: str) -> tuple[str, ...]:
@@ -82,19 +88,28 @@ def prepare(
     seed: int,
     workers: int,
     out: Path,
+    pusher: Path | None = None,
+    stream: str = "evaluation",
 ) -> tuple[TrialSpec, TrainedPolicy | list[TrainedPolicy] | None, Path | list[Path]]:
     """The trial spec, the policy (None when RL does not run: PD-only and feedback need no
     file) and its path, from the options; ConfigError (one line) for anything that cannot run
     or whose results could not be written. Nothing is written. Several ``--policy`` paths
     (a list of two or more) give a list of policies and of paths, checked by
     :func:`~pushctl.evaluation.evaluate.policy_seeds`."""
+    objects = (
+        (object_name,)
+        if object_name.lower().endswith(".toml")  # a TOML object file (TrialSpec reads it)
+        else choose("--object", object_name, OBJECT_NAMES, "all")
+    )
     spec = TrialSpec(
-        objects=choose("--object", object_name, OBJECT_NAMES, "all"),
+        objects=objects,
         profiles=choose("--profile", profile, PROFILE_NAMES, "all"),
         plants=choose_plants(plant),
         controllers=choose("--controller", controller, CONTROLLERS, "all"),
         trials=trials,
         seed=seed,
+        pusher=resolve_pusher(pusher),
+        stream=stream,
     )
     check_workers(workers)
     check_out(out)

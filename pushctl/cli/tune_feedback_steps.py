@@ -1,5 +1,5 @@
 """``pushctl tune-feedback``: the search of :mod:`pushctl.evaluation.tune_feedback` with a
-status line, its table, and the gains file's text. Registered on the app in :mod:`pushctl.cli`."""
+status line, its table, and the gains file's text. The command: :mod:`pushctl.cli.tune_feedback`."""
 
 from __future__ import annotations
 
@@ -64,7 +64,9 @@ def run_search(
         "gate_length": config.gate_length,
     }
     header = provenance_line(command).removeprefix("# ")
-    header += "\nGains of the feedback baseline (DESIGN.md §5). Regenerate with the command above."
+    header += (
+        "\nGains of the feedback baseline (docs/design.md §5). Regenerate with the command above."
+    )
     text = feedback_toml(best, pd_only, candidates, search, header, base.contact_force)
     return (out if out is not None else DEFAULT_FEEDBACK_FILE), text, _table(candidates, pd_only)
 

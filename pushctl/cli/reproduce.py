@@ -1,6 +1,6 @@
 """``make reproduce-tables``: train, evaluate, report (and bench), timed, with a manifest.
 
-Run as ``python -m pushctl.reproduce [--quick]``. Each step is the ``pushctl`` command a
+Run as ``python -m pushctl.cli.reproduce [--quick]``. Each step is the ``pushctl`` command a
 user would type, run as a subprocess with its own output on the terminal:
 
 1. ``pushctl train --preset paper --seeds 0,1,2 --out runs/paper``: one Ray task per seed
@@ -231,7 +231,7 @@ def write_manifest(
         f"# How `{setup.results}/` was made",
         "",
         f"- command: `make reproduce-tables{' QUICK=1' if quick else ''}` "
-        f"(`python -m pushctl.reproduce{' --quick' if quick else ''}`)",
+        f"(`python -m pushctl.cli.reproduce{' --quick' if quick else ''}`)",
         f"- pushctl {pushctl.__version__}, commit {git_commit()}",
         f"- seeds: training {','.join(map(str, setup.seeds))} (training stream; "
         f"`{setup.results}/training/seed-K/`), evaluation {SEED} (evaluation stream) of "
@@ -355,14 +355,19 @@ def _minutes(seconds: float) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m pushctl.reproduce")
+    parser = argparse.ArgumentParser(prog="python -m pushctl.cli.reproduce")
     parser.add_argument("--quick", action="store_true", help="quick preset, few trials")
     parser.add_argument(
         "--force", action="store_true", help="overwrite a results directory it did not make"
     )
     parser.add_argument("--seeds", default=None, help="training seeds, e.g. 0,1,2 or 0-2 or 0")
+    parser.add_argument(
+        "--preset", default=None, help="training preset (default: paper; quick with --quick)"
+    )
     args = parser.parse_args(argv)
     setup = QUICK if args.quick else FULL
+    if args.preset is not None:  # its own run directory: runs of two presets never mix
+        setup = replace(setup, preset=args.preset, run=Path("runs") / Path(args.preset).stem)
     if args.force:
         setup = replace(setup, force=True)
     if args.seeds is not None:

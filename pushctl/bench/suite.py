@@ -5,8 +5,8 @@ file is overwritten only with ``--force``; ``make bench`` passes it). Each figur
 many calls of one operation on one core (this is a single-threaded process), in µs (plans:
 seconds); the CSV
 records how it was made (command, version, git commit, date, machine). The closed-loop rows
-come from :mod:`pushctl.bench_episode`, the learning rows from :mod:`pushctl.bench_rl`, the
-two engines side by side from :mod:`pushctl.bench_engines`.
+come from :mod:`pushctl.bench.episode`, the learning rows from :mod:`pushctl.bench.rl`, the
+two engines side by side from :mod:`pushctl.bench.engines`.
 """
 
 from __future__ import annotations
@@ -29,9 +29,9 @@ from rich.console import Console
 from rich.table import Table
 
 import pushctl
-from pushctl.bench_engines import engine_rows
-from pushctl.bench_episode import episode_rows, profile_episode
-from pushctl.bench_rl import rl_rows
+from pushctl.bench.engines import engine_rows
+from pushctl.bench.episode import episode_rows, profile_episode
+from pushctl.bench.rl import rl_rows
 from pushctl.contact.world import World
 from pushctl.errors import ConfigError
 from pushctl.output_guard import refuse_existing_files
@@ -191,7 +191,7 @@ def run_benchmarks(repeats: int = 2000) -> list[dict[str, Any]]:
     )
     rows.extend(plan_rows())
     rows.extend(episode_rows())
-    rows.extend(engine_rows())  # ours and MuJoCo side by side (pushctl/bench_engines.py)
+    rows.extend(engine_rows())  # ours and MuJoCo side by side (pushctl/bench/engines.py)
     rows.extend(rl_rows())
     return rows
 
@@ -251,7 +251,9 @@ def plan_rows(repeats: int = 7) -> list[dict[str, Any]]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(
+        prog="python -m pushctl.bench", description=__doc__.splitlines()[0]
+    )
     parser.add_argument("--out", type=Path, default=Path("results/bench.csv"))
     parser.add_argument("--repeats", type=int, default=2000)
     parser.add_argument(

@@ -1,0 +1,5 @@
+"""``python -m pushctl.cli``: the ``pushctl`` command (as the console script)."""
+
+from pushctl.cli import app
+
+app(prog_name="pushctl")

@@ -1,0 +1,117 @@
+"""What every ``pushctl`` command shares: the consoles, the one-line failure, the
+provenance of the running command, atomic writes of its outputs, and the parsing of poses
+and output paths. Light on purpose: ``pushctl --help`` imports it and nothing of the core."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import NoReturn
+
+import typer
+from rich.console import Console
+
+from pushctl.errors import ConfigError, PushctlError
+
+console = Console()
+error_console = Console(stderr=True, soft_wrap=True)
+FORCE_HELP = "overwrite existing results in the output path"
+OBJECT_HELP = "cube, wedge, or a TOML object file (e.g. experiments/objects/hexagon.toml)"
+ARM_HELP = "kinova-gen2-7dof, kinova-j2s6s200 or panda"
+PUSHER_HELP = (
+    "pusher file: k = 1-4 prongs, spacing, plate, mass (experiments/pushers/*.toml); "
+    "default: the paper's two-prong plate"
+)
+
+
+def fail(error: PushctlError) -> NoReturn:
+    """One line on stderr, exit code 2, no traceback."""
+    error_console.print(f"error: {error}", markup=False, highlight=False)
+    raise typer.Exit(code=2)
+
+
+def fail_write(error: OSError) -> NoReturn:
+    """:func:`fail` for a file that could not be written."""
+    fail(PushctlError(f"cannot write {error.filename}: {error.strerror}"))
+
+
+POSE_FORMAT = "x,y,theta_deg (metres, metres, degrees), e.g. 0.62,0.03,30"
+PLOT_SUFFIXES = (".png", ".pdf", ".svg")
+
+
+def parse_pose(option: str, text: str) -> tuple[float, float, float]:
+    """``"x,y,theta_deg"`` → (x [m], y [m], θ [rad]); ConfigError naming ``option``."""
+    parts = text.replace(" ", "").split(",")
+    try:
+        x, y, theta_deg = (float(part) for part in parts)
+    except ValueError:
+        raise ConfigError(f"{option} must be {POSE_FORMAT}; got {text!r}") from None
+    if not all(math.isfinite(v) for v in (x, y, theta_deg)):
+        raise ConfigError(f"{option} must be finite numbers {POSE_FORMAT}; got {text!r}")
+    return x, y, math.radians(theta_deg)
+
+
+def check_output(option: str, path: Path | None, suffixes: tuple[str, ...]) -> None:
+    """ConfigError unless ``path`` can be written: existing directory, accepted suffix."""
+    if path is None:
+        return
+    if path.suffix.lower() not in suffixes:
+        raise ConfigError(f"{option} must end in {', '.join(suffixes)}; got {str(path)!r}")
+    if not path.parent.is_dir():
+        raise ConfigError(f"{option}: directory {str(path.parent)!r} does not exist")
+    if path.is_dir():
+        raise ConfigError(f"{option}: {str(path)!r} is a directory, expected a file name")
+
+
+def write_text(path: Path, text: str) -> None:
+    from pushctl.provenance import write_atomic
+
+    def write(tmp: Path) -> None:
+        tmp.write_text(text)
+
+    try:
+        write_atomic(path, write)
+    except OSError as error:
+        fail_write(error)
+    console.print(f"wrote {path}")
+
+
+def write_outputs(
+    command: str, out: Path | None, frame, plot: Path | None, figure, extra: str
+) -> None:
+    """The figure, then the CSV (under its provenance line), each written atomically; the
+    CSV's temporary file is renamed only once the figure is in place, so a failure leaves
+    either both new files or no new CSV."""
+    from pushctl.provenance import provenance_line, write_atomic, write_csv
+
+    def save_figure() -> None:
+        if plot is not None and figure is not None:
+            write_atomic(plot, lambda tmp: figure.savefig(tmp, format=plot.suffix[1:], dpi=150))
+            console.print(f"wrote {plot}")
+
+    try:
+        if out is not None and frame is not None:
+            write_csv(out, frame, provenance_line(command, extra), before_rename=save_figure)
+            console.print(f"wrote {out}")
+        else:
+            save_figure()
+    except OSError as error:
+        fail_write(error)
+
+
+def invocation(context: typer.Context) -> str:
+    """The running command with every option's effective value (defaults included, unset
+    options left out), for provenance lines: ``pushctl simulate --object cube …``."""
+    import shlex
+
+    parts = ["pushctl", context.info_name or ""]
+    for param in context.command.params:
+        value = context.params.get(param.name or "")
+        # --force changes no byte of the results, so the files do not record it either
+        if value is None or value is False or not param.opts or param.name == "force":
+            continue
+        if isinstance(value, (list, tuple)):  # a repeated option (evaluate's --policy)
+            parts += [part for one in value for part in (param.opts[0], str(one))]
+            continue
+        parts += [param.opts[0]] if value is True else [param.opts[0], str(value)]
+    return shlex.join(parts)

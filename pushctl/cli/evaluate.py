@@ -1,0 +1,123 @@
+"""``pushctl evaluate``: paired trials of the controllers on held-out scenarios; its
+steps are in :mod:`pushctl.cli.evaluate_steps`."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from pushctl.cli.common import (
+    FORCE_HELP,
+    PUSHER_HELP,
+    console,
+    error_console,
+    fail,
+    fail_write,
+    invocation,
+)
+from pushctl.errors import PushctlError
+from pushctl.output_guard import refuse_occupied_dir
+
+app = typer.Typer()
+
+
+@app.command()
+def evaluate(
+    ctx: typer.Context,
+    object_name: Annotated[
+        str, typer.Option("--object", help="cube, wedge, all, or a TOML object file")
+    ] = "all",
+    pusher: Annotated[
+        Path | None,
+        typer.Option(help=PUSHER_HELP),
+    ] = None,
+    profile: Annotated[str, typer.Option(help="constant, trapezoid, chirp or all")] = "all",
+    trials: Annotated[int, typer.Option(help="trials per object × profile")] = 50,
+    controller: Annotated[
+        str,
+        typer.Option(
+            help="pd (PD-only), feedback (PD + PI on the pose), rl, all, or several: pd,feedback"
+        ),
+    ] = "all",
+    plant: Annotated[
+        str,
+        typer.Option(
+            help="sim, proxy (the reality proxy), mujoco (MuJoCo, docs/mujoco.md), "
+            "both (sim and proxy) or all"
+        ),
+    ] = "both",
+    policy: Annotated[
+        list[Path] | None,
+        typer.Option(
+            help="residual policy (default: the shipped results/training/policy.pt); repeat "
+            "for several training seeds, each adding its own rl rows (docs/several-seeds.md)"
+        ),
+    ] = None,
+    seed: Annotated[
+        int, typer.Option(help="evaluation seed: trial i pushes scenario S×100000 + i")
+    ] = 0,
+    stream: Annotated[
+        str,
+        typer.Option(
+            help="evaluation (the held-out targets) or tuning (to look around without "
+            "touching them: other pushers, shapes)"
+        ),
+    ] = "evaluation",
+    workers: Annotated[int, typer.Option(help="processes running trials, 1-8")] = 1,
+    out: Annotated[Path, typer.Option(help="output directory")] = Path("results/evaluation"),
+    force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
+) -> None:
+    """Paired trials, PD-only, feedback and RL-assisted on the same held-out targets and
+    plants; write trials.csv (one row per trial and controller) and steps.csv (per-step
+    means) to --out."""
+    from pushctl.cli.evaluate_steps import (
+        policy_provenance,
+        prepare,
+        run_with_progress,
+        summary_table,
+    )
+    from pushctl.evaluation.evaluate import STEPS_FILE, TRIALS_FILE, write_evaluation
+    from pushctl.provenance import provenance_line
+
+    try:
+        spec, trained, policy_path = prepare(
+            object_name,
+            profile,
+            trials,
+            controller,
+            plant,
+            policy,
+            seed,
+            workers,
+            out,
+            pusher,
+            stream,
+        )
+        refuse_occupied_dir("--out", out, force)
+        first = spec.scenario_seed(0)
+        extra = f"scenario seeds {first}-{first + spec.trials - 1} ({spec.stream} stream)"
+        if trained is not None:
+            extra += "; " + policy_provenance(trained, policy_path)
+        if "feedback" in spec.controllers:
+            from pushctl.control.feedback import DEFAULT_FEEDBACK_FILE, load_feedback_gains
+
+            law = load_feedback_gains()
+            extra += (
+                f"; feedback k {law.k:g} /s, k_i {law.k_i:g} /s² ({DEFAULT_FEEDBACK_FILE.name})"
+            )
+        # --workers changes no byte of the results, so the files do not record it either
+        command = invocation(ctx).replace(f" --workers {workers}", "")
+        made_by = provenance_line(command, extra)
+        evaluation = run_with_progress(spec, trained, workers, console)
+        write_evaluation(out, evaluation, made_by)
+    except PushctlError as error:
+        fail(error)
+    except KeyboardInterrupt:
+        error_console.print("interrupted: nothing written")
+        raise typer.Exit(code=130) from None
+    except OSError as error:
+        fail_write(error)
+    console.print(summary_table(evaluation))
+    console.print(f"wrote {out / TRIALS_FILE} and {out / STEPS_FILE}")

@@ -1,0 +1,125 @@
+"""``pushctl simulate``: one push with a controller; its steps are in
+:mod:`pushctl.cli.simulate_steps` (imported when the command runs)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from pushctl.cli.common import (
+    FORCE_HELP,
+    OBJECT_HELP,
+    PLOT_SUFFIXES,
+    PUSHER_HELP,
+    check_output,
+    console,
+    fail,
+    invocation,
+    parse_pose,
+    write_outputs,
+)
+from pushctl.errors import PushctlError
+from pushctl.output_guard import refuse_existing_files
+
+app = typer.Typer()
+
+
+@app.command()
+def simulate(
+    ctx: typer.Context,
+    object_name: Annotated[str, typer.Option("--object", help=OBJECT_HELP)] = "cube",
+    pusher: Annotated[
+        Path | None,
+        typer.Option(help=PUSHER_HELP),
+    ] = None,
+    profile: Annotated[str, typer.Option(help="constant, trapezoid or chirp")] = "constant",
+    goal: Annotated[
+        str | None, typer.Option(help="goal pose x,y,theta_deg [m, m, deg]; or use --seed")
+    ] = None,
+    seed: Annotated[
+        int | None,
+        typer.Option(help="draw the goal (and with --randomize the plant) from this seed"),
+    ] = None,
+    controller: Annotated[
+        str, typer.Option(help="pd (PD-only), feedback (PD + PI on the pose) or rl (PD + policy)")
+    ] = "pd",
+    policy: Annotated[
+        Path | None,
+        typer.Option(help="rl's policy (default: the shipped results/training/policy.pt)"),
+    ] = None,
+    randomize: Annotated[
+        bool,
+        typer.Option(
+            "--randomize", help="draw μ_g, μ_c, masses and plant unknowns from the plant's ranges"
+        ),
+    ] = False,
+    plant: Annotated[
+        str, typer.Option(help="sim, proxy (the reality proxy) or mujoco (docs/mujoco.md)")
+    ] = "sim",
+    mu_ground: Annotated[float | None, typer.Option(help="plant's object-table μ_g")] = None,
+    mu_contact: Annotated[float | None, typer.Option(help="plant's prong-object μ_c")] = None,
+    object_mass: Annotated[float | None, typer.Option(help="plant's object mass [kg]")] = None,
+    duration: Annotated[float, typer.Option(help="push duration [s]")] = 20.0,
+    gains: Annotated[
+        Path | None, typer.Option(help="PD gains file; default experiments/pd_gains.toml")
+    ] = None,
+    arm: Annotated[str, typer.Option(help="kinova-gen2-7dof, kinova-j2s6s200 or panda")] = (
+        "kinova-gen2-7dof"
+    ),
+    out: Annotated[Path | None, typer.Option(help="write the trace as CSV here")] = None,
+    plot: Annotated[Path | None, typer.Option(help="save a figure (.png, .pdf, .svg)")] = None,
+    force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
+) -> None:
+    """Run one push with a controller: approach, push, metrics, trace and figure."""
+    from pushctl.arm.pusher_file import resolve_pusher
+    from pushctl.cli.simulate_steps import (
+        check_controller,
+        check_plant,
+        check_pusher,
+        metrics_table,
+        push,
+        scenario_table,
+        simulate_scenario,
+    )
+    from pushctl.control import load_gains
+    from pushctl.episode.metrics import compute_metrics
+
+    try:
+        check_output("--out", out, (".csv",))
+        check_output("--plot", plot, PLOT_SUFFIXES)
+        refuse_existing_files("--out/--plot", (out, plot), force)
+        check_controller(controller)
+        check_plant(plant)
+        goal_pose = None if goal is None else parse_pose("--goal", goal)
+        pd_gains = load_gains(gains)
+        overrides = {"mu_ground": mu_ground, "mu_contact": mu_contact, "object_mass": object_mass}
+        plate = resolve_pusher(pusher)
+        check_pusher(plate, controller)
+        scenario, redrawn = simulate_scenario(
+            object_name,
+            profile,
+            goal_pose,
+            seed,
+            randomize,
+            overrides,
+            duration,
+            arm,
+            plant,
+            plate,
+        )
+        trace, made = push(scenario, controller, pd_gains, policy, plant)
+        console.print(scenario_table(scenario, made.trajectory.start, redrawn))
+        metrics = compute_metrics(trace)
+    except PushctlError as error:
+        fail(error)
+    console.print(metrics_table(metrics))
+    figure = None
+    if plot is not None:
+        from pushctl.report import trace_figure
+
+        figure = trace_figure(trace)
+    command = invocation(ctx)
+    extra = f"seed {seed}" if seed is not None else "no seed"
+    write_outputs(command, out, trace.to_frame() if out else None, plot, figure, extra)

@@ -1,0 +1,318 @@
+"""One (sub)step of the world's contact dynamics: the MLCP's inputs, its solve, and the
+friction boxes of the ground refined against the solved slip (a mixin of
+:class:`~pushctl.contact.world.World`, whose state it reads and advances).
+
+The common step is one compiled call (:func:`~pushctl.contact.kernels.warm_slip_step`: the
+previous step's active set, verified, with the refine-and-re-solve loop); when the active
+set fails, the full MLCP (ProxQP and pivoting, :func:`solve_box_mlcp`) takes over and the
+loop continues in Python (:meth:`SubstepSolver._settle_slip`), with the same calls in the
+same order, so the same bits.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from pushctl.arm import ArmModel, ArmTerms
+from pushctl.contact.ground_field import FrictionField
+from pushctl.contact.kernels import (
+    SLIP_UNSETTLED,
+    SLIP_WARM_FAILED,
+    apply_impulses,
+    assemble,
+    refine_slip,
+    slip_state,
+    warm_contact_step,
+    warm_slip_step,
+)
+from pushctl.contact.mlcp import DEFAULT_TOL, MLCPResult, solve_box_mlcp
+from pushctl.types import ContactProblem, WorldStats
+
+STEP_STATE = (
+    "contacts", "jacobians", "M", "nle", "v_arm", "tau", "joint_damping", "pose", "velocity"
+)  # fmt: skip
+"""The leading parameters of the step's kernels (:func:`~pushctl.contact.kernels.assemble`,
+``warm_contact_step``, ``warm_slip_step``): the state of one step, which changes every step
+(shapes and units in ``assemble``). The world passes them as a plain tuple in this order,
+then its :class:`ContactModel` (tests/test_rows_compiled.py checks both against the
+kernels' signatures)."""
+
+
+class ContactModel(NamedTuple):
+    """The world's side of the step's kernels, fixed for one world (built once, its arrays
+    updated in place): their parameters after :data:`STEP_STATE`, in this order; the world
+    calls them as ``kernel(*state, *model, ...)``. Arrays are float64 unless said otherwise.
+
+    Not one structure passed into the compiled code: numba dispatches a NamedTuple argument
+    through Python-level typing (about 2.3 µs more per call than flat arrays and floats,
+    measured), a structref or jitclass argument defeats its disk cache, and building a
+    NamedTuple of the step's state every step would cost about 1 µs (3 % of a world step,
+    measured with ``python -m pushctl.bench.compare``): unpacked, the names cost nothing.
+    """
+
+    obj_mass_inv: np.ndarray
+    """(3,) (1/m, 1/m, 1/I_z) [1/kg, 1/kg, 1/(kg·m²)]."""
+    support_points: np.ndarray
+    """(S, 2) the object's support points, object frame [m]."""
+    friction_limits: np.ndarray
+    """(S,) μ(p_j) N_j at each support point [N] (rewritten in place where a friction field
+    makes μ vary over the table)."""
+    slip_directions: np.ndarray
+    """(S, 2) each support point's friction box direction (unit), world frame; updated in
+    place by :func:`~pushctl.contact.kernels.slip_state` and
+    :func:`~pushctl.contact.kernels.refine_slip`."""
+    sliding: np.ndarray
+    """(S,) bool: whether each support point slides (its box has no cross bound); updated
+    in place with ``slip_directions``."""
+    h: float
+    """The (sub)step [s]."""
+    stabilisation: float
+    """Fraction of a penetration removed per (sub)step, (0, 1]."""
+    tie_break: float
+    """Relative diagonal term on the prong rows of D [-]."""
+    mu_contact: float
+    """Prong–object Coulomb friction μ_c."""
+
+
+TIE_BREAK = 1e-6
+"""Relative diagonal term added to the prong rows of D [-] (docs/design.md §3: 1e-6·diag D)."""
+
+SLIP_COS_TOLERANCE = math.cos(math.radians(5.0))
+"""A sliding support point whose velocity after a step leaves the slip direction its friction
+box was built on by more than 5° gets a corrected box and the step is solved again."""
+
+MAX_SLIP_ITERATIONS = 6
+"""Re-solves of one step for its friction directions. If they have not settled by then, the
+step keeps its first solution (the boxes aligned with the velocity before the step)."""
+
+_NO_CONTACTS = np.zeros((0, 5))
+_NO_JACOBIANS = np.zeros((0, 3, 0))
+_NO_ARM_MATRIX = np.zeros((0, 0))
+
+
+class SubstepSolver:
+    """The (sub)step's MLCP for :class:`~pushctl.contact.world.World` (the attributes below
+    are the world's)."""
+
+    arm: ArmModel | None
+    config: Any  # WorldConfig (not imported: world.py imports this module)
+    stats: WorldStats
+    friction_field: FrictionField | None
+    object_pose: np.ndarray
+    object_velocity: np.ndarray
+    v: np.ndarray
+    _terms: ArmTerms | None
+    _prongs: tuple[int, ...]
+    _contacts: np.ndarray
+    _n_prongs: int
+    _M_obj_inv: np.ndarray
+    _support_points: np.ndarray
+    _friction_limits: np.ndarray
+    _uniform_limits: np.ndarray
+    _slip_directions: np.ndarray
+    _sliding: np.ndarray
+    _model: ContactModel
+    _last_prongs: tuple[int, ...] | None
+    _last_p: np.ndarray | None
+
+    def _advance_object(self, v_obj: np.ndarray, h: float) -> None: ...
+    def _advance_arm(self, v_arm: np.ndarray, h: float) -> None: ...
+    def _find_contacts(self) -> None: ...
+
+    def _start_slip_state(self) -> None:
+        """Friction boxes for the next step, from the object's velocity (see :meth:`_substep`),
+        and their bounds from the friction field at the support points' table positions."""
+        if self.friction_field is not None:
+            self._update_friction_bounds()
+        slip_state(
+            self.object_pose,
+            self.object_velocity,
+            self._support_points,
+            self._slip_directions,
+            self._sliding,
+        )
+
+    def _update_friction_bounds(self) -> None:
+        """Each support point's μ(p_j) N_j from the friction field at its table position.
+        The warm start's ground impulses (the last 2 S rows) scale with their bounds, so a
+        row that slid at its old bound is read as sliding at the new one."""
+        assert self.friction_field is not None
+        limits, self._last_p = self.friction_field.support_bounds(
+            self.object_pose,
+            self._support_points,
+            self._uniform_limits,
+            self._friction_limits,
+            self._last_p,
+        )
+        self._friction_limits[:] = limits  # in place: the ContactModel holds this array
+
+    def _step_inputs(
+        self, h: float, tau: np.ndarray, damping: np.ndarray
+    ) -> tuple[tuple[int, ...], tuple]:
+        """The prongs in contact and the step's state: the kernels' leading arguments in the
+        order of :data:`STEP_STATE` (the world's
+        :class:`ContactModel` follows them). ``damping`` (nv,)
+        [N·m·s/rad]: all joint damping applied implicitly; ``h`` is the model's."""
+        terms = self._terms
+        prongs: tuple[int, ...]
+        if terms is None:
+            prongs, contacts, jacobians = (), _NO_CONTACTS, _NO_JACOBIANS
+            M, nle = _NO_ARM_MATRIX, self.v
+        else:
+            prongs, contacts = self._prongs, self._contacts
+            jacobians = terms.prong_jacobians
+            if len(prongs) < self._n_prongs:
+                jacobians = jacobians[list(prongs)]
+            M, nle = terms.M, terms.nle
+        assert h == self._model.h
+        # contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity
+        state = (contacts, jacobians, M, nle, self.v, tau, damping, self.object_pose,
+                 self.object_velocity)  # fmt: skip
+        return prongs, state
+
+    def _build_problem(self, h: float, tau: np.ndarray, damping: np.ndarray) -> ContactProblem:
+        """Free velocities and the contact MLCP of one time step of length h."""
+        prongs, inputs = self._step_inputs(h, tau, damping)
+        assembled = assemble(*inputs, *self._model)
+        D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, A_arm = assembled
+        return ContactProblem(
+            h, D, b, lo, hi, findex, mu, prongs, A_arm, v_arm_free, Minv_At_arm, Minv_At_obj
+        )
+
+    def _substep(self, h: float, tau: np.ndarray, damping: np.ndarray):
+        """One MLCP time step of length h. Returns (prong forces (k, 2) [N], MLCP result).
+
+        Ground friction is Coulomb's, against each support point's slip velocity *after*
+        the step. The step is first solved with each point's box aligned with its velocity
+        before the step (:func:`slip_state`): a sliding box bounds friction along that
+        direction only. Where the solved velocity leaves a box's direction by more than
+        5°, the box is turned half-way towards it (:func:`refine_slip`) and the step solved
+        again, until the directions agree. Without this a turning object's rotation rate
+        alternated step by step between stuck and twice its true value (a lagging box is
+        frictionless across the motion). Near stick–slip transitions the iteration may
+        not settle within ``MAX_SLIP_ITERATIONS``: the step then keeps its first solution,
+        the one-step-lag model, whose friction is dissipative whatever the directions.
+        """
+        self._start_slip_state()
+        prongs, inputs = self._step_inputs(h, tau, damping)
+        guess = self._last_p if prongs == self._last_prongs else None
+        start, status = 0, 0
+        if guess is not None:  # the common case: the whole loop in one compiled call
+            status, solves, first_t, last_t, attempt, iterations, worst = warm_slip_step(
+                *inputs,
+                *self._model,
+                guess,
+                DEFAULT_TOL,
+                SLIP_COS_TOLERANCE,
+                MAX_SLIP_ITERATIONS,
+            )  # type: ignore[call-arg]  # numba's Dispatcher hides the signature
+        if status:
+            stats = self.stats
+            stats.solves += solves
+            stats.warm_starts += solves
+            stats.max_residual = max(stats.max_residual, worst)
+            stats.slip_iterations += iterations
+            self._last_prongs, self._last_p = prongs, last_t[0]
+            first = _warm_solution(first_t)
+            solution = first if solves == 1 else _warm_solution(last_t)
+            if status == SLIP_UNSETTLED:
+                solution = first
+                self._start_slip_state()
+                stats.slip_unsettled += 1
+            elif status == SLIP_WARM_FAILED:
+                self.stats.slip_iterations += 1
+                solution = self._solve_step(h, tau, damping, inputs, solution[0].p, False)
+                self._record(solution[0], prongs)
+                start = attempt + 1
+        else:  # no warm start, or it failed in the call above: the full MLCP
+            first = self._solve_step(h, tau, damping, inputs, guess, guess is None)
+            self._record(first[0], prongs)
+            solution = first
+        if status in (0, SLIP_WARM_FAILED):
+            solution = self._settle_slip(h, tau, damping, inputs, prongs, first, solution, start)
+        result, v_arm, v_obj, contact_forces = solution
+        if len(prongs) == self._n_prongs:
+            forces = contact_forces
+        else:
+            forces = np.zeros((self._n_prongs, 2))
+            forces[list(prongs)] = contact_forces
+        self._advance_object(v_obj, h)
+        if self.arm is not None:
+            self._advance_arm(v_arm, h)
+        self._find_contacts()
+        return forces, result
+
+    def _settle_slip(self, h, tau, damping, inputs, prongs, first, solution, start: int):
+        """The refine-and-re-solve loop of :meth:`_substep` from loop index ``start``, in
+        Python (a solve on it needed the full MLCP): returns the step's solution."""
+        for attempt in range(start, MAX_SLIP_ITERATIONS + 1):
+            if not refine_slip(
+                self.object_pose, solution[2], self._support_points, self._slip_directions,
+                self._sliding, SLIP_COS_TOLERANCE,
+            ):  # fmt: skip
+                break
+            if attempt == MAX_SLIP_ITERATIONS:  # not settled: keep the first solution
+                solution = first
+                self._start_slip_state()  # and its boxes (the velocity is still the old one)
+                self.stats.slip_unsettled += 1
+                break
+            self.stats.slip_iterations += 1
+            solution = self._solve_step(h, tau, damping, inputs, solution[0].p)
+            self._record(solution[0], prongs)
+        return solution
+
+    def _solve_step(
+        self, h: float, tau: np.ndarray, damping: np.ndarray, inputs, guess, try_warm=True
+    ):
+        """The step's MLCP with the current friction boxes: (MLCPResult, v_arm (nv,), v_obj (3,),
+        forces (p, 2) of the prongs in contact). ``inputs``: :meth:`_step_inputs`' (they hold
+        the box arrays, which :func:`refine_slip` changes in place). While the same prongs
+        touch, the previous impulses' active set (``guess``) usually still holds: the whole
+        step is then one compiled call; otherwise ProxQP and pivoting
+        (:func:`solve_box_mlcp`). ``try_warm=False``: that compiled call already failed on
+        these inputs (in :func:`warm_slip_step`), go to the full MLCP."""
+        if guess is not None and try_warm:
+            verified, p, w, residual, v_arm, v_obj, contact_forces = warm_contact_step(
+                *inputs, *self._model, guess, DEFAULT_TOL
+            )  # type: ignore[call-arg]  # numba's Dispatcher hides the signature
+            if verified:
+                return (
+                    MLCPResult(p, w, residual, 0, True, "warm-start"),
+                    v_arm,
+                    v_obj,
+                    contact_forces,
+                )
+        problem = self._build_problem(h, tau, damping)
+        result = solve_box_mlcp(
+            problem.D,
+            problem.b,
+            problem.lo,
+            problem.hi,
+            problem.findex,
+            problem.mu,
+            warm_start=guess,
+            validate=False,  # built here, valid by construction
+        )
+        v_arm, v_obj, contact_forces = apply_impulses(
+            result.p, problem.v_arm_free, problem.Minv_At_arm, self.object_velocity,
+            problem.Minv_At_obj, h,
+        )  # fmt: skip
+        return result, v_arm, v_obj, contact_forces
+
+    def _record(self, result: MLCPResult, prongs: tuple[int, ...]) -> None:
+        stats = self.stats
+        stats.solves += 1
+        stats.fallbacks += not result.converged
+        stats.warm_starts += result.method == "warm-start"
+        stats.max_residual = max(stats.max_residual, result.residual)
+        self._last_prongs, self._last_p = prongs, result.p
+
+
+def _warm_solution(solved: tuple) -> tuple:
+    """(MLCPResult, v_arm, v_obj, forces) of a verified compiled warm solve's
+    ``(p, w, residual, v_arm, v_obj, forces)``."""
+    p, w, residual, v_arm, v_obj, forces = solved
+    return MLCPResult(p, w, residual, 0, True, "warm-start"), v_arm, v_obj, forces
