@@ -221,6 +221,6 @@ def _one_core():
         os.sched_setaffinity(0, allowed)
 
 
-if __name__ == "__main__":  # python -m pushctl.bench_rl: the collection rows alone
+if __name__ == "__main__":  # python -m pushctl.bench.rl: the collection rows alone
     for row in collection_rows():
         print(f"{row['name']}: {row['value']:.3f} {row['unit']} ({row['note']})")

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 
-from pushctl.bench_rl import collection_rows
+from pushctl.bench.rl import collection_rows
 
 
 def test_collection_rows_time_collection_beside_raw_stepping(write_tiny_preset) -> None:

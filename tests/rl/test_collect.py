@@ -4,10 +4,13 @@ curve's PD-only push runs on the episode's plant."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 import torch
 
+from pushctl.control.feedback import load_feedback_gains
 from pushctl.control.gains import load_gains
 from pushctl.episode.runner import Episode
 from pushctl.errors import StateError
@@ -32,7 +35,7 @@ SHORT = EnvConfig(
 
 
 def _acting() -> Behaviour:
-    entries = observation_entries(2)
+    entries = observation_entries(2, reference_offset=SHORT.offset_observed)
     actor = Actor(len(entries), 3, (32, 32))
     initialise(actor, torch.Generator().manual_seed(3), final_bound=0.5)  # actions far from 0
     state = ActorPolicy(actor.eval(), scales(entries)).state()
@@ -70,3 +73,23 @@ def test_the_pd_only_curve_push_runs_on_the_episodes_plant() -> None:
     env.step(np.zeros(3))
     with pytest.raises(StateError):
         pd_only_episode(env)  # only from an episode just reset
+
+
+@pytest.mark.parametrize("demonstrated", [False, True])
+def test_held_actions_and_the_demonstrated_warm_up_batch_as_they_run_alone(demonstrated) -> None:
+    # a decision every 4 steps (one transition each), the feedback law acting in warm-up
+    config = replace(SHORT, action_repeat=4)
+    gains = load_gains()
+    if demonstrated:
+        behaviour = Behaviour(True, None, 0.15, 0.05, 1.0, demonstrator=load_feedback_gains())
+    else:
+        behaviour = _acting()
+    together = collect_episodes(PushVectorEnv(2, config, gains), 3, [0, 1], behaviour)
+    for record in together:
+        alone = collect_episode(config, gains, 3, record.episode, behaviour)
+        assert len(record.transitions["reward"]) == 10  # 40 steps, 4 per decision
+        for key, rows in alone.transitions.items():
+            assert record.transitions[key].tobytes() == rows.tobytes(), key
+        assert record.rl == alone.rl
+    if not demonstrated:  # (the law's twist is zero this early in a 0.4 s push)
+        assert np.abs(together[0].transitions["action"]).max() > 0.0
