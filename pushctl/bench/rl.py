@@ -26,14 +26,15 @@ OPTIONS = {"object": "cube", "profile": "chirp", "scenario_seed": 0}
 
 
 def _env_steps_per_s(env: PushEnv, act) -> float:
-    """Push steps per second of one whole episode (reset not counted)."""
+    """Push steps per second of one whole episode (reset not counted); a step() holds its
+    action for ``action_repeat`` push steps."""
     obs, _ = env.reset(options=OPTIONS)
-    assert env.episode is not None
-    steps = env.episode.n_steps
+    episode = env.episode
+    assert episode is not None
     start = time.perf_counter()
-    for _ in range(steps):
+    while not episode.done:
         obs, *_ = env.step(act(obs))
-    return steps / (time.perf_counter() - start)
+    return episode.n_steps / (time.perf_counter() - start)
 
 
 def rl_rows(preset_name: str = "paper", updates: int = 300) -> list[dict[str, Any]]:
@@ -180,6 +181,7 @@ def collection_rows(episodes: int = 4, repeats: int = 3, preset_name: str = "pap
 
 
 def _raw_steps(env: PushEnv, episodes: list[int]) -> int:
+    """Push steps (not decisions: a step() holds its action ``action_repeat`` of them)."""
     steps = 0
     zero = np.zeros(3)
     for episode in episodes:
@@ -187,13 +189,14 @@ def _raw_steps(env: PushEnv, episodes: list[int]) -> int:
         assert env.episode is not None
         while not env.episode.done:
             env.step(zero)
-            steps += 1
+        steps += env.episode.n_steps
     return steps
 
 
 def _collected_steps(vector: PushVectorEnv, episodes: list[int], behaviour: Behaviour) -> int:
-    records = collect_episodes(vector, 0, episodes, behaviour)
-    return sum(len(record.transitions["reward"]) for record in records)
+    """Push steps of collecting ``episodes`` together."""
+    collect_episodes(vector, 0, episodes, behaviour)
+    return sum(env.episode.n_steps for env in vector.envs if env.episode is not None)
 
 
 def _collected_alone(vector: PushVectorEnv, episodes: list[int], behaviour: Behaviour) -> int:
