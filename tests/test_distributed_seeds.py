@@ -3,6 +3,7 @@ with that seed, resumable per seed; and its bad input."""
 
 from __future__ import annotations
 
+import json
 import os
 import signal
 import subprocess
@@ -17,7 +18,7 @@ from typer.testing import CliRunner
 
 from pushctl.cli import app
 from pushctl.control.gains import load_gains
-from pushctl.distributed.seeds import TrainJob, parse_seeds, run_job
+from pushctl.distributed.seeds import TIMING, TrainJob, parse_seeds, run_job
 from pushctl.errors import ConfigError
 from pushctl.rl.presets import load_preset
 from pushctl.rl.train import CHECKPOINT, CURVE, POLICY, Trainer, read_checkpoint
@@ -70,12 +71,14 @@ def test_each_seed_runs_as_a_single_seed_run_would(
         alone = Trainer.start(load_preset(tiny), seed, tmp_path / f"alone-{seed}")
         alone.run(3, made_by="# made by: test")
         assert _body(run / CURVE) == _body(alone.out / CURVE)
+        timing = json.loads((run / TIMING).read_text())  # the seed's own wall time
+        assert timing["sessions"] == 1 and timing["episodes"] == 3 and timing["seconds"] > 0
     # The two seeds drew different scenarios.
     curves = [pd.read_csv(out / f"seed-{s}" / CURVE, comment="#") for s in (0, 1)]
     assert not curves[0]["rl_force_error"].equals(curves[1]["rl_force_error"])
 
     # Resumed per seed: one seed's run removed, both continue to 4 episodes.
-    for name in (CHECKPOINT, CURVE, POLICY, "policy_last.pt", "validation.csv"):
+    for name in (CHECKPOINT, CURVE, POLICY, "policy_last.pt", "validation.csv", TIMING):
         (out / "seed-1" / name).unlink()
     resumed = runner.invoke(
         app, ["train", "--preset", tiny, "--seeds", "0-1", "--resume", "--out", str(out)]

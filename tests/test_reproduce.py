@@ -133,3 +133,55 @@ def test_the_training_seeds_are_an_option(tmp_path: Path, monkeypatch: pytest.Mo
     assert seen[0].seeds == (4,)
     assert "--seeds 4 " in " ".join(reproduce.steps(seen[0])[0][1]) + " "
     assert reproduce.main(["--quick", "--seeds", "2-0"]) == 2
+
+
+def test_the_manifest_sets_each_stage_beside_its_budget(tmp_path: Path) -> None:
+    setup = replace(FULL, run=tmp_path / "run", results=tmp_path / "results")
+    for seed, seconds in ((0, 900.0), (1, 1500.0)):  # seed 2 recorded no time
+        reproduce.seed_run(setup, seed).mkdir(parents=True)
+        (reproduce.seed_run(setup, seed) / "timing.json").write_text(
+            f'{{"seconds": {seconds}, "sessions": 1}}'
+        )
+    trials = setup.results / "evaluation" / "trials.csv"
+    trials.parent.mkdir(parents=True)
+    trials.write_text("# made by: test\nobject,plant\n" + "cube,sim\n" * 2400)
+    records = [
+        reproduce.StepRecord("train", "pushctl train", 0, 1600.0),
+        reproduce.StepRecord("evaluate", "pushctl evaluate", 0, 400.0),  # budget 6 min
+        reproduce.StepRecord("report", "pushctl report", 0, 60.0),
+    ]
+    rows = {row.stage: row for row in reproduce.budgets(setup, records)}
+    assert [rows[f"training, seed {k}"].met for k in (0, 1, 2)] == [True, False, None]
+    assert rows["evaluation"].budget == pytest.approx(360.0)
+    assert rows["evaluation"].met is False
+    assert rows["report"].met is None
+    assert rows["whole run"].seconds == pytest.approx(2060.0)
+    assert rows["whole run"].budget == 3600.0 and rows["whole run"].met
+    reproduce.write_manifest(setup, records, reproduce.datetime.now(reproduce.timezone.utc))
+    manifest = (setup.results / MANIFEST).read_text()
+    assert "2 of 4 budgets met; missed: training, seed 1, evaluation" in manifest
+    assert "| training, seed 0 | 15 min 00.0 s | 20 min 00.0 s | yes |" in manifest
+    one = replace(setup, seeds=(0,))
+    assert reproduce.budgets(one, records)[-1].budget == 45 * 60.0
+
+
+@pytest.mark.slow
+def test_a_tiny_reproduction_times_every_stage(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, write_tiny_preset
+) -> None:
+    preset = write_tiny_preset(episodes=2, pd_every=2, validate_every=2)
+    setup = Setup(str(preset), tmp_path / "run", 1, tmp_path / "results", bench=False, seeds=(0,))
+    monkeypatch.chdir(tmp_path)
+    records = reproduce.reproduce(setup)
+    assert [(r.name, r.returncode) for r in records] == [
+        ("train", 0),
+        ("evaluate", 0),
+        ("report", 0),
+    ]
+    rows = {row.stage: row for row in reproduce.budgets(setup, records)}
+    trained = rows["training, seed 0"].seconds
+    assert trained is not None and 0.0 < trained < records[0].seconds
+    assert rows["evaluation"].budget is not None and rows["evaluation"].met is not None
+    manifest = (setup.results / MANIFEST).read_text()
+    assert "## Budgets" in manifest and "budgets met" in manifest
+    assert "this run: preset" in manifest

@@ -1,33 +1,40 @@
 """Benchmark rows of the learning side (``make bench``): environment steps per second with the
-gate shut and open, the actor's single-observation forward, and DDPG updates per second at
-the ``paper`` preset's network size and batch."""
+gate shut and open, the actor's single-observation forward, DDPG updates per second at
+the ``paper`` preset's network size and batch, and training collection beside raw stepping
+(:func:`collection_rows`)."""
 
 from __future__ import annotations
 
+import os
 import statistics
 import time
+from contextlib import contextmanager
 from dataclasses import replace
 from typing import Any
 
 import numpy as np
 
+from pushctl.control.gains import load_gains
+from pushctl.rl.collect import Behaviour, collect_episodes, episode_rngs, portable
 from pushctl.rl.ddpg import DDPGAgent, configure_torch
 from pushctl.rl.env import PushEnv
 from pushctl.rl.presets import load_preset
 from pushctl.rl.spaces import observation_entries, scales
+from pushctl.rl.vector_env import PushVectorEnv
 
 OPTIONS = {"object": "cube", "profile": "chirp", "scenario_seed": 0}
 
 
 def _env_steps_per_s(env: PushEnv, act) -> float:
-    """Push steps per second of one whole episode (reset not counted)."""
+    """Push steps per second of one whole episode (reset not counted); a step() holds its
+    action for ``action_repeat`` push steps."""
     obs, _ = env.reset(options=OPTIONS)
-    assert env.episode is not None
-    steps = env.episode.n_steps
+    episode = env.episode
+    assert episode is not None
     start = time.perf_counter()
-    for _ in range(steps):
+    while not episode.done:
         obs, *_ = env.step(act(obs))
-    return steps / (time.perf_counter() - start)
+    return episode.n_steps / (time.perf_counter() - start)
 
 
 def rl_rows(preset_name: str = "paper", updates: int = 300) -> list[dict[str, Any]]:
@@ -99,4 +106,124 @@ def rl_rows(preset_name: str = "paper", updates: int = 300) -> list[dict[str, An
             "unit": "1/s",
             "note": f"{net}; the paper preset does {preset.ddpg.updates_per_step} per env step",
         },
+        *collection_rows(preset_name=preset_name),
     ]
+
+
+def collection_rows(episodes: int = 4, repeats: int = 3, preset_name: str = "paper"):
+    """Training collection beside raw stepping, side by side on one core (pinned), the
+    repeats interleaved, medians of the per-repeat ratios:
+
+    - raw: the ``episodes`` of a round pushed by a PushEnv with zero actions, resets included;
+    - collection: the same episodes by :func:`~pushctl.rl.collect.collect_episodes`, stepped
+      together (one batched forward of the preset's actor, plus its OU noise, per step),
+      resets, transitions and curve metrics included; and one at a time, as before;
+    - an acting step (uniform random actions, gate open: prongs slip) against a zero-residual
+      step of the same push, resets excluded.
+    """
+    configure_torch(1)
+    preset = load_preset(preset_name)
+    config, gains = preset.env, load_gains()
+    ddpg = replace(preset.ddpg, actor_final_init=3e-3)  # an actor whose output is not 0
+    entries = observation_entries(2, reference_offset=config.offset_observed)
+    agent = DDPGAgent(len(entries), 3, ddpg, seed=0, obs_scale=scales(entries))
+    behaviour = Behaviour(
+        False, portable(agent.actor_state()), ddpg.ou_theta, ddpg.ou_sigma, ddpg.ou_dt
+    )
+    raw_env, together = PushEnv(config, gains), PushVectorEnv(episodes, config, gains)
+    alone = PushVectorEnv(1, config, gains)
+    gate_open = PushEnv(replace(config, gate_threshold=0.0), gains)
+    rng = np.random.default_rng(0)
+    ratios: dict[str, list[float]] = {"together": [], "alone": [], "acting": []}
+    rates: dict[str, list[float]] = {"raw": [], "together": [], "alone": []}
+    with _one_core():
+        for repeat in range(repeats):
+            round_ = list(range(1000 + repeat * episodes, 1000 + (repeat + 1) * episodes))
+            raw = _rate(_raw_steps, raw_env, round_)
+            batched = _rate(_collected_steps, together, round_, behaviour)
+            single = _rate(_collected_alone, alone, round_, behaviour)
+            for key, value in (("raw", raw), ("together", batched), ("alone", single)):
+                rates[key].append(value)
+            ratios["together"].append(batched / raw)
+            ratios["alone"].append(single / raw)
+            zero = _env_steps_per_s(gate_open, lambda obs: np.zeros(3))
+            acting = _env_steps_per_s(gate_open, lambda obs: rng.uniform(-1.0, 1.0, 3))
+            ratios["acting"].append(zero / acting)
+    median = statistics.median
+    where = f"{preset_name} preset env, {episodes} episodes a round, one core, {repeats} repeats"
+    return [
+        {
+            "name": "rl raw env steps/s, resets included",
+            "value": median(rates["raw"]),
+            "unit": "1/s",
+            "note": f"PushEnv, zero actions; {where}",
+        },
+        {
+            "name": "rl collection env steps/s, episodes together",
+            "value": median(rates["together"]),
+            "unit": "1/s",
+            "note": "collect_episodes: batched actor + OU noise, transitions, curve metrics",
+        },
+        {
+            "name": "rl collection / raw env-step rate",
+            "value": median(ratios["together"]),
+            "unit": "ratio",
+            "note": f"episodes together (goal >= 0.5); one at a time: "
+            f"{median(ratios['alone']):.3f}",
+        },
+        {
+            "name": "rl acting step / zero-residual step",
+            "value": median(ratios["acting"]),
+            "unit": "ratio",
+            "note": "cube chirp, gate open, uniform random actions vs zeros (goal <= 1.3)",
+        },
+    ]
+
+
+def _raw_steps(env: PushEnv, episodes: list[int]) -> int:
+    """Push steps (not decisions: a step() holds its action ``action_repeat`` of them)."""
+    steps = 0
+    zero = np.zeros(3)
+    for episode in episodes:
+        env.reset(seed=episode_rngs(0, episode)[0])
+        assert env.episode is not None
+        while not env.episode.done:
+            env.step(zero)
+        steps += env.episode.n_steps
+    return steps
+
+
+def _collected_steps(vector: PushVectorEnv, episodes: list[int], behaviour: Behaviour) -> int:
+    """Push steps of collecting ``episodes`` together."""
+    collect_episodes(vector, 0, episodes, behaviour)
+    return sum(env.episode.n_steps for env in vector.envs if env.episode is not None)
+
+
+def _collected_alone(vector: PushVectorEnv, episodes: list[int], behaviour: Behaviour) -> int:
+    return sum(_collected_steps(vector, [episode], behaviour) for episode in episodes)
+
+
+def _rate(run, *args: Any) -> float:
+    """Steps per second of ``run(*args)``, which returns the steps it took."""
+    start = time.perf_counter()
+    steps = run(*args)
+    return steps / (time.perf_counter() - start)
+
+
+@contextmanager
+def _one_core():
+    """Pin this process to one of its cores while timing (a no-op where unsupported)."""
+    if not hasattr(os, "sched_setaffinity"):
+        yield
+        return
+    allowed = os.sched_getaffinity(0)
+    os.sched_setaffinity(0, {min(allowed)})
+    try:
+        yield
+    finally:
+        os.sched_setaffinity(0, allowed)
+
+
+if __name__ == "__main__":  # python -m pushctl.bench.rl: the collection rows alone
+    for row in collection_rows():
+        print(f"{row['name']}: {row['value']:.3f} {row['unit']} ({row['note']})")

@@ -22,7 +22,9 @@ user would type, run as a subprocess with its own output on the terminal:
 and ``runs/quick`` (the committed ``results/`` stays as it is). The manifest
 ``provenance.md`` records each step's command, exit code and wall time, the git commit,
 the seeds and the date; it is written atomically before the first step ("running"), after
-each step, and at the end, also when a step fails (then naming it).
+each step, and at the end, also when a step fails (then naming it). Its budgets table sets
+each stage's wall time (training per seed, evaluation, report, the whole run) beside issue
+15's budgets on this machine and says which were met (:func:`budgets`).
 
 Nothing it did not make is overwritten: the steps overwrite the results directory's files
 (``--force``) only when that directory is absent, empty, or holds a manifest of an earlier
@@ -53,6 +55,12 @@ SEEDS = (0, 1, 2)
 """The training seeds (issue 16: three seeds of the paper preset)."""
 MANIFEST = "provenance.md"
 TRAINING_FILES = ("policy.pt", "policy_last.pt", "curve.csv", "validation.csv")
+TRAINING_BUDGET = 20 * 60.0
+"""Issue 15's budget for one training run of the ``paper`` preset on this machine [s]."""
+EVALUATION_BUDGET = 3 * 60.0 / 1200
+"""Issue 15's budget for the evaluation, 3 min for its 1200 episodes, per episode [s]."""
+TOTAL_BUDGETS = {1: 45 * 60.0, 3: 60 * 60.0}
+"""The whole ``make reproduce-tables`` by training seeds [s] (other counts: interpolated)."""
 
 
 @dataclass(frozen=True)
@@ -239,12 +247,100 @@ def write_manifest(
             for r in records
         ),
         "",
-        "A `train` step that finds its run finished trains nothing and takes seconds; the",
-        "run's own wall time is in its `curve.csv` provenance and the README.",
+        *_budget_lines(setup, records),
+        "A `train` step that finds its run finished trains nothing and takes seconds; each",
+        "seed's own training wall time (summed over the sessions that trained it) is in its",
+        "run directory's `timing.json`, which the budgets above read.",
         "",
     ]
     setup.results.mkdir(parents=True, exist_ok=True)
     write_atomic(setup.results / MANIFEST, lambda tmp: tmp.write_text("\n".join(lines)))
+
+
+@dataclass(frozen=True)
+class Budget:
+    """A stage's wall time [s] (None: not recorded) beside its budget [s] (None: the issue
+    sets none), with what the budget is based on."""
+
+    stage: str
+    seconds: float | None
+    budget: float | None
+    basis: str
+
+    @property
+    def met(self) -> bool | None:
+        if self.seconds is None or self.budget is None:
+            return None
+        return self.seconds <= self.budget
+
+
+def budgets(setup: Setup, records: list[StepRecord]) -> list[Budget]:
+    """Each stage's wall time beside issue 15's budget: training per seed (its own wall
+    time, :data:`~pushctl.distributed.seeds.TIMING`; the seeds train side by side), the
+    evaluation (3 min per 1200 episodes, scaled to the episodes it ran), the report, and
+    the whole run (45 min with one training seed, 60 min with three)."""
+    from pushctl.distributed.seeds import TIMING, read_timing  # Ray only when reporting
+
+    took = {record.name: record.seconds for record in records}
+    rows = []
+    other = "" if setup.preset == "paper" else f"; this run: preset {setup.preset}"
+    for seed in setup.seeds:
+        timing = read_timing(seed_run(setup, seed) / TIMING)
+        seconds = None if timing is None else float(timing["seconds"])
+        basis = f"the paper preset, one seed{other}"
+        rows.append(Budget(f"training, seed {seed}", seconds, TRAINING_BUDGET, basis))
+    episodes = _evaluated_episodes(setup.results / "evaluation" / "trials.csv")
+    if episodes:
+        budget, basis = EVALUATION_BUDGET * episodes, f"3 min per 1200 episodes; {episodes} run"
+    else:
+        budget, basis = None, "no trials.csv to count its episodes"
+    rows.append(Budget("evaluation", took.get("evaluate"), budget, basis))
+    rows.append(Budget("report", took.get("report"), None, "the issue sets none"))
+    count = len(setup.seeds)
+    total = TOTAL_BUDGETS.get(count)
+    basis = f"{count} training seed{'s' if count > 1 else ''}"
+    if total is None:  # between (or beyond) the issue's two points, on their line
+        total = TOTAL_BUDGETS[1] + (TOTAL_BUDGETS[3] - TOTAL_BUDGETS[1]) / 2 * (count - 1)
+        basis += " (interpolated from 45 min for 1, 60 min for 3)"
+    rows.append(Budget("whole run", sum(took.values()) if records else None, total, basis))
+    return rows
+
+
+def _evaluated_episodes(trials: Path) -> int:
+    """Rows (one push each) of an evaluation's ``trials.csv``, 0 if there is none."""
+    try:
+        lines = trials.read_text().splitlines()
+    except (OSError, UnicodeDecodeError):
+        return 0
+    rows = [line for line in lines if line and not line.startswith("#")]
+    return max(len(rows) - 1, 0)  # the header
+
+
+def _budget_lines(setup: Setup, records: list[StepRecord]) -> list[str]:
+    rows = budgets(setup, records)
+    verdicts = [row for row in rows if row.met is not None]
+    missed = [row.stage for row in verdicts if not row.met]
+    summary = f"{len(verdicts) - len(missed)} of {len(verdicts)} budgets met"
+    summary += f"; missed: {', '.join(missed)}" if missed else ""
+    word = {True: "yes", False: "**no**", None: "—"}
+    return [
+        "## Budgets (issue 15, this machine)",
+        "",
+        "| stage | wall time | budget | met | budget for |",
+        "|---|---|---|---|---|",
+        *(
+            f"| {row.stage} | {_maybe_minutes(row.seconds)} | {_maybe_minutes(row.budget)} "
+            f"| {word[row.met]} | {row.basis} |"
+            for row in rows
+        ),
+        "",
+        f"- {summary}",
+        "",
+    ]
+
+
+def _maybe_minutes(seconds: float | None) -> str:
+    return "—" if seconds is None else _minutes(seconds)
 
 
 def _typed(argv: list[str]) -> str:

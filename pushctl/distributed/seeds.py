@@ -13,6 +13,7 @@ The collectors' number changes no result (:class:`~pushctl.rl.presets.TrainConfi
 
 from __future__ import annotations
 
+import json
 import re
 import time
 from collections.abc import Callable
@@ -25,6 +26,7 @@ import ray
 from pushctl.control.gains import PDGains
 from pushctl.distributed.engine import new_board, session
 from pushctl.errors import ConfigError, PushctlError
+from pushctl.provenance import write_atomic
 from pushctl.rl.presets import Preset
 from pushctl.rl.train import CHECKPOINT, Progress, Trainer
 
@@ -35,6 +37,11 @@ RETRIES = 3
 POLL = 0.5
 """Seconds between progress reports to the caller."""
 MAX_SEEDS = 1000
+TIMING = "timing.json"
+"""A seed's training wall time, beside its run's files: ``seconds`` summed over the
+sessions that trained it to the end (a session killed before that is not counted),
+``sessions``, ``episodes`` and ``env_steps``. A record of this machine's speed, so not part
+of the run's byte-for-byte results (``make reproduce-tables`` reads it for its budgets)."""
 
 
 def parse_seeds(text: str) -> tuple[int, ...]:
@@ -145,6 +152,7 @@ def run_job(
         report(job.name, SeedStatus(min(trainer.next_episode, total), total))
     if trainer.next_episode < total:
         trainer.run(total, on_episode=show, made_by=job.made_by)
+        add_timing(job.out, time.perf_counter() - clock, trainer)
     extra = finish(trainer) if finish is not None else None
     result = JobResult(
         seed=job.seed,
@@ -155,6 +163,30 @@ def run_job(
         seconds=time.perf_counter() - clock,
     )
     return result, extra
+
+
+def add_timing(out: Path, seconds: float, trainer: Trainer) -> None:
+    """Add a session's ``seconds`` to ``out``'s :data:`TIMING` (atomic; a missing or
+    unreadable one starts from zero)."""
+    path = Path(out) / TIMING
+    before = read_timing(path) or {"seconds": 0.0, "sessions": 0}
+    timing = {
+        "seconds": float(before["seconds"]) + seconds,
+        "sessions": int(before["sessions"]) + 1,
+        "episodes": trainer.next_episode,
+        "env_steps": trainer.agent.env_steps,
+    }
+    write_atomic(path, lambda tmp: tmp.write_text(json.dumps(timing, indent=1) + "\n"))
+
+
+def read_timing(path: Path) -> dict[str, Any] | None:
+    """A :data:`TIMING` file's contents, or None if it is missing or not one."""
+    try:
+        timing = json.loads(Path(path).read_text())
+        float(timing["seconds"]), int(timing["sessions"])
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+    return timing
 
 
 @ray.remote(num_cpus=1, max_retries=RETRIES, retry_exceptions=False)

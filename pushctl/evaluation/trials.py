@@ -16,7 +16,6 @@ the proxy, the same camera noise), one after the other.
 
 from __future__ import annotations
 
-import copy
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -35,7 +34,7 @@ from pushctl.objects import OBJECT_NAMES, resolve_object
 from pushctl.planning import PROFILE_NAMES
 from pushctl.rl.env import PushEnv
 from pushctl.rl.networks import ActorPolicy
-from pushctl.rl.policy import finish_with_policy
+from pushctl.rl.policy import finish_with_policy, pd_only_episode
 
 SEEDS_PER_EVALUATION = 100_000
 """Scenario seeds reserved for one evaluation seed: S × this + trial."""
@@ -191,7 +190,7 @@ def run_trial(
     # Every controller starts from the end of the same approach: PD-only pushes from a copy
     # of the episode as the reset left it (9 % of a trial's CPU time saved; the same trace
     # as a fresh Episode's run(), tested).
-    pd_episode = copy.deepcopy(env.episode) if "pd" in controllers else None
+    pd_episode = pd_only_episode(env) if "pd" in controllers else None
     rl_runs: list[tuple[int | None, tuple[Trace, float]]] = []
     if "rl" in controllers:
         for k, (one, seed) in enumerate(policies or ((actor, policy_seed),)):

@@ -10,6 +10,7 @@ a killed run would have drawn.
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -19,13 +20,15 @@ import torch
 from pushctl.control.feedback import FeedbackGains
 from pushctl.control.gains import PDGains
 from pushctl.episode.metrics import compute_metrics, force_component_errors
-from pushctl.episode.runner import Episode
 from pushctl.episode.trace import Trace
+from pushctl.errors import ConfigError, StateError
 from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.feedback_actor import FeedbackActor
 from pushctl.rl.networks import ActorPolicy
 from pushctl.rl.noise import OrnsteinUhlenbeckNoise
+from pushctl.rl.policy import pd_only_episode
+from pushctl.rl.vector_env import PushVectorEnv
 
 CURVE_METRICS = (
     "force_n_error",
@@ -91,71 +94,105 @@ def collect_episode(
 ) -> EpisodeRecord:
     """Run episode ``episode`` of the run with ``seed`` (see the module docstring); its
     record's ``pd`` is None (PD-only is :func:`pd_only_metrics`, run by the learner).
-    ``env``: one to reuse (its config must be ``env_config``)."""
+    ``env``: one to reuse (its config must be ``env_config``). The same record as that
+    episode's in any :func:`collect_episodes` batch."""
+    vector = PushVectorEnv.of([env if env is not None else PushEnv(env_config, gains)])
+    return collect_episodes(vector, seed, [episode], behaviour)[0]
+
+
+def collect_episodes(
+    vector: PushVectorEnv, seed: int, episodes: Sequence[int], behaviour: Behaviour
+) -> list[EpisodeRecord]:
+    """Run the ``episodes`` of the run with ``seed`` together in ``vector`` (one
+    sub-environment each: ``vector.num_envs == len(episodes)``), one batched actor forward
+    per step for all of them; their records, in order, each the same bit for bit as when
+    the episode runs alone (:meth:`ActorPolicy.batch`, one noise generator per episode)."""
     started = time.perf_counter()
-    env = env if env is not None else PushEnv(env_config, gains)
-    reset_seed, rng = episode_rngs(seed, episode)
-    obs, _ = env.reset(seed=reset_seed)
-    act = _acting(behaviour, rng, env)
-    assert env.episode is not None
-    steps = env.episode.n_steps
-    decisions = -(-steps // env_config.action_repeat)
-    rows = _allocate(decisions, obs.shape[0])
-    gate_open = 0
+    if vector.num_envs != len(episodes):
+        raise ConfigError(
+            f"{len(episodes)} episodes need as many environments, got {vector.num_envs}"
+        )
+    draws = [episode_rngs(seed, e) for e in episodes]
+    obs, _ = vector.reset(seed=[reset_seed for reset_seed, _ in draws])
+    act = _acting(behaviour, [rng for _, rng in draws], vector.envs)
+    lengths = {env.episode.n_steps for env in vector.envs if env.episode is not None}
+    if len(lengths) != 1:  # a round's pushes share EnvConfig.duration and dt
+        raise StateError(f"episodes of one batch must be equally long, got {sorted(lengths)}")
+    decisions = -(-lengths.pop() // vector.config.action_repeat)  # step() holds an action
+    rows = _allocate(decisions, *obs.shape)
+    gate_open = np.zeros(len(episodes))
     for n in range(decisions):
         action = act(obs)
-        next_obs, reward, terminated, _, info = env.step(action)
+        next_obs, reward, terminated, _, info = vector.step(action)
+        active = info["residual_active"]
         rows["obs"][n] = obs
-        rows["action"][n] = _applied_action(action, info["residual_active"])
+        rows["action"][n] = np.where(active[:, None], np.clip(action, -1.0, 1.0), 0.0)
         rows["reward"][n] = reward
         rows["next_obs"][n] = next_obs
         rows["done"][n] = terminated
-        gate_open += info["residual_active"]
+        gate_open += active
         obs = next_obs
-    assert env.episode.done
-    rl = _curve_metrics(env.episode.trace())
-    return EpisodeRecord(
-        episode=episode,
-        scenario=_describe(env),
-        transitions=rows,
-        rl=rl,
-        pd=None,
-        gate_open_fraction=gate_open / max(decisions, 1),
-        episode_return=float(rows["reward"].sum()),
-        seconds=time.perf_counter() - started,
-    )
+    assert all(env.episode is not None and env.episode.done for env in vector.envs)
+    seconds = (time.perf_counter() - started) / len(episodes)
+    records = []
+    for i, (episode, env) in enumerate(zip(episodes, vector.envs, strict=True)):
+        assert env.episode is not None
+        transitions = {key: np.ascontiguousarray(value[:, i]) for key, value in rows.items()}
+        records.append(
+            EpisodeRecord(
+                episode=episode,
+                scenario=_describe(env),
+                transitions=transitions,
+                rl=_curve_metrics(env.episode.trace()),
+                pd=None,
+                gate_open_fraction=float(gate_open[i]) / max(decisions, 1),
+                episode_return=float(transitions["reward"].sum()),
+                seconds=seconds,
+            )
+        )
+    return records
 
 
 def pd_only_metrics(env: PushEnv, seed: int, episode: int) -> dict[str, float]:
     """PD-only on the scenario and plan episode ``episode`` of the run with ``seed`` draws
-    (``env`` only draws and plans it: the same draw as :func:`collect_episode`'s), as
+    (``env`` draws, plans and approaches it: the same draw as :func:`collect_episode`'s,
+    on the same plant, :func:`~pushctl.rl.policy.pd_only_episode`), as
     :data:`CURVE_METRICS`. The learner runs it while the collector runs the RL episode."""
     reset_seed, _ = episode_rngs(seed, episode)
     env.reset(seed=reset_seed)
-    return _curve_metrics(Episode(env.scenario, env.gains, plan=env.plan).run())
+    return _curve_metrics(pd_only_episode(env).finish())
 
 
-def _acting(behaviour: Behaviour, rng: np.random.Generator, env: PushEnv):
-    """obs (d,) → action (3,) in [−1, 1]: in warm-up the OU noise alone or the
-    demonstrator's law (on ``env``'s push, just reset), else actor + noise.
+def _acting(behaviour: Behaviour, rngs: list[np.random.Generator], envs: list[PushEnv]):
+    """obs (B, d) → actions (B, 3) in [−1, 1]: in warm-up the OU noise alone or the
+    demonstrator's law (on each of ``envs``' pushes, just reset), else actor + noise; row
+    i's noise from ``rngs[i]`` (its episode's), so a row does not depend on the others.
 
     Warm-up explores with the (temporally correlated) noise rather than uniform draws: a
     uniform action every 10 ms is a velocity step every step, whose force spikes are 100
     times the baseline's errors and teach the critic about a regime the actor never visits.
     """
-    noise = OrnsteinUhlenbeckNoise(3, behaviour.ou_theta, behaviour.ou_sigma, behaviour.ou_dt, rng)
-    if behaviour.warmup or behaviour.actor_state is None:
-        if behaviour.demonstrator is None:
-            return lambda obs: np.clip(noise.sample(), -1.0, 1.0)
+    b = behaviour
+    noises = [OrnsteinUhlenbeckNoise(3, b.ou_theta, b.ou_sigma, b.ou_dt, rng) for rng in rngs]
+    if b.warmup or b.actor_state is None:
+        if b.demonstrator is None:
+            return lambda obs: np.stack([noise.explore(None) for noise in noises])
         # The law alone, no noise: the actor is cloned from these actions, and the noise,
         # held for action_repeat steps, is a function of time that an actor seeing the phase
         # and the forces would learn by heart from a few episodes.
-        law = FeedbackActor(env, behaviour.demonstrator)
-        return lambda obs: np.clip(law(obs), -1.0, 1.0)
-    policy = ActorPolicy.from_state(tensors(behaviour.actor_state))
+        laws = [FeedbackActor(env, b.demonstrator) for env in envs]
+        return lambda obs: np.stack(
+            [np.clip(law(row), -1.0, 1.0) for law, row in zip(laws, obs, strict=True)]
+        )
+    policy = ActorPolicy.from_state(tensors(b.actor_state))
 
     def act(obs: np.ndarray) -> np.ndarray:
-        return np.clip(policy(obs.astype(np.float64)) + noise.sample(), -1.0, 1.0)
+        if policy is None:
+            return np.stack([noise.explore(None) for noise in noises])
+        actions = policy.batch(obs)
+        for row, noise in zip(actions, noises, strict=True):
+            noise.explore(row)  # in place
+        return actions
 
     return act
 
@@ -179,18 +216,14 @@ def tensors(state: Any) -> Any:
     return state
 
 
-def _applied_action(action: np.ndarray, active: bool) -> np.ndarray:
-    """What the world got: the (clipped) action while the gate was open, else zeros."""
-    return np.clip(action, -1.0, 1.0) if active else np.zeros(3)
-
-
-def _allocate(steps: int, obs_dim: int) -> dict[str, np.ndarray]:
+def _allocate(steps: int, envs: int, obs_dim: int) -> dict[str, np.ndarray]:
+    """Transitions of ``envs`` episodes, step-major: (steps, envs, …)."""
     return {
-        "obs": np.zeros((steps, obs_dim), dtype=np.float32),
-        "action": np.zeros((steps, 3), dtype=np.float32),
-        "reward": np.zeros(steps, dtype=np.float32),
-        "next_obs": np.zeros((steps, obs_dim), dtype=np.float32),
-        "done": np.zeros(steps, dtype=np.float32),
+        "obs": np.zeros((steps, envs, obs_dim), dtype=np.float32),
+        "action": np.zeros((steps, envs, 3), dtype=np.float32),
+        "reward": np.zeros((steps, envs), dtype=np.float32),
+        "next_obs": np.zeros((steps, envs, obs_dim), dtype=np.float32),
+        "done": np.zeros((steps, envs), dtype=np.float32),
     }
 
 

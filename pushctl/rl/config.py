@@ -40,8 +40,11 @@ class DDPGConfig:
       ``target ← (1 − tau)·target + tau·online`` [-].
     - ``batch_size`` [256]: transitions per gradient update [transitions].
     - ``buffer_size`` [1_000_000]: replay capacity, >= ``batch_size`` [transitions].
-    - ``warmup_steps`` [10_000]: environment steps with uniform random actions before the actor
-      acts and before any update [env steps].
+    - ``warmup_steps`` [10_000]: environment steps (decisions) of the warm-up, before the
+      actor acts and before any update: their actions are the OU exploration noise alone
+      (correlated rather than uniform draws, see :func:`pushctl.rl.collect._acting`; the
+      same rule in :meth:`DDPGAgent.act`) or, in training with a ``demonstrator``, its law
+      [env steps].
     - ``updates_per_step`` [1.0]: gradient updates per environment step, may be fractional
       (0.1 = one update every 10 env steps) [updates/env step].
     - ``ou_theta`` [0.15]: mean-reversion rate of the Ornstein–Uhlenbeck exploration noise,

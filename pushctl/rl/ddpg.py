@@ -1,7 +1,7 @@
 """DDPG (Lillicrap et al., 2016): the agent that acts, stores transitions, updates and resumes.
 
 Determinism: every random draw comes from ``seed`` via ``np.random.SeedSequence(seed)``,
-spawned into three numpy generators (replay sampling, warm-up actions, OU noise) and the seed
+spawned into numpy generators (replay sampling, OU noise) and the seed
 of one ``torch.Generator`` (weight initialisation). The global numpy, torch and ``random``
 RNGs are never used, and :meth:`DDPGAgent.state_dict` holds every generator's state, so a
 resumed run continues bit-identically (on the same machine and torch thread count).
@@ -80,9 +80,10 @@ class DDPGAgent:
             if not isinstance(value, numbers.Integral) or isinstance(value, bool) or value < least:
                 raise ConfigError(f"ddpg {name} must be an integer >= {least}, got {value!r}")
         self.obs_dim, self.act_dim, self.config = int(obs_dim), int(act_dim), config
-        replay_seq, explore_seq, noise_seq, torch_seq = np.random.SeedSequence(int(seed)).spawn(4)
+        # four children as before the uniform warm-up's generator went, so the others keep
+        # their streams (the second is unused)
+        replay_seq, _, noise_seq, torch_seq = np.random.SeedSequence(int(seed)).spawn(4)
         self._replay_rng = np.random.default_rng(replay_seq)
-        self._explore_rng = np.random.default_rng(explore_seq)
         self._noise_rng = np.random.default_rng(noise_seq)
         self._torch_gen = torch.Generator().manual_seed(int(torch_seq.generate_state(1)[0]))
         self.actor = Actor(self.obs_dim, self.act_dim, config.hidden)
@@ -125,22 +126,23 @@ class DDPGAgent:
     def act(self, obs: np.ndarray, explore: bool) -> np.ndarray:
         """Action for obs (obs_dim,) → (act_dim,), or (B, obs_dim) → (B, act_dim), in [-1, 1].
 
-        ``explore=False``: the actor's output. ``explore=True``: uniform random actions while
-        :attr:`env_steps` < ``warmup_steps``; afterwards actor + OU noise, clipped to [-1, 1].
-        A batch keeps one OU process per row: the noise has shape (B, act_dim), and a new
-        batch shape starts a fresh process at 0.
+        ``explore=False``: the actor's output. ``explore=True``: the behaviour of training
+        (:meth:`OrnsteinUhlenbeckNoise.explore`): the OU noise alone while :attr:`env_steps`
+        < ``warmup_steps``, afterwards actor + OU noise, clipped to [-1, 1]. A batch keeps
+        one OU process per row: the noise has shape (B, act_dim), and a new batch shape
+        starts a fresh process at 0. (:mod:`pushctl.rl.train` draws each episode's noise
+        from that episode's own generator, :mod:`pushctl.rl.collect`, with the same rule.)
         """
         if not explore:
             return self._policy(obs)
-        if self._env_steps < self.config.warmup_steps:
-            shape = self._policy.scaled(obs).shape[:-1] + (self.act_dim,)
-            return self._explore_rng.uniform(-1.0, 1.0, size=shape)
-        action = self._policy(obs)
-        if self._noise.shape != action.shape:
-            self._noise = self._new_noise(action.shape)
-        action += self._noise.step()
-        np.minimum(action, 1.0, out=action)  # two ufuncs: 3x faster than np.clip here
-        return np.maximum(action, -1.0, out=action)
+        if self._env_steps < self.config.warmup_steps:  # the noise alone (obs still checked)
+            action, shape = None, self._policy.scaled(obs).shape[:-1] + (self.act_dim,)
+        else:
+            action = self._policy(obs)
+            shape = action.shape
+        if self._noise.shape != shape:
+            self._noise = self._new_noise(shape)
+        return self._noise.explore(action)
 
     def policy_action(self, obs: np.ndarray) -> np.ndarray:
         """The deterministic actor's action (no noise, no warm-up), for evaluation."""
@@ -341,7 +343,7 @@ class DDPGAgent:
         self._set_policy(np.asarray(state["obs_scale"], dtype=np.float64))
 
     def _numpy_rngs(self) -> dict[str, np.random.Generator]:
-        return {"replay": self._replay_rng, "explore": self._explore_rng, "noise": self._noise_rng}
+        return {"replay": self._replay_rng, "noise": self._noise_rng}
 
     def _new_noise(self, shape: tuple[int, ...]) -> OrnsteinUhlenbeckNoise:
         cfg = self.config

@@ -11,6 +11,7 @@ import torch
 from torch import nn
 
 from pushctl.errors import ConfigError, StateError
+from pushctl.rl import batched_actor
 
 FINAL_LAYER_BOUND = 3e-3
 """Half-width of the uniform initialisation of each network's output layer (DDPG paper)."""
@@ -115,6 +116,8 @@ class ActorPolicy:
         self._hidden = [torch.empty(lin.out_features) for lin in linears]
         self._inputs = [torch.from_numpy(self._obs)] + self._hidden[:-1]
         self._action = self._hidden[-1].numpy()
+        self._batch_layers: list[tuple[np.ndarray, np.ndarray]] = []
+        self._batch_versions: tuple[int, ...] = ()
 
     def scaled(self, obs: np.ndarray) -> np.ndarray:
         """``obs / obs_scale`` as float32, after checking the shape and that values are finite.
@@ -145,6 +148,31 @@ class ActorPolicy:
             torch.addmv(bias, weight, h_in, out=h_out)
             h_out.relu_() if i < len(self._layers) - 1 else h_out.tanh_()
         return self._action.astype(np.float64)
+
+    def batch(self, obs: np.ndarray) -> np.ndarray:
+        """Actions of a batch: obs (B, obs_dim) [obs units] → float64 (B, act_dim) in [−1, 1],
+        row i bit for bit the action of ``batch(obs[i:i + 1])`` whatever B is (the training
+        collectors step a varying number of episodes together; :mod:`pushctl.rl.batched_actor`).
+        It equals :meth:`__call__` up to float32 rounding, not to the bit."""
+        n = self.actor.obs_dim
+        array = np.asarray(obs, dtype=np.float64)
+        if array.ndim != 2 or array.shape[1] != n:
+            raise StateError(f"obs must have shape (B, {n}), got {array.shape}")
+        x = (array / self.obs_scale).astype(np.float32)
+        if not np.isfinite(x).all():
+            raise StateError(f"obs must be finite, got {obs!r:.80}")
+        return batched_actor.forward(x, self._transposed_layers()).astype(np.float64)
+
+    def _transposed_layers(self) -> list[tuple[np.ndarray, np.ndarray]]:
+        """The layers as batched_actor takes them, recopied when a parameter changed in place
+        (an optimiser step, ``load_state_dict``: torch counts them in ``_version``)."""
+        versions = tuple(t._version for layer in self._layers for t in layer)
+        if versions != self._batch_versions:
+            self._batch_layers = [
+                (np.ascontiguousarray(w.numpy().T), b.numpy().copy()) for w, b in self._layers
+            ]
+            self._batch_versions = versions
+        return self._batch_layers
 
     def state(self) -> dict[str, Any]:
         """A snapshot (tensors and plain values) that :meth:`from_state` rebuilds."""

@@ -74,6 +74,16 @@ class OrnsteinUhlenbeckNoise:
         self._x += self._eps
         return self._x
 
+    def explore(self, action: np.ndarray | None) -> np.ndarray:
+        """DDPG's behaviour action, the one rule of training and :meth:`DDPGAgent.act
+        <pushctl.rl.ddpg.DDPGAgent.act>`: the deterministic ``action`` (shape ``size``,
+        float64; modified in place) plus one step of this noise, or, during the warm-up
+        (``action`` None), the noise alone; clipped to [−1, 1]."""
+        step = self.step()
+        action = step.copy() if action is None else np.add(action, step, out=action)
+        np.minimum(action, 1.0, out=action)  # two ufuncs: 3x faster than np.clip here
+        return np.maximum(action, -1.0, out=action)
+
     def reset(self, rows: np.ndarray | None = None) -> None:
         """Set the state to 0: all of it, or only ``rows`` (indices into the first axis)."""
         if rows is None:

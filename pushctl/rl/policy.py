@@ -7,6 +7,7 @@ that made it.
 
 from __future__ import annotations
 
+import copy
 import re
 from collections.abc import Callable
 from dataclasses import dataclass, replace
@@ -17,6 +18,7 @@ import numpy as np
 import torch
 
 from pushctl.control.gains import PDGains
+from pushctl.episode.runner import Episode
 from pushctl.episode.trace import Trace
 from pushctl.errors import ConfigError, StateError
 from pushctl.provenance import write_atomic
@@ -92,6 +94,19 @@ def run_policy(env: PushEnv, actor: ActorPolicy, options: dict[str, Any]) -> Tra
     finish_with_policy(env, actor)
     assert env.episode is not None
     return env.episode.trace()
+
+
+def pd_only_episode(env: PushEnv) -> Episode:
+    """The PD-only comparison push of the scenario ``env`` was just reset to, ready to
+    ``finish()``: a copy of its episode as the reset left it, so the same plan, plant
+    effects (the proxy's latency, friction and noise generators), engine and approach. Its
+    ``finish()`` is the trace of a fresh ``Episode(env.scenario, env.gains, plan=env.plan,
+    effects=env.effects, engine=env.engine).run()``, without running the approach again.
+    The one way the evaluation, the validation and the training curves build it."""
+    episode = env.episode
+    if episode is None or episode.step_index != 0:
+        raise StateError("the PD-only push is copied from an episode just reset, before a step")
+    return copy.deepcopy(episode)
 
 
 def finish_with_policy(env: PushEnv, actor: Callable[[np.ndarray], np.ndarray]) -> int:

@@ -6,7 +6,10 @@ episodes run in rounds of ``episodes_per_round``; the episodes of round r run wi
 as it was after the updates credited to rounds ≤ r − 2, and while they run the learner does
 the updates credited to round r − 1 and then submits round r + 1, so two rounds are in
 flight and the collectors do not wait for the learner. A checkpoint after a round holds
-everything that schedule needs, so a resumed run continues bit for bit.
+everything that schedule needs, so a resumed run continues bit for bit. Each collector steps
+its contiguous share of a round together in a vector env, one batched actor forward per
+step (:func:`~pushctl.rl.collect.collect_episodes`), whose rows do not depend on the share's
+size: no result depends on the number of collectors.
 
 Files in a run directory: ``checkpoint.pt`` (atomic, every ``checkpoint_every`` episodes and
 at the end), ``curve.csv`` (one row per episode, rewritten atomically with each checkpoint),
@@ -21,7 +24,6 @@ import math
 import time
 from collections.abc import Callable
 from concurrent.futures import Future
-from contextlib import ExitStack
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -37,18 +39,17 @@ from pushctl.rl.collect import (
     CURVE_METRICS,
     Behaviour,
     EpisodeRecord,
-    collect_episode,
     pd_only_metrics,
     portable,
-    tensors,
 )
+from pushctl.rl.collectors import Collector
 from pushctl.rl.ddpg import DDPGAgent, configure_torch
 from pushctl.rl.env import PushEnv
 from pushctl.rl.networks import ActorPolicy
 from pushctl.rl.policy import save_atomic, write_policy
 from pushctl.rl.presets import Preset
 from pushctl.rl.spaces import observation_entries, scales
-from pushctl.rl.validate import Metrics, Validator, validation_env, validation_metrics
+from pushctl.rl.validate import Metrics, Validator
 
 CHECKPOINT = "checkpoint.pt"
 CURVE = "curve.csv"
@@ -142,7 +143,7 @@ class Trainer:
         configure_torch(self.preset.ddpg.torch_threads)
         clock = _Rates(self.agent)
         train = self.preset.train
-        with _Collector(self.preset, self.gains, self.seed, self.collectors) as collector:
+        with Collector(self.preset, self.gains, self.seed, self.collectors) as collector:
             flight = self._submit_round(collector, self.next_episode, episodes)
             while flight is not None:
                 # The collectors run this round (and queue its validation pushes) while the
@@ -153,8 +154,9 @@ class Trainer:
                 following = self._submit_round(collector, flight.episodes.stop, episodes)
                 episodes_ = flight.episodes
                 pd_metrics = [self._pd_metrics(e) if self._run_pd(e) else None for e in episodes_]
-                for future, metrics in zip(flight.futures, pd_metrics, strict=True):
-                    record = replace(future.result(), pd=metrics)
+                records = [record for future in flight.futures for record in future.result()]
+                for record, metrics in zip(records, pd_metrics, strict=True):
+                    record = replace(record, pd=metrics)
                     self._absorb(record)
                     if on_episode is not None:
                         on_episode(clock.progress(record, self.next_episode, episodes))
@@ -241,7 +243,7 @@ class Trainer:
         return {row["episode"] for row in self.validation}
 
     def _submit_round(
-        self, collector: _Collector, first: int, episodes: int
+        self, collector: Collector, first: int, episodes: int
     ) -> _RoundInFlight | None:
         """Submit the round starting at episode ``first`` (None past ``episodes``) with the
         current actor, and its validation if one is due."""
@@ -249,12 +251,12 @@ class Trainer:
             return None
         round_ = range(first, min(first + self.preset.train.episodes_per_round, episodes))
         behaviour = self._behaviour(first)
-        futures = [collector.submit(e, behaviour) for e in round_]
+        futures = collector.submit(round_, behaviour)
         due = [e for e in round_ if self._validate_due(e)]
         validation = self._submit_validation(collector, due[0]) if due else None
         return _RoundInFlight(round_, futures, validation)
 
-    def _submit_validation(self, collector: _Collector, episode: int) -> _PendingValidation:
+    def _submit_validation(self, collector: Collector, episode: int) -> _PendingValidation:
         """Start scoring the current actor (the one episode ``episode`` runs with) on the
         validation set, spread over the collectors."""
         if self._validator is None:
@@ -347,10 +349,11 @@ def read_checkpoint(path: Path) -> dict[str, Any]:
 
 @dataclass(frozen=True)
 class _RoundInFlight:
-    """A submitted round: its episodes, their futures, and its validation (if due)."""
+    """A submitted round: its episodes, the futures of their records (one per collector,
+    each a list in episode order), and its validation (if due)."""
 
     episodes: range
-    futures: list[Future[EpisodeRecord]]
+    futures: list[Future[list[EpisodeRecord]]]
     validation: _PendingValidation | None
 
 
@@ -386,78 +389,3 @@ class _Rates:
             updates_per_s=(updates - self.updates0) / elapsed,
             elapsed=elapsed,
         )
-
-
-class _CollectorWorker:
-    """What a collector process holds: the training environment and, once needed, the
-    validation one."""
-
-    def __init__(self, preset: Preset, gains: PDGains) -> None:
-        self.env = PushEnv(preset.env, gains)
-        self._validation_env: PushEnv | None = None
-
-    def collect(self, seed: int, episode: int, behaviour: Behaviour) -> EpisodeRecord:
-        env = self.env
-        return collect_episode(env.config, env.gains, seed, episode, behaviour, env=env)
-
-    def validate(self, actor_state: dict[str, Any], options: list[dict[str, Any]]) -> list[Metrics]:
-        if self._validation_env is None:
-            self._validation_env = validation_env(self.env.config, self.env.gains)
-        return validation_metrics(self._validation_env, tensors(actor_state), options)
-
-
-class _Collector:
-    """Runs episodes in this process (``workers`` 0) or in ``workers`` Ray worker processes
-    (:class:`~pushctl.distributed.engine.WorkerPool`; Ray is started here if this process
-    is not connected yet)."""
-
-    def __init__(self, preset: Preset, gains: PDGains, seed: int, workers: int) -> None:
-        self.preset, self.gains, self.seed, self.workers = preset, gains, seed, workers
-        self._stack = ExitStack()
-        self._pool: Any = None
-        self._local: _CollectorWorker | None = None
-
-    def __enter__(self) -> _Collector:
-        if self.workers > 0:
-            from pushctl.distributed.engine import WorkerPool, session  # Ray only when used
-
-            self._stack.enter_context(session())
-            self._pool = self._stack.enter_context(
-                WorkerPool(self.workers, _collector_process, (self.preset, self.gains))
-            )
-        else:
-            self._local = _CollectorWorker(self.preset, self.gains)
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        self._stack.close()
-
-    def submit(self, episode: int, behaviour: Behaviour) -> Future[EpisodeRecord]:
-        if self._pool is not None:
-            return self._pool.submit("collect", self.seed, episode, behaviour)
-        assert self._local is not None
-        return _done(self._local.collect(self.seed, episode, behaviour))
-
-    def validate(
-        self, actor_state: dict[str, Any], options: list[dict[str, Any]]
-    ) -> Future[list[Metrics]]:
-        """The metrics of the actor of ``actor_state`` (numpy arrays, :func:`portable`) on
-        the validation scenarios ``options``."""
-        if self._pool is not None:
-            return self._pool.submit("validate", actor_state, options)
-        assert self._local is not None
-        return _done(self._local.validate(actor_state, options))
-
-
-def _collector_process(preset: Preset, gains: PDGains) -> _CollectorWorker:
-    """A collector in a worker process of its own: torch on one thread, as the learner's
-    results do not depend on it and the cores are the workers'."""
-    torch.set_num_threads(1)
-    return _CollectorWorker(preset, gains)
-
-
-def _done(value: Any) -> Future[Any]:
-    """A future that already holds ``value``."""
-    future: Future[Any] = Future()
-    future.set_result(value)
-    return future

@@ -26,11 +26,10 @@ import numpy as np
 
 from pushctl.control.gains import PDGains
 from pushctl.episode.metrics import compute_metrics
-from pushctl.episode.runner import Episode
 from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.networks import ActorPolicy
-from pushctl.rl.policy import run_policy
+from pushctl.rl.policy import pd_only_episode, run_policy
 
 VALIDATION_STREAM = "tuning"
 
@@ -158,10 +157,7 @@ class Validator:
             env, self._pd = self.env, []
             for options in self.options:
                 env.reset(options=options)
-                baseline = Episode(
-                    env.scenario, env.gains, plan=env.plan, effects=env.effects, engine=env.engine
-                )
-                self._pd.append(_metrics(baseline.run()))
+                self._pd.append(_metrics(pd_only_episode(env).finish()))
         return self._pd
 
 

@@ -96,3 +96,15 @@ def test_sample_returns_a_copy():
 def test_bad_parameters_raise(kwargs):
     with pytest.raises(ConfigError):
         _noise(**kwargs)
+
+
+def test_explore_adds_one_noise_step_to_the_action_or_is_the_noise_alone():
+    noise = OrnsteinUhlenbeckNoise(3, 0.15, 2.0, 1.0, np.random.default_rng(4))
+    twin = OrnsteinUhlenbeckNoise(3, 0.15, 2.0, 1.0, np.random.default_rng(4))
+    alone = noise.explore(None)  # the warm-up
+    np.testing.assert_array_equal(alone, np.clip(twin.sample(), -1.0, 1.0))
+    action = np.array([0.5, -0.5, 0.0])
+    expected = np.clip(action + twin.sample(), -1.0, 1.0)
+    assert noise.explore(action) is action  # in place
+    np.testing.assert_array_equal(action, expected)
+    assert np.abs(expected).max() == 1.0  # sigma 2: clipped

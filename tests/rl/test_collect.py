@@ -1,0 +1,95 @@
+"""Batched collection: episodes stepped together in a vector env (one batched actor forward
+per step) leave the same records, bit for bit, as each episode run alone; the training
+curve's PD-only push runs on the episode's plant."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+import torch
+
+from pushctl.control.feedback import load_feedback_gains
+from pushctl.control.gains import load_gains
+from pushctl.episode.runner import Episode
+from pushctl.errors import StateError
+from pushctl.rl.collect import (
+    Behaviour,
+    _curve_metrics,
+    collect_episode,
+    collect_episodes,
+    pd_only_metrics,
+    portable,
+)
+from pushctl.rl.env import PushEnv
+from pushctl.rl.env_config import EnvConfig
+from pushctl.rl.networks import Actor, ActorPolicy, initialise
+from pushctl.rl.policy import pd_only_episode
+from pushctl.rl.spaces import observation_entries, scales
+from pushctl.rl.vector_env import PushVectorEnv
+
+SHORT = EnvConfig(
+    duration=0.4, objects=("cube", "wedge"), profiles=("constant",), gate_threshold=0.0
+)
+
+
+def _acting() -> Behaviour:
+    entries = observation_entries(2, reference_offset=SHORT.offset_observed)
+    actor = Actor(len(entries), 3, (32, 32))
+    initialise(actor, torch.Generator().manual_seed(3), final_bound=0.5)  # actions far from 0
+    state = ActorPolicy(actor.eval(), scales(entries)).state()
+    return Behaviour(False, portable(state), ou_theta=0.15, ou_sigma=0.05, ou_dt=1.0)
+
+
+def test_episodes_stepped_together_equal_each_episode_alone() -> None:
+    gains = load_gains()
+    behaviour = _acting()
+    episodes = [4, 9, 10]
+    together = collect_episodes(PushVectorEnv(3, SHORT, gains), 11, episodes, behaviour)
+    for record, episode in zip(together, episodes, strict=True):
+        alone = collect_episode(SHORT, gains, 11, episode, behaviour)
+        assert record.episode == episode
+        assert record.scenario == alone.scenario
+        assert record.rl == alone.rl
+        assert record.episode_return == alone.episode_return
+        for key, rows in alone.transitions.items():
+            assert record.transitions[key].tobytes() == rows.tobytes(), key
+    # the actor acted: applied actions are large, and they differ between episodes
+    actions = [record.transitions["action"] for record in together]
+    assert np.abs(actions[0]).max() > 0.1
+    assert not np.array_equal(actions[0], actions[1])
+
+
+def test_the_pd_only_curve_push_runs_on_the_episodes_plant() -> None:
+    # A proxy-trained preset: PD-only must push with the proxy's effects, as the RL episode.
+    config = EnvConfig(duration=1.0, objects=("cube",), profiles=("constant",), plant="proxy")
+    env = PushEnv(config, load_gains())
+    metrics = pd_only_metrics(env, 5, 2)
+    fresh = Episode(env.scenario, env.gains, plan=env.plan, effects=env.effects, engine=env.engine)
+    assert metrics == _curve_metrics(fresh.run())
+    without = _curve_metrics(Episode(env.scenario, env.gains, plan=env.plan).run())
+    assert metrics != without
+    env.step(np.zeros(3))
+    with pytest.raises(StateError):
+        pd_only_episode(env)  # only from an episode just reset
+
+
+@pytest.mark.parametrize("demonstrated", [False, True])
+def test_held_actions_and_the_demonstrated_warm_up_batch_as_they_run_alone(demonstrated) -> None:
+    # a decision every 4 steps (one transition each), the feedback law acting in warm-up
+    config = replace(SHORT, action_repeat=4)
+    gains = load_gains()
+    if demonstrated:
+        behaviour = Behaviour(True, None, 0.15, 0.05, 1.0, demonstrator=load_feedback_gains())
+    else:
+        behaviour = _acting()
+    together = collect_episodes(PushVectorEnv(2, config, gains), 3, [0, 1], behaviour)
+    for record in together:
+        alone = collect_episode(config, gains, 3, record.episode, behaviour)
+        assert len(record.transitions["reward"]) == 10  # 40 steps, 4 per decision
+        for key, rows in alone.transitions.items():
+            assert record.transitions[key].tobytes() == rows.tobytes(), key
+        assert record.rl == alone.rl
+    if not demonstrated:  # (the law's twist is zero this early in a 0.4 s push)
+        assert np.abs(together[0].transitions["action"]).max() > 0.0
