@@ -12,6 +12,11 @@ import numpy as np
 
 from pushctl.errors import ConfigError
 
+PLANT_KINDS = ("sim", "proxy", "mujoco")
+"""The plant kinds (docs/glossary.md): the training simulator, the held-out reality proxy, and
+MuJoCo (the same scene on another engine, evaluation only, parameters from the ``sim`` ranges;
+docs/mujoco.md). Defined here once, for the simulator's side and the report's alike."""
+
 GRAVITY = 9.81
 """Magnitude of gravitational acceleration [m/s²], along world −z."""
 

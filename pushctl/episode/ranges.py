@@ -14,6 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass, fields
 from pathlib import Path
 
+from pushctl.config import PLANT_KINDS
 from pushctl.episode.scenario import ParameterRanges, TargetRanges
 from pushctl.episode.unknowns import UnknownRanges
 from pushctl.errors import ConfigError
@@ -21,9 +22,8 @@ from pushctl.toml_files import check_keys, read_toml
 
 DEFAULT_RANGES_FILE = Path(__file__).resolve().parents[2] / "experiments" / "randomisation.toml"
 
-PLANTS = ("sim", "proxy", "mujoco")
-"""Plants: the training simulator, the held-out reality proxy, and MuJoCo (the same scene on
-another engine, evaluation only, parameters from the ``sim`` ranges; docs/mujoco.md)."""
+PLANTS = PLANT_KINDS
+"""The plant kinds (:data:`pushctl.config.PLANT_KINDS`)."""
 
 DEFAULT_PLANTS = ("sim", "proxy")
 """The plants an evaluation runs by default (``--plant both``)."""

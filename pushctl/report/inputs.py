@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from pushctl.config import PLANT_KINDS
 from pushctl.errors import ConfigError
 from pushctl.evaluation.columns import STEP_COLUMNS
 
@@ -27,7 +28,7 @@ TRIALS = Path("evaluation") / "trials.csv"
 STEPS = Path("evaluation") / "steps.csv"
 CURVE = Path("training") / "curve.csv"
 
-PLANTS = ("sim", "proxy", "mujoco")
+PLANTS = PLANT_KINDS  # pushctl.config: one definition for the simulator and the report
 CONTROLLERS = ("pd", "feedback", "rl")
 CURVE_METRICS = ("force_n_error", "force_t_error", "torque_error")
 """The per-episode errors of Fig. 5 [N, N, N·m], each as ``rl_<m>`` and ``pd_<m>``."""
