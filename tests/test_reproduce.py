@@ -185,3 +185,18 @@ def test_a_tiny_reproduction_times_every_stage(
     manifest = (setup.results / MANIFEST).read_text()
     assert "## Budgets" in manifest and "budgets met" in manifest
     assert "this run: preset" in manifest
+
+
+def test_the_manifest_names_the_command_that_gave_the_setup() -> None:
+    from dataclasses import replace
+
+    from pushctl.cli.reproduce import FULL, QUICK, _commands
+
+    assert _commands(FULL) == ("make reproduce-tables", "python -m pushctl.cli.reproduce")
+    assert _commands(QUICK)[0] == "make reproduce-tables QUICK=1"
+    quick_preset = replace(FULL, preset="quick", force=True)
+    assert _commands(quick_preset) == (
+        "make reproduce-tables PRESET=quick FORCE=1",
+        "python -m pushctl.cli.reproduce --preset quick --force",
+    )
+    assert _commands(replace(FULL, seeds=(0,)))[0] == "make reproduce-tables SEEDS=0"

@@ -220,18 +220,33 @@ def _copier(source: Path) -> Callable[[Path], object]:
     return lambda tmp: shutil.copyfile(source, tmp)
 
 
+def _commands(setup: Setup) -> tuple[str, str]:
+    """The ``make`` line and the module line that give ``setup``, for the manifest."""
+    quick = setup.results == QUICK.results
+    default = QUICK if quick else FULL
+    seeds = ",".join(map(str, setup.seeds))
+    flags = [
+        ("QUICK=1", "--quick", quick),
+        (f"PRESET={setup.preset}", f"--preset {setup.preset}", setup.preset != default.preset),
+        (f"SEEDS={seeds}", f"--seeds {seeds}", setup.seeds != SEEDS),
+        ("FORCE=1", "--force", setup.force),
+    ]
+    make = " ".join(["make reproduce-tables", *(m for m, _, on in flags if on)])
+    module = " ".join(["python -m pushctl.cli.reproduce", *(a for _, a, on in flags if on)])
+    return make, module
+
+
 def write_manifest(
     setup: Setup, records: list[StepRecord], started: datetime, running: bool = False
 ) -> None:
     total = sum(r.seconds for r in records)
     failed = [r for r in records if r.returncode != 0]
     outcome = "failed at " + failed[0].name if failed else "all steps succeeded"
-    quick = setup.preset == QUICK.preset
+    make, module = _commands(setup)
     lines = [
         f"# How `{setup.results}/` was made",
         "",
-        f"- command: `make reproduce-tables{' QUICK=1' if quick else ''}` "
-        f"(`python -m pushctl.cli.reproduce{' --quick' if quick else ''}`)",
+        f"- command: `{make}` (`{module}`)",
         f"- pushctl {pushctl.__version__}, commit {git_commit()}",
         f"- seeds: training {','.join(map(str, setup.seeds))} (training stream; "
         f"`{setup.results}/training/seed-K/`), evaluation {SEED} (evaluation stream) of "
