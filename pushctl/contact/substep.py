@@ -176,7 +176,7 @@ class SubstepSolver:
     def _build_problem(self, h: float, tau: np.ndarray, damping: np.ndarray) -> ContactProblem:
         """Free velocities and the contact MLCP of one time step of length h."""
         prongs, inputs = self._step_inputs(h, tau, damping)
-        assembled = assemble(*inputs, *self._model)
+        assembled = assemble(*inputs, *self._model)  # type: ignore[call-arg]  # numba
         D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, A_arm = assembled
         return ContactProblem(
             h, D, b, lo, hi, findex, mu, prongs, A_arm, v_arm_free, Minv_At_arm, Minv_At_obj
