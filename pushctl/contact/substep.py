@@ -37,7 +37,7 @@ STEP_STATE = (
 """The leading parameters of the step's kernels (:func:`~pushctl.contact.kernels.assemble`,
 ``warm_contact_step``, ``warm_slip_step``): the state of one step, which changes every step
 (shapes and units in ``assemble``). The world passes them as a plain tuple in this order,
-then its :class:`ContactModel` (tests/test_rows_compiled.py checks both against the
+then its :class:`ContactModel` (tests/contact/test_rows_compiled.py checks both against the
 kernels' signatures)."""
 
 

@@ -18,7 +18,7 @@ from pushctl.episode.scenario import PhysicalParameters, Scenario
 from pushctl.errors import ConfigError
 from pushctl.types import PlanarPose
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 PUSHERS = ROOT / "experiments" / "pushers"
 HEXAGON = str(ROOT / "experiments" / "objects" / "hexagon.toml")
 EXAMPLES = {"one.toml": 1, "two.toml": 2, "three.toml": 3, "four.toml": 4}
