@@ -188,3 +188,20 @@ def test_top_level_holds_only_the_shared_basics() -> None:
 def test_command_line_and_benchmarks_are_packages(package: str) -> None:
     assert (PACKAGE / package / "__init__.py").is_file()
     assert (PACKAGE / package / "__main__.py").is_file()  # python -m pushctl.cli / .bench
+
+
+def test_the_command_line_loads_no_heavy_library_until_a_command_runs() -> None:
+    """``pushctl --help`` imports the command modules only: their work (torch, matplotlib,
+    pandas, Ray, MuJoCo) lives in the ``*_steps`` modules, imported when a command runs."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, pushctl.cli\n"
+        "heavy = ('torch', 'matplotlib', 'pandas', 'ray', 'mujoco', 'pushctl.evaluation')\n"
+        "print(','.join(m for m in heavy if m in sys.modules))\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=300, check=True
+    )
+    assert done.stdout.strip() == ""

@@ -126,7 +126,7 @@ def test_the_tour_commands_run_as_written(
 
 def test_the_tour_evaluates_and_reports_with_real_options() -> None:
     """The two slower tour commands name options their commands accept (their runs are
-    tested in tests/test_evaluate.py and tests/test_cli_report.py)."""
+    tested in tests/evaluation/test_evaluate.py and tests/cli/test_cli_report.py)."""
     for name in ("evaluate", "report"):
         arguments = tour_command(name)
         help_text = CliRunner().invoke(app, [name, "--help"]).output

@@ -37,7 +37,7 @@ STEP_STATE = (
 """The leading parameters of the step's kernels (:func:`~pushctl.contact.kernels.assemble`,
 ``warm_contact_step``, ``warm_slip_step``): the state of one step, which changes every step
 (shapes and units in ``assemble``). The world passes them as a plain tuple in this order,
-then its :class:`ContactModel` (tests/test_rows_compiled.py checks both against the
+then its :class:`ContactModel` (tests/contact/test_rows_compiled.py checks both against the
 kernels' signatures)."""
 
 
@@ -176,7 +176,7 @@ class SubstepSolver:
     def _build_problem(self, h: float, tau: np.ndarray, damping: np.ndarray) -> ContactProblem:
         """Free velocities and the contact MLCP of one time step of length h."""
         prongs, inputs = self._step_inputs(h, tau, damping)
-        assembled = assemble(*inputs, *self._model)
+        assembled = assemble(*inputs, *self._model)  # type: ignore[call-arg]  # numba
         D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, A_arm = assembled
         return ContactProblem(
             h, D, b, lo, hi, findex, mu, prongs, A_arm, v_arm_free, Minv_At_arm, Minv_At_obj

@@ -9,7 +9,7 @@ from pathlib import Path
 import pandas as pd
 import pytest
 from PIL import Image
-from test_report import write_results
+from synthetic_results import write_results
 from typer.testing import CliRunner
 
 from pushctl.cli import app
@@ -170,12 +170,12 @@ def test_a_failed_write_renames_no_file(tmp_path):
 def test_the_docs_name_every_output_and_table_column():
     from pushctl.report.tables import TABLE3_COLUMNS
 
-    page = (Path(__file__).resolve().parents[1] / "docs" / "evaluation.md").read_text()
+    page = (Path(__file__).resolve().parents[2] / "docs" / "evaluation.md").read_text()
     section = page.split("## Tables and figures: `pushctl report`")[1].split("\n## ")[0]
     for name in OUTPUTS:
         assert f"`{name}`" in section
     # the tables' columns, the feedback controller's included: its docs page
-    docs = (Path(__file__).resolve().parents[1] / "docs" / "residual-and-feedback.md").read_text()
+    docs = (Path(__file__).resolve().parents[2] / "docs" / "residual-and-feedback.md").read_text()
     assert ", ".join(["object", "profile", *TABLE3_COLUMNS]) in docs
     assert "`force_error_{pd,feedback,rl}_{sim,proxy}`" in docs
 

@@ -107,7 +107,7 @@ def test_substeps_refine_the_step():
 
 
 def test_a_toml_prism_slides_like_the_presets():
-    hexagon = Path(__file__).resolve().parents[1] / "experiments/objects/hexagon.toml"
+    hexagon = Path(__file__).resolve().parents[2] / "experiments/objects/hexagon.toml"
     world = pushctl.make_world(object=str(hexagon), arm=None, mu_ground=0.4, dt=1e-3)
     spec = world.object
     assert spec.mass == pytest.approx(0.25)

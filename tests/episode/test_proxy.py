@@ -381,7 +381,8 @@ def test_the_sim_environment_has_no_proxy() -> None:
 def test_a_full_proxy_push_stays_stable(object_name) -> None:
     """20 s, trapezoid, the shipped gains, every proxy effect: finite, tracking, no blow-up.
     Without the plant unknowns (they leave open-loop PD-only offset, and can lose the wedge
-    off a prong: tests/test_plant_unknowns.py), so the bounds are the actuators' and sensors'."""
+    off a prong: tests/episode/test_plant_unknowns.py), so the bounds are the actuators' and
+    sensors'."""
     scenario, _, plan = draw_planned_scenario(
         0, "evaluation", object_name, "trapezoid", plant="proxy"
     )

@@ -18,7 +18,7 @@ from pushctl.episode.scenario import PhysicalParameters, Scenario
 from pushctl.errors import ConfigError
 from pushctl.types import PlanarPose
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 PUSHERS = ROOT / "experiments" / "pushers"
 HEXAGON = str(ROOT / "experiments" / "objects" / "hexagon.toml")
 EXAMPLES = {"one.toml": 1, "two.toml": 2, "three.toml": 3, "four.toml": 4}
@@ -208,3 +208,13 @@ def test_evaluate_on_the_tuning_stream(tmp_path: Path) -> None:
         runner.invoke(app, ["evaluate", "--stream", "training", "--out", str(tmp_path / "t")]),
         "unknown --stream 'training'; accepted: evaluation, tuning",
     )
+
+
+@pytest.mark.parametrize("command", ["info", "plan"])
+def test_the_hexagon_on_info_and_plan(command: str) -> None:
+    args = [command, "--object", HEXAGON]
+    if command == "plan":
+        args += ["--pusher", str(PUSHERS / "three.toml"), "--goal", "0.62,0.03,20"]
+    result = runner.invoke(app, args)
+    assert result.exit_code == 0, result.output
+    assert "hexagon" in result.output

@@ -9,7 +9,7 @@ from dataclasses import replace
 from pathlib import Path
 
 import pytest
-from test_report import write_results
+from synthetic_results import write_results
 from typer.testing import CliRunner
 
 from pushctl.bench import suite as bench

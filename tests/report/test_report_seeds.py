@@ -13,7 +13,7 @@ import numpy as np
 import pandas as pd
 import pytest
 from scipy import stats
-from test_report import trials_frame, write_results
+from synthetic_results import trials_frame, write_results
 from typer.testing import CliRunner
 
 from pushctl.cli import app
