@@ -149,7 +149,7 @@ def simulate_scenario(
         )
     given = {key: value for key, value in overrides.items() if value is not None}
     if given:
-        scenario = scenario.with_plant(replace(scenario.plant, **given))
+        scenario = scenario.with_true_parameters(replace(scenario.true_parameters, **given))
     return scenario, redrawn
 
 
@@ -174,7 +174,7 @@ def scenario_table(scenario: Scenario, start: PlanarPose, redrawn: int) -> Table
     )
     if scenario.seed is not None:
         table.add_row("seed", f"{scenario.seed} (evaluation stream; {redrawn} goals redrawn)")
-    table.add_row("plant", _plant_text(scenario.plant, scenario.object))
+    table.add_row("plant", _plant_text(scenario.true_parameters, scenario.object))
     table.add_row("planned with", _plant_text(scenario.nominal, scenario.object))
     if not scenario.unknowns.is_none:
         table.add_row("unknowns", _unknowns_text(scenario.unknowns))

@@ -99,7 +99,7 @@ def draw_planned_scenario(
                 profile=profile,
                 goal=goal,
                 start=start,
-                plant=drawn if plant_ranges is not None else nominal,
+                true_parameters=drawn if plant_ranges is not None else nominal,
                 nominal=nominal,
                 seed=seed,
                 duration=duration,

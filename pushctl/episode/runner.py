@@ -118,7 +118,7 @@ class Episode:
         self.effects = effects
         self.gains = gains if gains is not None else load_gains()
         self.approach = approach or ApproachSettings()
-        plant, nominal = scenario.plant, scenario.nominal
+        plant, nominal = scenario.true_parameters, scenario.nominal
         nominal_obj = resolve_object(
             scenario.object, mass=nominal.object_mass, pusher_mass=scenario.pusher_mass(nominal)
         )
@@ -192,7 +192,7 @@ class Episode:
         """The prong forces the plant needs to follow the plan (docs/design.md §7's F_des): its
         true parameters, support loads and friction field, at the plan's plate offset with
         the prongs where they really are on the plate (along the face)."""
-        plant, trajectory = self.scenario.plant, self.plan.trajectory
+        plant, trajectory = self.scenario.true_parameters, self.plan.trajectory
         limits = None
         if self.friction_field is not None:
             limits = friction_limits(
@@ -353,7 +353,7 @@ class Episode:
             arm_tau=self._tau[rows].copy(),
             pusher_position=self._pusher[rows].copy(),
             pusher_position_des=self.plan.pusher_positions[rows].copy(),
-            mu_contact=self.scenario.plant.mu_contact,
+            mu_contact=self.scenario.true_parameters.mu_contact,
             arc_length=self.plan.trajectory.arc_length,
             delta_theta=self.plan.trajectory.delta_theta,
             measured_pose=measured,

@@ -61,8 +61,9 @@ class PhysicalParameters:
 class Scenario:
     """One episode's set-up. ``start`` None: the default start in front of the arm's ready
     pose (:func:`pushctl.planning.workspace.default_start`). ``goal``: absolute pose.
-    ``nominal``: the parameters the planner and controller assume; ``plant``: the ones the
-    simulated world has (the same unless randomised). ``unknowns``: the plant unknowns the
+    ``nominal``: the parameters the planner and controller assume; ``true_parameters``: the
+    ones the simulated world has (the same unless randomised; docs/glossary.md: plant
+    parameters). ``unknowns``: the plant unknowns the
     world has and the planner and controller do not know (docs/design.md §9; none by default).
     ``start`` is where the planner believes the object starts; the world puts it at
     ``unknowns.true_start(start)``. ``pusher``: the plate and its prongs (a pusher file's,
@@ -75,7 +76,7 @@ class Scenario:
     profile: str
     goal: PlanarPose
     start: PlanarPose | None = None
-    plant: PhysicalParameters = field(default_factory=PhysicalParameters)
+    true_parameters: PhysicalParameters = field(default_factory=PhysicalParameters)
     nominal: PhysicalParameters = field(default_factory=PhysicalParameters)
     seed: int | None = None
     duration: float = 20.0
@@ -100,7 +101,7 @@ class Scenario:
                 raise ConfigError(f"{name} must be a positive number of seconds, got {value!r}")
 
     def pusher_mass(self, parameters: PhysicalParameters) -> float | None:
-        """The pusher mass [kg] of ``parameters`` (the plant or the nominal ones): theirs if
+        """The pusher mass [kg] of ``parameters`` (the true or the nominal ones): theirs if
         set, else the pusher file's, else None (the object's Table II value)."""
         if parameters.pusher_mass is not None or self.pusher is None:
             return parameters.pusher_mass
@@ -110,8 +111,8 @@ class Scenario:
         """This scenario's pusher (the paper's plate when None) with ``mass`` [kg]."""
         return replace(self.pusher or PusherConfig(), mass=mass)
 
-    def with_plant(self, plant: PhysicalParameters) -> Scenario:
-        return replace(self, plant=plant)
+    def with_true_parameters(self, parameters: PhysicalParameters) -> Scenario:
+        return replace(self, true_parameters=parameters)
 
     def with_unknowns(self, unknowns: PlantUnknowns) -> Scenario:
         return replace(self, unknowns=unknowns)

@@ -46,7 +46,7 @@ def run_sweep(
         )
         episode = Episode(scenario, gains=gains)
         metrics = compute_metrics(episode.run())
-        p = episode.scenario.plant
+        p = episode.scenario.true_parameters
         rows.append(
             {
                 "object": object_name,

@@ -247,7 +247,7 @@ def _row(
     scenario = env.scenario
     start = scenario.start
     assert start is not None  # the draw always sets the default start
-    plant = scenario.plant
+    plant = scenario.true_parameters
     return {
         "object": job.object,
         "profile": job.profile,

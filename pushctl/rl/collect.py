@@ -244,7 +244,7 @@ def _curve_metrics(trace: Trace) -> dict[str, float]:
 
 def _describe(env: PushEnv) -> dict[str, Any]:
     scenario = env.scenario
-    plant = scenario.plant
+    plant = scenario.true_parameters
     return {
         "object": scenario.object,
         "profile": scenario.profile,

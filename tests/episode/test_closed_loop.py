@@ -33,7 +33,7 @@ def straight_goal(object_name):
 def run(object_name, goal, profile="constant", duration=20.0, plant=None):
     scenario = Scenario(object=object_name, profile=profile, goal=goal, duration=duration)
     if plant is not None:
-        scenario = scenario.with_plant(plant)
+        scenario = scenario.with_true_parameters(plant)
     episode = Episode(scenario, gains=GAINS)
     return episode, episode.run()
 
@@ -69,7 +69,7 @@ def test_cruise_normal_force_equals_ground_friction(straight, case):
     """Pushing straight at constant speed, the prongs' total normal force balances the
     table's sliding friction μ_g m g (the plant's μ_g and m, not the nominal ones)."""
     episode, trace = straight[case]
-    plant = episode.scenario.plant
+    plant = episode.scenario.true_parameters
     assert episode.object.mass == (plant.object_mass or episode.object.mass)
     expected = plant.mu_ground * episode.object.mass * G
     total = trace.contact_forces[cruise(trace), :, 0].sum(axis=1)
@@ -96,7 +96,7 @@ def test_randomised_plant_changes_the_sliding_force(straight):
 @pytest.mark.parametrize("profile", PROFILES)
 def test_prong_forces_stay_in_their_friction_cones(turning, profile):
     episode, trace = turning[profile]
-    mu = episode.scenario.plant.mu_contact
+    mu = episode.scenario.true_parameters.mu_contact
     assert trace.mu_contact == mu
     normal = trace.contact_forces[:, :, 0]
     tangential = trace.contact_forces[:, :, 1]
@@ -299,7 +299,7 @@ def test_a_turning_wedge_turns_smoothly_on_a_heavier_rougher_plant():
         object="wedge",
         profile="constant",
         goal=PlanarPose(0.5398, -0.01234, -0.6958),
-        plant=plant,
+        true_parameters=plant,
     )
     trace = Episode(scenario, gains=GAINS).run()
     omega = np.diff(trace.object_pose[:, 2]) / trace.t[1]

@@ -64,7 +64,10 @@ def test_unknowns_leave_every_other_draw_of_a_seed_as_it_was(plant: str) -> None
         without, _, _ = draw_planned_scenario(
             seed, "tuning", "cube", "constant", plant=plant, ranges=_zero_unknowns_ranges()
         )
-        assert with_unknowns.goal == without.goal and with_unknowns.plant == without.plant
+        assert (
+            with_unknowns.goal == without.goal
+            and with_unknowns.true_parameters == without.true_parameters
+        )
         assert without.unknowns.placement == (0.0, 0.0, 0.0) and without.unknowns.mount_yaw == 0.0
         assert with_unknowns.unknowns != without.unknowns
 

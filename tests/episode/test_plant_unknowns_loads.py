@@ -150,5 +150,9 @@ def test_friction_over_the_table_changes_the_plant_forces_not_the_motion():
     world = varied.world
     corners = support_positions(world.object_pose, np.asarray(world.object.support_points))
     world._start_slip_state()
-    expected = scenario.plant.mu_ground * world.object.support_loads * world.friction_field(corners)
+    expected = (
+        scenario.true_parameters.mu_ground
+        * world.object.support_loads
+        * world.friction_field(corners)
+    )
     np.testing.assert_allclose(world._friction_limits, expected, rtol=1e-12)

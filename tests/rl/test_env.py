@@ -254,7 +254,7 @@ def test_reset_options_fix_the_draw(env: PushEnv) -> None:
         "trapezoid",
         3,
     )
-    assert env.scenario.plant != env.scenario.nominal  # the sim plant is randomised
+    assert env.scenario.true_parameters != env.scenario.nominal  # the sim plant is randomised
 
 
 def test_bad_input_is_refused_with_one_line_errors(env: PushEnv) -> None:
