@@ -30,8 +30,9 @@ Observation space
     :func:`pushctl.rl.spaces.observation_entries` for the pusher's prong count, in that order:
     index, name, meaning, unit and the ``scale`` the learner divides by. In short: the planned
     (nominal) prong forces of the next step, the measured prong forces of the last step, the
-    pusher's planar velocity, the object's pose error to the plan (plan frame) and the phase
-    of the push. Everything in it is deployable on a real arm: the planned forces come from the
+    pusher's planar velocity, the object's pose error to the plan (plan frame), with
+    ``observe_offset`` on the ``reference`` path the offset built so far, and the phase of the
+    push. Everything in it is deployable on a real arm: the planned forces come from the
     nominal plan, never from the plant's parameters. On the ``proxy`` plant kind the measured
     forces are noisy estimates and, with ``observe_camera``, the pose error reads the 30 Hz
     camera.
@@ -62,18 +63,19 @@ Starting state
     ``scenario``, ``goals_redrawn``, ``unknowns`` (the drawn plant unknowns, for logs only).
 
 Episode end
-    ``terminated`` after ``duration`` / ``dt`` push steps (2000 at the defaults): the phase is
-    observed, so the end is a true terminal. ``truncated`` is always False; a time limit a
-    wrapper adds is the user's. There is no early termination: a lost object ends the push
-    with large errors, as a real run would.
+    ``terminated`` after ``duration`` / ``dt`` push steps (2000 at the defaults; a step() is
+    ``action_repeat`` push steps with the action held and their rewards summed, so
+    ⌈2000 / action_repeat⌉ calls): the phase is observed, so the end is a true terminal.
+    ``truncated`` is always False; a time limit a wrapper adds is the user's. There is no
+    early termination: a lost object ends the push with large errors, as a real run would.
 
 Arguments
     ``PushEnv(config=EnvConfig(...), gains=None)`` or ``gymnasium.make("pushctl/Push-v0",
     config=EnvConfig(...))``. ``EnvConfig`` fields: the episode's draws (``objects``,
     ``profiles``, ``plant``, ``stream``, ``duration``, ``dt``), the residual (``residual_path``,
     ``action_scale_linear``, ``action_scale_angular``, ``gate_threshold``, ``gate_length``,
-    ``observe_camera``) and the reward (``w_normal``, ``w_tangential``, ``w_torque``,
-    ``w_pose``); ``EnvConfig.from_mapping`` reads the ``[env]`` table of a preset. ``gains``:
+    ``observe_camera``, ``observe_offset``, ``action_repeat``) and the reward (``w_normal``,
+    ``w_tangential``, ``w_torque``, ``w_pose``); ``EnvConfig.from_mapping`` reads the ``[env]`` table of a preset. ``gains``:
     the PD baseline's (default ``experiments/pd_gains.toml``). Step ``info`` besides the reward
     terms: ``residual_active`` (the gate), ``residual`` (3,) the world-frame twist applied
     [m/s, m/s, rad/s], ``pose_deviation`` [m] the gate compared with its threshold.
@@ -91,6 +93,8 @@ Version history
       at reset and reported in ``info["unknowns"]``; action scale resized for the reference
       path.
     - issue 17: the ``mujoco`` plant kind, evaluation only (training on it is refused).
+    - issue 16, later: ``observe_offset`` (the reference offset's three rows) and
+      ``action_repeat`` (a decision interval); policies saved before load without either.
 """
 
 from __future__ import annotations
