@@ -76,8 +76,9 @@ Arguments
     ``action_scale_linear``, ``action_scale_angular``, ``gate_threshold``, ``gate_length``,
     ``observe_camera``, ``observe_offset``, ``action_repeat``) and the reward (``w_normal``,
     ``w_tangential``, ``w_torque``, ``w_pose``); ``EnvConfig.from_mapping`` reads the
-    ``[env]`` table of a preset. ``gains``: the PD baseline's (default ``experiments/pd_gains.toml``). Step ``info`` besides the reward
-    terms: ``residual_active`` (the gate), ``residual`` (3,) the world-frame twist applied
+    ``[env]`` table of a preset. ``gains``: the PD baseline's (default
+    ``experiments/pd_gains.toml``). Step ``info`` besides the reward terms:
+    ``residual_active`` (the gate), ``residual`` (3,) the world-frame twist applied
     [m/s, m/s, rad/s], ``pose_deviation`` [m] the gate compared with its threshold.
 
 Version history
