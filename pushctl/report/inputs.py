@@ -13,9 +13,11 @@ Only the columns the report uses are required, so a file with extra columns stil
 from __future__ import annotations
 
 import csv
+import gzip
 import re
 from dataclasses import dataclass
 from pathlib import Path
+from typing import IO
 
 import numpy as np
 import pandas as pd
@@ -121,25 +123,39 @@ def read_report_inputs(directory: Path) -> ReportInputs:
             f"{directory}: no such directory; expected a results directory holding "
             f"{TRIALS}, {STEPS} and {CURVE}"
         )
+    steps = directory / STEPS
+    if not steps.exists() and _gzipped(steps).is_file():
+        steps = _gzipped(steps)  # a shipped results directory keeps it compressed (11 MB → 3.5)
     return ReportInputs(
         trials=read_results_csv(directory / TRIALS, TRIALS_SPEC),
-        steps=read_results_csv(directory / STEPS, STEPS_SPEC),
+        steps=read_results_csv(steps, STEPS_SPEC),
         curve=read_results_csv(directory / CURVE, CURVE_SPEC),
     )
 
 
+def _gzipped(path: Path) -> Path:
+    return path.with_name(path.name + ".gz")
+
+
+def _open_text(path: Path) -> IO[str]:
+    """``path`` as text, decompressed if its name ends in ``.gz``."""
+    if path.suffix == ".gz":
+        return gzip.open(path, "rt", newline="")
+    return path.open(newline="")
+
+
 def read_results_csv(path: Path, spec: CsvSpec) -> ResultsTable:
-    """Read ``path`` (a CSV with an optional leading ``# made by:`` line) and check it
-    against ``spec``; raises :class:`ResultsFileError`."""
+    """Read ``path`` (a CSV with an optional leading ``# made by:`` line; gzip-compressed if
+    its name ends in ``.gz``) and check it against ``spec``; raises :class:`ResultsFileError`."""
     if not path.is_file():
         problem = "is a directory" if path.is_dir() else "no such file"
         raise ResultsFileError(f"{path}: {problem}; expected the {spec.what}")
     try:
-        with path.open(newline="") as handle:
+        with _open_text(path) as handle:
             first = handle.readline().strip()
         _check_row_lengths(path)
         raw = pd.read_csv(path, comment="#", dtype=str, keep_default_na=False, index_col=False)
-    except UnicodeDecodeError:
+    except (UnicodeDecodeError, gzip.BadGzipFile):
         raise ResultsFileError(f"{path}: not a text file; expected the {spec.what}") from None
     except pd.errors.EmptyDataError:
         raise ResultsFileError(
@@ -158,7 +174,7 @@ def read_results_csv(path: Path, spec: CsvSpec) -> ResultsTable:
 def _check_row_lengths(path: Path) -> None:
     """Every data row has as many fields as the header (pandas would silently turn extra
     leading fields into an index, or pad a short row)."""
-    with path.open(newline="") as handle:
+    with _open_text(path) as handle:
         lines = (line for line in handle if line.strip() and not line.startswith("#"))
         rows = csv.reader(lines)
         header = next(rows, None)

@@ -197,3 +197,21 @@ def test_the_proxy_table_and_the_behaviour_table_hold_their_plants_means(report_
         )
     assert "gate_open_fraction_pd_sim" not in behaviour.columns
     assert "gate_open_fraction_rl_proxy" in behaviour.columns
+
+
+def test_a_gzipped_steps_file_is_read_as_the_plain_one(report_run, tmp_path):
+    import gzip
+    import shutil
+
+    results, out, _ = report_run
+    packed = tmp_path / "results"
+    shutil.copytree(results, packed)
+    steps = packed / "evaluation" / "steps.csv"
+    with steps.open("rb") as plain, gzip.open(f"{steps}.gz", "wb") as zipped:
+        shutil.copyfileobj(plain, zipped)
+    steps.unlink()
+    result = runner.invoke(app, ["report", "--in", str(packed), "--out", str(tmp_path / "o")])
+    assert result.exit_code == 0, result.output
+    for name in ("table3.csv", "table4.csv"):
+        ours = (tmp_path / "o" / name).read_text().splitlines()[1:]
+        assert ours == (out / name).read_text().splitlines()[1:]
