@@ -32,11 +32,16 @@ Source = tuple[str, str, str]
 CONTROLLER_ORDER = ("pd", "feedback", "rl")
 """The tables' controllers: PD-only, PD + the PI feedback law, RL-assisted."""
 
-TABLE3_COLUMNS: dict[str, Source] = {
-    f"{name}_error_{controller}": (f"{name}_error_pct", "sim", controller)
-    for name in ("translation", "angle")
-    for controller in CONTROLLER_ORDER
-}
+def _tracking_columns(plant: str) -> dict[str, Source]:
+    """Table III's columns (translation and angle error [%] per controller) on ``plant``."""
+    return {
+        f"{name}_error_{controller}": (f"{name}_error_pct", plant, controller)
+        for name in ("translation", "angle")
+        for controller in CONTROLLER_ORDER
+    }
+
+
+TABLE3_COLUMNS: dict[str, Source] = _tracking_columns("sim")
 """Columns of ``table3.csv`` [%] and where each comes from."""
 
 TABLE4_COLUMNS: dict[str, Source] = {
@@ -48,11 +53,7 @@ TABLE4_COLUMNS: dict[str, Source] = {
 """Columns of ``table4.csv`` (force against the plant's needs and against the nominal plan
 [N], torque [N·m]) and where each comes from."""
 
-TABLE3_PROXY_COLUMNS: dict[str, Source] = {
-    f"{name}_error_{controller}": (f"{name}_error_pct", "proxy", controller)
-    for name in ("translation", "angle")
-    for controller in CONTROLLER_ORDER
-}
+TABLE3_PROXY_COLUMNS: dict[str, Source] = _tracking_columns("proxy")
 """Columns of ``table3_proxy.csv`` [%]: Table III on the reality proxy."""
 
 BEHAVIOUR_COLUMNS: dict[str, Source] = {
