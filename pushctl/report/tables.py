@@ -32,6 +32,7 @@ Source = tuple[str, str, str]
 CONTROLLER_ORDER = ("pd", "feedback", "rl")
 """The tables' controllers: PD-only, PD + the PI feedback law, RL-assisted."""
 
+
 def _tracking_columns(plant: str) -> dict[str, Source]:
     """Table III's columns (translation and angle error [%] per controller) on ``plant``."""
     return {
