@@ -13,9 +13,16 @@ paths carry it into the PD law ``v_e = v_ff + K_x (x_ref − x)``:
 
 Both give the PD the same commanded twist in the step the residual is applied; they differ
 in what the reference remembers afterwards.
+
+The ``reference`` path's offset can be bounded (``limit``): each of x, y [m] and yaw [rad]
+is clipped to ±limit, and the reference then moves only as far as the clipped offset does.
+The bound is anti-windup: without it a correction that cannot take effect (a prong that slid
+off, an object that no longer follows) integrates into offsets of tens of mm and degrees.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -34,11 +41,22 @@ def check_residual_path(path: object) -> str:
 
 class ReferenceOffset:
     """The pusher reference's offset from the plan built by the ``reference`` path:
-    ``offset`` (3,) [m, m, rad], world x, y and yaw. ``dt`` [s]: the control step."""
+    ``offset`` (3,) [m, m, rad], world x, y and yaw. ``dt`` [s]: the control step.
+    ``limit`` (linear [m], angular [rad]): the offset's bound per component (None or inf:
+    unbounded)."""
 
-    def __init__(self, dt: float) -> None:
+    def __init__(self, dt: float, limit: tuple[float, float] | None = None) -> None:
         self.dt = float(dt)
         self.offset = np.zeros(3)
+        self.limit: np.ndarray | None = None
+        if limit is not None:
+            linear, angular = (float(value) for value in limit)
+            if not (linear > 0.0 and angular > 0.0):  # also catches NaN
+                raise ConfigError(
+                    f"offset limit must be > 0 (m, rad; inf for none), got {tuple(limit)!r}"
+                )
+            if math.isfinite(linear) or math.isfinite(angular):
+                self.limit = np.array([linear, linear, angular])
 
     def reset(self) -> None:
         self.offset = np.zeros(3)
@@ -48,7 +66,8 @@ class ReferenceOffset:
     ) -> tuple[np.ndarray, float, np.ndarray]:
         """The reference of this step: the planned ``position`` (3,) [m] and ``yaw`` [rad]
         plus the offset so far, the feed-forward ``twist_ff`` (6,) plus ``residual`` (3,) (the
-        reference's own rate), and the offset advanced by ``residual`` · dt for the next step.
+        reference's own rate), and the offset advanced by ``residual`` · dt for the next step
+        (clipped to ``limit``; the rate added to the twist is then the clipped offset's).
         Returns (position (3,), yaw, twist (6,))."""
         offset = self.offset
         shifted_position = position.copy()
@@ -57,9 +76,15 @@ class ReferenceOffset:
         shifted_yaw = float(yaw) + float(offset[2])
         if residual is None:
             return shifted_position, shifted_yaw, twist_ff
+        advanced = offset + self.dt * residual
+        if self.limit is not None:
+            clipped = np.clip(advanced, -self.limit, self.limit)
+            # only a clipped component's rate changes (the others keep their bits)
+            residual = np.where(clipped == advanced, residual, (clipped - offset) / self.dt)
+            advanced = clipped
         twist = twist_ff.copy()
         twist[0] += residual[0]
         twist[1] += residual[1]
         twist[5] += residual[2]
-        self.offset = offset + self.dt * residual
+        self.offset = advanced
         return shifted_position, shifted_yaw, twist

@@ -98,7 +98,8 @@ class Episode:
     it is); its random draws restart from the scenario's seed at every :meth:`reset`.
     ``residual_path``: how the residual reaches the PD (:mod:`pushctl.control.residual`):
     ``reference`` (integrated into an offset of the pusher reference) or ``velocity`` (the
-    paper's form, added to v_e only).
+    paper's form, added to v_e only). ``offset_limit`` (linear [m], angular [rad]): the
+    ``reference`` path's offset bound (None: unbounded; :class:`ReferenceOffset`).
     ``engine``: the world's physics, ``ours`` or ``mujoco`` (:func:`make_world`); the
     controller is the same on either.
     """
@@ -112,6 +113,7 @@ class Episode:
         effects: ProxyEffects | None = None,
         residual_path: str = "reference",
         engine: str = "ours",
+        offset_limit: tuple[float, float] | None = None,
     ) -> None:
         self.scenario = scenario
         self.residual_path = check_residual_path(residual_path)
@@ -173,7 +175,7 @@ class Episode:
         self.true_start: np.ndarray = unknowns.true_start(self.plan.trajectory.pose[0])
         self.controller = self._controller(self.gains)
         self.reference: PusherReference = push_reference(self.plan)
-        self._offset = ReferenceOffset(scenario.dt)
+        self._offset = ReferenceOffset(scenario.dt, offset_limit)
         self._allocate()
         # The proxy's state, fresh at every reset() (see _start_proxy).
         self._actuators: ProxyActuators | None = None

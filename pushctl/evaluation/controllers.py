@@ -37,4 +37,6 @@ def feedback_config(config: EnvConfig) -> EnvConfig:
         gate_length=default.gate_length,
         observe_camera=default.observe_camera,
         action_repeat=default.action_repeat,
+        offset_limit_linear=default.offset_limit_linear,
+        offset_limit_angular=default.offset_limit_angular,
     )

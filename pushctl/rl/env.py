@@ -96,6 +96,8 @@ Version history
     - issue 17: the ``mujoco`` plant kind, evaluation only (training on it is refused).
     - issue 16, later: ``observe_offset`` (the reference offset's three rows) and
       ``action_repeat`` (a decision interval); policies saved before load without either.
+    - issue 16, third pass: ``offset_limit_linear`` / ``offset_limit_angular`` (the reference
+      offset's anti-windup bound); policies saved before load unbounded.
 """
 
 from __future__ import annotations
@@ -175,6 +177,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
             effects=self.effects,
             residual_path=self.config.residual_path,
             engine=self.engine,
+            offset_limit=self.config.offset_limit,
         )
         plan = self.episode.plan
         self._plan_pose = plan.trajectory.pose

@@ -48,6 +48,9 @@ class EnvConfig:
         step of the reference path moves the offset by at most 0.05 mm, an effect the
         critic cannot tell from its own error; holding an action for 10 steps makes each
         decision's effect ten times larger and its horizon ten times shorter.
+        ``offset_limit_linear`` [m] and ``offset_limit_angular`` [rad]: on the ``reference``
+        path, the bound of the offset's x and y and of its yaw (anti-windup,
+        :class:`~pushctl.control.residual.ReferenceOffset`; ``inf``: unbounded).
     Reward (eq. 17)
         ``w_normal`` [1/N], ``w_tangential`` [1/N], ``w_torque`` [1/(N·m)]: per-step reward
         −Σ_i (w1 |ΔF_n,i| + w2 |ΔF_t,i| + w3 |Δτ_z,i|), dimensionless. The default w3 of
@@ -79,6 +82,13 @@ class EnvConfig:
     observe_camera: bool = True
     observe_offset: bool = True
     action_repeat: int = 1
+    # Anti-windup: 1.5x the sim plant's placement error (2 mm) and its placement yaw (1.5 deg)
+    # would allow 3 mm and 2.25 deg; of the bounds tried on the tuning stream with the feedback
+    # law (3/4/5/8 mm x 1.5/2/2.5/3/5 deg, 180 pushes) 3 mm and 1.5 deg lost the fewest pushes
+    # (docs/residual-and-feedback.md, section 4). Unbounded, a correction that cannot take
+    # effect winds up to tens of mm and degrees.
+    offset_limit_linear: float = 0.003
+    offset_limit_angular: float = math.radians(1.5)
     w_normal: float = 1.0
     w_tangential: float = 1.0
     w_torque: float = 25.0
@@ -105,6 +115,11 @@ class EnvConfig:
             raise ConfigError(
                 f"env stream must be one of {', '.join(STREAMS)}, got {self.stream!r}"
             )
+        for name in ("offset_limit_linear", "offset_limit_angular"):
+            value = getattr(self, name)
+            number = isinstance(value, int | float) and not isinstance(value, bool)
+            if not (number and value > 0.0):  # inf allowed: unbounded; NaN fails
+                raise ConfigError(f"env {name} must be a number > 0 (inf: unbounded), got {value!r}")
         for name in ("duration", "dt", "action_scale_linear", "action_scale_angular"):
             _check_number(name, getattr(self, name), positive=True)
         for name in (
@@ -145,16 +160,23 @@ class EnvConfig:
         ``reference`` path; the ``velocity`` path builds none)."""
         return self.observe_offset and self.residual_path == "reference"
 
+    @property
+    def offset_limit(self) -> tuple[float, float]:
+        """(linear [m], angular [rad]): the reference offset's bound."""
+        return (float(self.offset_limit_linear), float(self.offset_limit_angular))
+
 
 LEGACY_VALUES: dict[str, Any] = {
     "residual_path": "velocity",
     "observe_camera": False,
     "observe_offset": False,
     "action_repeat": 1,
+    "offset_limit_linear": math.inf,
+    "offset_limit_angular": math.inf,
 }
 """Settings of the keys added by issue 16 as every policy trained before them used them: the
 residual added to v_e, the exact object pose in the observation and the gate, no offset in
-the observation, and a decision every step."""
+the observation, a decision every step, and an unbounded reference offset."""
 
 
 def _check_choice(name: str, chosen: object, accepted: tuple[str, ...]) -> None:

@@ -45,6 +45,48 @@ def test_the_reference_path_accumulates_the_twist_and_the_velocity_path_does_not
         np.testing.assert_array_equal(episode.reference_offset, np.zeros(3))
 
 
+def test_the_offset_limit_clips_each_component_and_the_reference_moves_with_the_clip() -> None:
+    limit = (0.002, math.radians(1.0))
+    residual = np.array([1e-3, -2e-3, 0.01])  # 1 mm/s, -2 mm/s, 0.57 deg/s
+    bounded = Episode(_scenario(), GAINS, offset_limit=limit)
+    free = Episode(_scenario(), GAINS)
+    for episode in (bounded, free):
+        episode.reset()
+    for n in range(1, 151):  # 1.5 s: y reaches its bound at 1 s, yaw at 1.75 s, x never
+        bounded.step(residual)
+        free.step(residual)
+        expected = np.clip(n * 0.01 * residual, [-0.002] * 3, [0.002, 0.002, limit[1]])
+        np.testing.assert_allclose(bounded.reference_offset, expected, rtol=1e-12, atol=1e-15)
+    assert bounded.reference_offset[1] == -0.002
+    assert free.reference_offset[1] == pytest.approx(-0.003, rel=1e-12)
+    # until y clipped, the two pushes were the same to the bit; after, the bounded pusher
+    # stops moving sideways: the object ends short of the free push's
+    # y by up to the clipped millimetre
+    a, b = bounded.trace().to_frame(), free.trace().to_frame()
+    before = slice(0, 100)
+    np.testing.assert_array_equal(a.to_numpy()[before], b.to_numpy()[before])
+    shift = a["obj_y"].to_numpy()[-1] - b["obj_y"].to_numpy()[-1]
+    assert 5e-5 < shift < 0.0012
+
+
+@pytest.mark.parametrize("limit", [(0.0, 0.1), (0.01, -1.0), (math.nan, 0.1)])
+def test_a_bad_offset_limit_is_one_line(limit) -> None:
+    with pytest.raises(ConfigError, match="offset limit must be > 0"):
+        Episode(_scenario(), GAINS, offset_limit=limit)
+
+
+def test_an_infinite_offset_limit_is_no_limit_to_the_bit() -> None:
+    residual = np.array([1e-3, -2e-3, 0.01])
+    frames = []
+    for limit in (None, (math.inf, math.inf)):
+        episode = Episode(_scenario(), GAINS, offset_limit=limit)
+        episode.reset()
+        while not episode.done:
+            episode.step(residual)
+        frames.append(episode.trace().to_frame().to_numpy())
+    assert frames[0].tobytes() == frames[1].tobytes()
+
+
 def test_a_bad_residual_path_is_one_line() -> None:
     with pytest.raises(ConfigError, match="residual_path must be one of reference, velocity"):
         Episode(_scenario(), GAINS, residual_path="position")
