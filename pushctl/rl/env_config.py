@@ -119,7 +119,9 @@ class EnvConfig:
             value = getattr(self, name)
             number = isinstance(value, int | float) and not isinstance(value, bool)
             if not (number and value > 0.0):  # inf allowed: unbounded; NaN fails
-                raise ConfigError(f"env {name} must be a number > 0 (inf: unbounded), got {value!r}")
+                raise ConfigError(
+                    f"env {name} must be a number > 0 (inf: unbounded), got {value!r}"
+                )
         for name in ("duration", "dt", "action_scale_linear", "action_scale_angular"):
             _check_number(name, getattr(self, name), positive=True)
         for name in (
