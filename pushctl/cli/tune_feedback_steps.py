@@ -62,12 +62,14 @@ def run_search(
         "action_scale_angular": config.action_scale_angular,
         "gate_threshold": config.gate_threshold,
         "gate_length": config.gate_length,
+        "offset_limit_linear": config.offset_limit_linear,
+        "offset_limit_angular": config.offset_limit_angular,
     }
     header = provenance_line(command).removeprefix("# ")
     header += (
         "\nGains of the feedback baseline (docs/design.md §5). Regenerate with the command above."
     )
-    text = feedback_toml(best, pd_only, candidates, search, header, base.contact_force)
+    text = feedback_toml(best, pd_only, candidates, search, header, base)
     return (out if out is not None else DEFAULT_FEEDBACK_FILE), text, _table(candidates, pd_only)
 
 

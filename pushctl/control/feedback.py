@@ -11,6 +11,12 @@ would back the pusher away from it. With ``hold_off_contact`` (the default) the 
 zero then too: on the ``reference`` path the output is the offset's rate, so its P term is an
 integrator as well.
 
+The lateral part of the output (plan-frame y, across the push) is capped at ``lateral_ratio``
+times the plan's current speed: a pushed object is moved sideways only by the prongs'
+friction, and the tuning pushes showed that a sideways correction faster than a few per
+cent of the forward speed unloads a prong, which on the wedge starts a single-prong spin the
+push never recovers from (docs/residual-and-feedback.md, section 4).
+
 The output is a residual twist like a policy's: it goes through the same residual path
 (:mod:`pushctl.control.residual`). On the ``reference`` path it is the rate of the reference
 offset, so the offset is k ∫ e + k_i ∬ e: integral and double-integral action on the pose.
@@ -39,12 +45,15 @@ class FeedbackGains:
     prong's measured normal force is below it; ``hold_off_contact``: then the whole output
     is zero too. On the ``reference`` path the P term is itself integrated into the offset,
     and a correction that made a prong lose contact would otherwise wind the offset up
-    (tens of mm and degrees on the tuning pushes, docs/residual-and-feedback.md)."""
+    (tens of mm and degrees on the tuning pushes, docs/residual-and-feedback.md).
+    ``lateral_ratio`` [-]: the sideways rate's cap as a fraction of the plan's speed
+    (``inf``: no cap)."""
 
     k: float = 0.5
     k_i: float = 0.0
     contact_force: float = 0.01
     hold_off_contact: bool = True
+    lateral_ratio: float = 0.05
 
     def __post_init__(self) -> None:
         if not isinstance(self.hold_off_contact, bool):
@@ -56,6 +65,11 @@ class FeedbackGains:
             ok = isinstance(value, int | float) and not isinstance(value, bool)
             if not ok or not math.isfinite(value) or value < 0.0:
                 raise ConfigError(f"feedback {name} must be a finite number >= 0, got {value!r}")
+        ratio = self.lateral_ratio
+        if isinstance(ratio, bool) or not isinstance(ratio, int | float) or not ratio >= 0.0:
+            raise ConfigError(
+                f"feedback lateral_ratio must be a number >= 0 (inf: no cap), got {ratio!r}"
+            )
 
 
 def load_feedback_gains(path: str | Path | None = None) -> FeedbackGains:
@@ -66,7 +80,7 @@ def load_feedback_gains(path: str | Path | None = None) -> FeedbackGains:
     table = data.get("feedback")
     if not isinstance(table, dict):
         raise ConfigError(f"{path}: no [feedback] table; expected k, k_i and contact_force")
-    names = ["k", "k_i", "contact_force", "hold_off_contact"]
+    names = ["k", "k_i", "contact_force", "hold_off_contact", "lateral_ratio"]
     check_keys(table, names, f"{path} [feedback]", all_required=False)
     return FeedbackGains(**table)
 
@@ -81,10 +95,13 @@ class FeedbackLaw:
         self.dt = float(dt)
         self.integral = np.zeros(3)
 
-    def twist(self, error: np.ndarray, normal_forces: np.ndarray) -> np.ndarray:
+    def twist(
+        self, error: np.ndarray, normal_forces: np.ndarray, speed: float | None = None
+    ) -> np.ndarray:
         """The pusher twist (3,) [m/s, m/s, rad/s], plan frame, for the pose ``error`` (3,)
         [m, m, rad] (planned minus actual) and the prongs' measured ``normal_forces`` (k,) [N];
-        integrates the error unless a prong is below the contact threshold."""
+        integrates the error unless a prong is below the contact threshold. ``speed`` [m/s]:
+        the plan's object speed now, which caps the sideways rate (None: no cap)."""
         gains = self.gains
         error = np.asarray(error, dtype=float)
         if np.min(normal_forces) >= gains.contact_force:
@@ -93,4 +110,8 @@ class FeedbackLaw:
             return np.zeros(3)
         u = gains.k * error + gains.k_i * self.integral
         r_x, r_y = self.lever
-        return np.array([u[0] - u[2] * r_y, u[1] + u[2] * r_x, u[2]])
+        lateral = u[1] + u[2] * r_x
+        if speed is not None and math.isfinite(gains.lateral_ratio):
+            cap = gains.lateral_ratio * abs(speed)
+            lateral = min(max(lateral, -cap), cap)
+        return np.array([u[0] - u[2] * r_y, lateral, u[2]])

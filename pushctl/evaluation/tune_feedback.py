@@ -155,11 +155,11 @@ def feedback_toml(
     candidates: list[FeedbackCandidate],
     search: dict[str, object],
     header: str,
-    contact_force: float,
+    base: FeedbackGains,
 ) -> str:
-    """The gains file: ``header`` as comments, ``[feedback]`` and ``[search]`` (``search``'s
-    entries, PD-only's score and every candidate as [k, k_i, objective, translation %,
-    angle %])."""
+    """The gains file: ``header`` as comments, ``[feedback]`` (``best``'s gains and
+    ``base``'s other settings) and ``[search]`` (``search``'s entries, PD-only's score and
+    every candidate as [k, k_i, objective, translation %, angle %])."""
     record = {
         **search,
         "candidates_evaluated": len(candidates),
@@ -179,7 +179,9 @@ def feedback_toml(
     }
     lines = [f"# {line}" for line in header.splitlines()]
     lines += ["", "[feedback]", f"k = {best.k!r}", f"k_i = {best.k_i!r}"]
-    lines += [f"contact_force = {contact_force!r}", "hold_off_contact = true", "", "[search]"]
+    lines += [f"contact_force = {base.contact_force!r}"]
+    lines += [f"hold_off_contact = {_toml(base.hold_off_contact)}"]
+    lines += [f"lateral_ratio = {_toml(float(base.lateral_ratio))}", "", "[search]"]
     lines += [f"{key} = {_toml(value)}" for key, value in record.items()]
     return "\n".join(lines) + "\n"
 

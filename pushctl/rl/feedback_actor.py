@@ -35,12 +35,18 @@ class FeedbackActor:
         self._error = [where["error_x"], where["error_y"], where["error_theta"]]
         self._normal = [where[f"force_n_{i + 1}"] for i in range(plan.pusher.n_prongs)]
         config = env.config
+        velocity = plan.trajectory.velocity
+        self._speed = np.hypot(velocity[:, 0], velocity[:, 1])  # (N + 1,) [m/s]
+        self._env = env
         self._scale = np.array([config.action_scale_linear] * 2 + [config.action_scale_angular])
 
     def twist(self, observation: np.ndarray) -> np.ndarray:
         """The law's pusher twist (3,) [m/s, m/s, rad/s], plan frame, before the clip."""
         obs = np.asarray(observation, dtype=float)
-        return self.law.twist(obs[self._error], obs[self._normal])
+        episode = self._env.episode
+        assert episode is not None
+        speed = self._speed[min(episode.step_index, self._speed.size - 1)]
+        return self.law.twist(obs[self._error], obs[self._normal], float(speed))
 
     def __call__(self, observation: np.ndarray) -> np.ndarray:
         return np.clip(self.twist(observation) / self._scale, -1.0, 1.0)

@@ -3,6 +3,7 @@ frozen off contact, the twist carried to the pusher origin, and its gains file."
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -52,10 +53,27 @@ def test_an_angle_correction_moves_the_pusher_origin_as_a_point_of_the_object() 
     np.testing.assert_allclose(twist, [-omega * lever[1], omega * lever[0], omega], rtol=1e-12)
 
 
+def test_the_sideways_rate_is_capped_at_a_share_of_the_plans_speed() -> None:
+    """u_y = k e_y = 5 mm/s against a 10 mm/s plan: capped at 5 % of it, 0.5 mm/s, in
+    either direction; without a speed (or with an infinite ratio) uncapped; x and the
+    angle untouched."""
+    error = np.array([1e-3, 5e-3, 0.0])
+    capped = FeedbackLaw(FeedbackGains(k=1.0, lateral_ratio=0.05), LEVER, dt=0.01)
+    np.testing.assert_allclose(capped.twist(error, TOUCHING, speed=0.01), [1e-3, 5e-4, 0.0])
+    np.testing.assert_allclose(capped.twist(-error, TOUCHING, speed=0.01), [-1e-3, -5e-4, 0.0])
+    np.testing.assert_allclose(capped.twist(error, TOUCHING), error)
+    free = FeedbackLaw(FeedbackGains(k=1.0, lateral_ratio=math.inf), LEVER, dt=0.01)
+    np.testing.assert_allclose(free.twist(error, TOUCHING, speed=0.01), error)
+    with pytest.raises(ConfigError, match="lateral_ratio must be a number >= 0"):
+        FeedbackGains(lateral_ratio=-0.1)
+
+
 def test_gains_file_round_trip_and_bad_values(tmp_path: Path) -> None:
     path = tmp_path / "gains.toml"
     path.write_text("[feedback]\nk = 0.7\nk_i = 0.1\ncontact_force = 0.01\n")
     assert load_feedback_gains(path) == FeedbackGains(0.7, 0.1, 0.01, hold_off_contact=True)
+    path.write_text("[feedback]\nk = 0.7\nlateral_ratio = inf\n")
+    assert load_feedback_gains(path).lateral_ratio == math.inf
     path.write_text("[feedback]\nk = -1.0\n")
     with pytest.raises(ConfigError, match="feedback k must be a finite number >= 0"):
         load_feedback_gains(path)
