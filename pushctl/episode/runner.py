@@ -284,6 +284,13 @@ class Episode:
         self._record(self._n, result, tau)
         return result
 
+    def set_offset_limit(self, limit: tuple[float, float] | None) -> None:
+        """Bound the ``reference`` path's offset from now on by ``limit`` (linear [m],
+        angular [rad]; None: unbounded), keeping the offset built so far."""
+        built = self._offset.offset
+        self._offset = ReferenceOffset(self.scenario.dt, limit)
+        self._offset.offset = built.copy()
+
     @property
     def reference_offset(self) -> np.ndarray:
         """The ``reference`` path's offset of the pusher reference from the plan so far (3,)

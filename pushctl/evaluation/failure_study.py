@@ -1,0 +1,127 @@
+"""The measurements behind the feedback law's offset bound and sideways cap
+(docs/residual-and-feedback.md, "Third pass"): PD-only and the law under each setting on
+one larger tuning set, per object, with the pushes that fail counted apart.
+
+All on the *tuning* stream (:func:`~pushctl.evaluation.tune_feedback.reset_pushes`, tuning
+seeds ``seed`` … ``seed + 6·per_case − 1``), never the evaluation's; the gains are
+``experiments/feedback_gains.toml``'s k and k_i whatever the setting.
+``python -m pushctl.evaluation.failure_study [SEED] [PER_CASE]`` prints the table (about
+ten minutes at the defaults on one core).
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import sys
+from dataclasses import dataclass, replace
+
+import numpy as np
+import pandas as pd
+
+from pushctl.control.feedback import FeedbackGains, load_feedback_gains
+from pushctl.episode.metrics import compute_metrics
+from pushctl.evaluation.controllers import FeedbackActor
+from pushctl.evaluation.tune_feedback import reset_pushes, tuning_env
+from pushctl.objects import OBJECT_NAMES
+from pushctl.planning import PROFILE_NAMES
+from pushctl.rl.env import PushEnv
+from pushctl.rl.env_config import EnvConfig
+from pushctl.rl.policy import finish_with_policy
+
+FAILED_ANGLE_PCT = 20.0
+"""A push fails when its angle error exceeds this [%] ..."""
+FAILED_TRANSLATION_PCT = 3.0
+"""... or its translation error this [%]: both several times PD-only's typical push."""
+
+
+@dataclass(frozen=True)
+class Setting:
+    """One row of the study: the law with ``lateral_ratio`` and ``hold_off_contact`` under
+    the offset bound (``linear`` [m], ``angular`` [deg]); ``law`` False: PD-only."""
+
+    name: str
+    law: bool = True
+    linear: float = math.inf
+    angular_deg: float = math.inf
+    lateral_ratio: float = math.inf
+    hold_off_contact: bool = True
+
+
+SETTINGS = (
+    Setting("PD-only", law=False),
+    Setting("law, offset unbounded"),
+    Setting("+ offset bound 5 mm, 3 deg", linear=0.005, angular_deg=3.0),
+    Setting("+ offset bound 8 mm, 5 deg", linear=0.008, angular_deg=5.0),
+    Setting("+ offset bound 3 mm, 1.5 deg", linear=0.003, angular_deg=1.5),
+    Setting("3 mm, 1.5 deg + sideways cap 0.15", True, 0.003, 1.5, 0.15),
+    Setting("3 mm, 1.5 deg + sideways cap 0.05", True, 0.003, 1.5, 0.05),
+    Setting("3 mm, 1.5 deg + sideways cap 0.02", True, 0.003, 1.5, 0.02),
+    Setting("3 mm, 1.5 deg + no sideways correction", True, 0.003, 1.5, 0.0),
+    Setting("3 mm, 1.5 deg, acting off contact", True, 0.003, 1.5, hold_off_contact=False),
+)
+"""The rows of docs/residual-and-feedback.md's table, in its order."""
+
+
+def push_all(reset: list[PushEnv], setting: Setting, gains: FeedbackGains) -> pd.DataFrame:
+    """Every push of ``reset`` (a copy of it) under ``setting``: object, translation and
+    angle error [%], and whether it failed."""
+    limit = (setting.linear, math.radians(setting.angular_deg))
+    law = replace(
+        gains, lateral_ratio=setting.lateral_ratio, hold_off_contact=setting.hold_off_contact
+    )
+    rows = []
+    for member in reset:
+        env = copy.deepcopy(member)
+        episode = env.episode
+        assert episode is not None
+        if setting.law:
+            episode.set_offset_limit(limit)
+            finish_with_policy(env, FeedbackActor(env, law))
+            trace = episode.trace()
+        else:
+            trace = episode.finish()
+        metrics = compute_metrics(trace)
+        rows.append(
+            {
+                "object": env.scenario.object,
+                "translation_pct": metrics.translation_error_pct,
+                "angle_pct": metrics.angle_error_pct,
+            }
+        )
+    frame = pd.DataFrame(rows)
+    frame["failed"] = (frame["angle_pct"] > FAILED_ANGLE_PCT) | (
+        frame["translation_pct"] > FAILED_TRANSLATION_PCT
+    )
+    return frame
+
+
+def study(
+    seed: int = 1000, per_case: int = 20, settings: tuple[Setting, ...] = SETTINGS
+) -> pd.DataFrame:
+    """One row per setting: per object, the mean translation and angle errors [%] and the
+    number of failed pushes."""
+    env = tuning_env(config=EnvConfig())
+    reset = reset_pushes(env, seed, OBJECT_NAMES, PROFILE_NAMES, per_case)
+    gains = load_feedback_gains()
+    rows = []
+    for setting in settings:
+        frame = push_all(reset, setting, gains)
+        row: dict[str, object] = {"setting": setting.name}
+        for name, group in frame.groupby("object", sort=False):
+            row[f"{name}_translation_pct"] = group["translation_pct"].mean()
+            row[f"{name}_angle_pct"] = np.nanmean(group["angle_pct"])
+            row[f"{name}_failed"] = int(group["failed"].sum())
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def main(argv: list[str]) -> None:  # pragma: no cover - prints the table
+    seed = int(argv[0]) if argv else 1000
+    per_case = int(argv[1]) if len(argv) > 1 else 20
+    pd.set_option("display.width", 200)
+    print(study(seed, per_case).round(3).to_string(index=False))
+
+
+if __name__ == "__main__":  # pragma: no cover
+    main(sys.argv[1:])

@@ -1,0 +1,18 @@
+"""The failure study (pushctl.evaluation.failure_study): its table's shape, and on six
+tuning pushes the bounded, capped law beats PD-only on the cube's translation error."""
+
+from __future__ import annotations
+
+from pushctl.evaluation.failure_study import SETTINGS, study
+
+
+def test_the_study_counts_per_object_and_the_default_law_beats_pd_on_the_cube() -> None:
+    chosen = (SETTINGS[0], SETTINGS[6])  # PD-only; 3 mm, 1.5 deg + sideways cap 0.05
+    assert chosen[1].lateral_ratio == 0.05 and chosen[1].linear == 0.003
+    table = study(seed=1000, per_case=1, settings=chosen)
+    assert list(table["setting"]) == [s.name for s in chosen]
+    for name in ("cube", "wedge"):
+        assert table[f"{name}_failed"].between(0, 3).all()
+        assert (table[f"{name}_translation_pct"] > 0).all()
+    pd_only, law = table.iloc[0], table.iloc[1]
+    assert law["cube_translation_pct"] < pd_only["cube_translation_pct"]
