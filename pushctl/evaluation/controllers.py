@@ -39,4 +39,5 @@ def feedback_config(config: EnvConfig) -> EnvConfig:
         action_repeat=default.action_repeat,
         offset_limit_linear=default.offset_limit_linear,
         offset_limit_angular=default.offset_limit_angular,
+        base_law=default.base_law,  # the law itself is the actor: not added twice
     )

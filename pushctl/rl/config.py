@@ -72,12 +72,14 @@ class DDPGConfig:
       optimiser), before any DDPG update: the policy starts from the demonstrator and the
       critic's burn-in then learns that policy's returns (demonstrations as in DDPGfD,
       Večerík et al. 2017; 0: the actor starts at its initialisation) [updates].
-    - ``prior_weight`` [0.0]: after imitation, keep the actor near the cloned one π₀: the
-      actor's loss becomes −Q / mean|Q| + prior_weight·‖π(s) − π₀(s)‖² (+ the action
-      penalty), the critic's term normalised by its batch's mean |Q| as in TD3+BC (Fujimoto
-      & Gu, 2021), so the weight means the same whatever the reward's scale. 0: plain DDPG's
-      −Q (measured: from a cloned feedback law, plain DDPG's first few hundred actor updates
-      left pushes 20–30 % off their plan; docs/learning-the-residual.md) [-].
+    - ``prior_weight`` [0.0]: keep the actor near π₀, the cloned actor after imitation or,
+      without imitation, the actor it starts as (with ``actor_final_init = 0`` a zero
+      residual: the base law, ``[env] base_law``): the actor's loss becomes
+      −Q / mean|Q| + prior_weight·‖π(s) − π₀(s)‖² (+ the action penalty), the critic's
+      term normalised by its batch's mean |Q| as in TD3+BC (Fujimoto & Gu, 2021), so the
+      weight means the same whatever the reward's scale. 0: plain DDPG's −Q (measured:
+      from a cloned feedback law, plain DDPG's first few hundred actor updates left
+      pushes 20–30 % off their plan; docs/learning-the-residual.md) [-].
     - ``torch_threads`` [1]: intra-op torch threads, applied by the caller through
       :func:`pushctl.rl.ddpg.configure_torch` (process-wide, so not by the agent) [threads].
     """

@@ -105,8 +105,12 @@ class DDPGAgent:
         self._credit = 0
         self._imitated = False
         self.prior: Actor | None = None
-        """The actor as imitation left it (frozen), once :meth:`imitate` ran."""
+        """The actor as imitation left it (frozen), once :meth:`imitate` ran; without
+        imitation and with a ``prior_weight``, the actor as it starts (a residual that
+        stays near zero: near the base law it is added to)."""
         self._set_policy(obs_scale)
+        if config.prior_weight > 0.0 and config.imitation_updates == 0:
+            self.prior = copy.deepcopy(self.actor).requires_grad_(False)
 
     @property
     def env_steps(self) -> int:

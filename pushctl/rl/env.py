@@ -97,12 +97,15 @@ Version history
     - issue 16, later: ``observe_offset`` (the reference offset's three rows) and
       ``action_repeat`` (a decision interval); policies saved before load without either.
     - issue 16, third pass: ``offset_limit_linear`` / ``offset_limit_angular`` (the reference
-      offset's anti-windup bound); policies saved before load unbounded.
+      offset's anti-windup bound); policies saved before load unbounded. ``base_law``
+      (``feedback``: the residual is added to the feedback law's action); saved policies
+      load with ``none``.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import Any
 
 import gymnasium as gym
@@ -162,6 +165,12 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         """The episodes' physics engine: ``mujoco`` on the MuJoCo plant, else ``ours``."""
         self.episode: Episode | None = None
         self._exact_pose = self.effects is None or not self.config.observe_camera
+        self._base_gains = None
+        if self.config.base_law == "feedback":
+            from pushctl.control.feedback import load_feedback_gains
+
+            self._base_gains = load_feedback_gains()
+        self._base: Callable[[np.ndarray], np.ndarray] | None = None
 
     # ------------------------------------------------------------------ gymnasium API
 
@@ -187,6 +196,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         self._last = self.episode.reset()
         self._error = self._pose_error(0)
         self._measured = self.episode.measured_forces(self._last.contact_forces)
+        self._base = self._base_law()
         # the plant unknowns (docs/design.md §9) drawn for this episode, for logs: never observed
         unknowns = scenario.unknowns.as_dict(self.episode.plan.pusher.n_prongs)
         info = {"scenario": scenario, "goals_redrawn": redrawn, "unknowns": unknowns}
@@ -200,6 +210,8 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         if action.shape != (3,) or not np.all(np.isfinite(action)):
             raise ConfigError(f"action must be 3 finite numbers in [-1, 1], got {action!r}")
         deviation = self._deviation()
+        if self.config.action_repeat > 1 or self.gate_open:  # where the action is used
+            action = self.decide(action, self.observation())
         sums = [0.0, 0.0, 0.0, 0.0]
         first = None
         for held in range(self.config.action_repeat):
@@ -225,6 +237,17 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         return self.observation(), float(sum(sums)), episode.done, False, info
 
     # ------------------------------------------------------------------ acting without gym
+
+    def decide(self, action: np.ndarray, observation: np.ndarray) -> np.ndarray:
+        """The action the step applies for the policy's ``action`` (3,) at ``observation``:
+        the action itself, or with ``base_law = "feedback"`` the law's action plus it,
+        clipped to [−1, 1]. Called once per decision, where the action is used (step() and
+        :func:`~pushctl.rl.policy.finish_with_policy`), so the law's integral covers the
+        decisions it acted on, as the ``feedback`` controller's does."""
+        if self._base is None:
+            return action
+        base = self._base(np.asarray(observation, dtype=np.float64))
+        return np.clip(base + np.asarray(action, dtype=float), -1.0, 1.0)
 
     def advance(self, action: np.ndarray | None) -> np.ndarray | None:
         """step()'s push step without its observation, reward and info, for loops that only
@@ -294,6 +317,14 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         return self._deviation() > self.config.gate_threshold
 
     # ------------------------------------------------------------------ internals
+
+    def _base_law(self) -> Callable[[np.ndarray], np.ndarray] | None:
+        """The law under the residual for the episode just reset (None: PD-only)."""
+        if self._base_gains is None:
+            return None
+        from pushctl.rl.feedback_actor import FeedbackActor  # it imports this module
+
+        return FeedbackActor(self, self._base_gains)
 
     def _draw(self, options: dict[str, Any]) -> tuple[Scenario, int, Plan | None]:
         unknown = sorted(set(options) - set(RESET_OPTIONS))

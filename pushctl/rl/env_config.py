@@ -16,6 +16,9 @@ from pushctl.objects import OBJECT_NAMES
 from pushctl.planning import PROFILE_NAMES
 from pushctl.toml_files import check_keys
 
+BASE_LAWS = ("none", "feedback")
+"""What a residual is added to (``EnvConfig.base_law``): PD-only, or PD plus the feedback law."""
+
 
 @dataclass(frozen=True)
 class EnvConfig:
@@ -51,6 +54,12 @@ class EnvConfig:
         ``offset_limit_linear`` [m] and ``offset_limit_angular`` [rad]: on the ``reference``
         path, the bound of the offset's x and y and of its yaw (anti-windup,
         :class:`~pushctl.control.residual.ReferenceOffset`; ``inf``: unbounded).
+        ``base_law``: what the residual is added to. ``none``: PD-only, as in the paper;
+        ``feedback``: PD plus the ``feedback`` controller's law
+        (``experiments/feedback_gains.toml``, read when the environment is made): the
+        environment adds the law's action to the policy's before the clip, so the policy
+        learns a residual on top of the law and a zero action pushes as the law does
+        (residual RL on a hand-designed controller, Johannink et al. 2019).
     Reward (eq. 17)
         ``w_normal`` [1/N], ``w_tangential`` [1/N], ``w_torque`` [1/(N·m)]: per-step reward
         −Σ_i (w1 |ΔF_n,i| + w2 |ΔF_t,i| + w3 |Δτ_z,i|), dimensionless. The default w3 of
@@ -89,6 +98,7 @@ class EnvConfig:
     # effect winds up to tens of mm and degrees.
     offset_limit_linear: float = 0.003
     offset_limit_angular: float = math.radians(1.5)
+    base_law: str = "none"
     w_normal: float = 1.0
     w_tangential: float = 1.0
     w_torque: float = 25.0
@@ -99,6 +109,10 @@ class EnvConfig:
         for name in ("observe_camera", "observe_offset"):
             if not isinstance(getattr(self, name), bool):
                 raise ConfigError(f"env {name} must be true or false, got {getattr(self, name)!r}")
+        if self.base_law not in BASE_LAWS:
+            raise ConfigError(
+                f"env base_law must be one of {', '.join(BASE_LAWS)}, got {self.base_law!r}"
+            )
         repeat = self.action_repeat
         if isinstance(repeat, bool) or not isinstance(repeat, int) or not 1 <= repeat <= 100:
             raise ConfigError(f"env action_repeat must be an integer in 1..100, got {repeat!r}")
@@ -175,6 +189,7 @@ LEGACY_VALUES: dict[str, Any] = {
     "action_repeat": 1,
     "offset_limit_linear": math.inf,
     "offset_limit_angular": math.inf,
+    "base_law": "none",
 }
 """Settings of the keys added by issue 16 as every policy trained before them used them: the
 residual added to v_e, the exact object pose in the observation and the gate, no offset in

@@ -118,7 +118,9 @@ def finish_with_policy(env: PushEnv, actor: Callable[[np.ndarray], np.ndarray]) 
     the actor run only where the action can matter. With ``action_repeat`` = 1, only while
     the gate is open (the step ignores the action otherwise: :meth:`PushEnv.advance`). With
     ``action_repeat`` = k > 1 the actor decides at every k-th step, as step() does, and its
-    action is held for the k steps (the gate may open within them).
+    action is held for the k steps (the gate may open within them). With a ``base_law``
+    the environment adds the law's action to the actor's at each decision
+    (:meth:`PushEnv.decide`).
     """
     episode = env.episode
     if episode is None:
@@ -128,11 +130,13 @@ def finish_with_policy(env: PushEnv, actor: Callable[[np.ndarray], np.ndarray]) 
     held: np.ndarray | None = None
     while not episode.done:
         if repeat > 1 and episode.step_index % repeat == 0:
-            held = actor(np.asarray(env.observation(), dtype=np.float64))
+            observation = np.asarray(env.observation(), dtype=np.float64)
+            held = env.decide(actor(observation), observation)
         if env.gate_open:
             opened += 1
             if repeat == 1:
-                held = actor(np.asarray(env.observation(), dtype=np.float64))
+                observation = np.asarray(env.observation(), dtype=np.float64)
+                held = env.decide(actor(observation), observation)
             env.advance(held)
         else:
             env.advance(None)
