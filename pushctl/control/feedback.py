@@ -17,6 +17,12 @@ friction, and the tuning pushes showed that a sideways correction faster than a 
 cent of the forward speed unloads a prong, which on the wedge starts a single-prong spin the
 push never recovers from (docs/residual-and-feedback.md, section 4).
 
+While some prongs carry load and others do not (< ``contact_force``), the law instead turns
+the plate about the loaded prongs' centre at ``seek_rate``, the way that brings the unloaded
+prong farthest from them towards the face: with the output held there, a correction that
+lifted a prong by a hundredth of a millimetre left the push on one prong for good
+(docs/residual-and-feedback.md, "Third pass").
+
 The output is a residual twist like a policy's: it goes through the same residual path
 (:mod:`pushctl.control.residual`). On the ``reference`` path it is the rate of the reference
 offset, so the offset is k ∫ e + k_i ∬ e: integral and double-integral action on the pose.
@@ -47,20 +53,22 @@ class FeedbackGains:
     and a correction that made a prong lose contact would otherwise wind the offset up
     (tens of mm and degrees on the tuning pushes, docs/residual-and-feedback.md).
     ``lateral_ratio`` [-]: the sideways rate's cap as a fraction of the plan's speed
-    (``inf``: no cap)."""
+    (``inf``: no cap). ``seek_rate`` [rad/s]: the turn that re-closes a prong's gap while
+    others carry load (0: hold still then too)."""
 
     k: float = 0.5
     k_i: float = 0.0
     contact_force: float = 0.01
     hold_off_contact: bool = True
     lateral_ratio: float = 0.05
+    seek_rate: float = 0.01
 
     def __post_init__(self) -> None:
         if not isinstance(self.hold_off_contact, bool):
             raise ConfigError(
                 f"feedback hold_off_contact must be true or false, got {self.hold_off_contact!r}"
             )
-        for name in ("k", "k_i", "contact_force"):
+        for name in ("k", "k_i", "contact_force", "seek_rate"):
             value = getattr(self, name)
             ok = isinstance(value, int | float) and not isinstance(value, bool)
             if not ok or not math.isfinite(value) or value < 0.0:
@@ -80,19 +88,28 @@ def load_feedback_gains(path: str | Path | None = None) -> FeedbackGains:
     table = data.get("feedback")
     if not isinstance(table, dict):
         raise ConfigError(f"{path}: no [feedback] table; expected k, k_i and contact_force")
-    names = ["k", "k_i", "contact_force", "hold_off_contact", "lateral_ratio"]
+    names = ["k", "k_i", "contact_force", "hold_off_contact", "lateral_ratio", "seek_rate"]
     check_keys(table, names, f"{path} [feedback]", all_required=False)
     return FeedbackGains(**table)
 
 
 class FeedbackLaw:
     """The PI law of one push (state: the error's integral). ``lever`` (2,) [m]: the pusher
-    origin from the object's centre, plan frame; ``dt`` [s]: the time each call covers."""
+    origin from the object's centre, plan frame; ``dt`` [s]: the time each call covers;
+    ``prongs`` (k,) [m]: the prongs' offsets along the plate from its centre (the pusher
+    frame's y, :meth:`PusherConfig.prong_offsets`; None: no contact seeking)."""
 
-    def __init__(self, gains: FeedbackGains, lever: np.ndarray, dt: float) -> None:
+    def __init__(
+        self,
+        gains: FeedbackGains,
+        lever: np.ndarray,
+        dt: float,
+        prongs: np.ndarray | None = None,
+    ) -> None:
         self.gains = gains
         self.lever = np.asarray(lever, dtype=float).copy()
         self.dt = float(dt)
+        self.prongs = None if prongs is None else np.asarray(prongs, dtype=float).copy()
         self.integral = np.zeros(3)
 
     def twist(
@@ -104,9 +121,12 @@ class FeedbackLaw:
         the plan's object speed now, which caps the sideways rate (None: no cap)."""
         gains = self.gains
         error = np.asarray(error, dtype=float)
-        if np.min(normal_forces) >= gains.contact_force:
+        loaded = np.asarray(normal_forces) >= gains.contact_force
+        if loaded.all():
             self.integral = self.integral + self.dt * error
         elif gains.hold_off_contact:
+            if loaded.any() and self.prongs is not None and gains.seek_rate > 0.0:
+                return self._seek(loaded)
             return np.zeros(3)
         u = gains.k * error + gains.k_i * self.integral
         r_x, r_y = self.lever
@@ -115,3 +135,16 @@ class FeedbackLaw:
             cap = gains.lateral_ratio * abs(speed)
             lateral = min(max(lateral, -cap), cap)
         return np.array([u[0] - u[2] * r_y, lateral, u[2]])
+
+    def _seek(self, loaded: np.ndarray) -> np.ndarray:
+        """The plate's turn about the loaded prongs' centre (0, c) (pusher frame; x along the
+        push, into the face) that moves the unloaded prong at offset f farthest from it
+        forwards: ω ẑ × (0, f − c) has x-component −ω (f − c), so ω = −sign(f − c) · rate;
+        the plate's origin then moves at ω ẑ × (0, −c) = (ω c, 0)."""
+        prongs = self.prongs
+        assert prongs is not None
+        centre = float(np.mean(prongs[loaded]))
+        free = prongs[~loaded]
+        farthest = float(free[np.argmax(np.abs(free - centre))])
+        omega = -math.copysign(self.gains.seek_rate, farthest - centre)
+        return np.array([omega * centre, 0.0, omega])

@@ -210,8 +210,6 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         if action.shape != (3,) or not np.all(np.isfinite(action)):
             raise ConfigError(f"action must be 3 finite numbers in [-1, 1], got {action!r}")
         deviation = self._deviation()
-        if self.config.action_repeat > 1 or self.gate_open:  # where the action is used
-            action = self.decide(action, self.observation())
         sums = [0.0, 0.0, 0.0, 0.0]
         first = None
         for held in range(self.config.action_repeat):
@@ -238,31 +236,27 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
 
     # ------------------------------------------------------------------ acting without gym
 
-    def decide(self, action: np.ndarray, observation: np.ndarray) -> np.ndarray:
-        """The action the step applies for the policy's ``action`` (3,) at ``observation``:
-        the action itself, or with ``base_law = "feedback"`` the law's action plus it,
-        clipped to [−1, 1]. Called once per decision, where the action is used (step() and
-        :func:`~pushctl.rl.policy.finish_with_policy`), so the law's integral covers the
-        decisions it acted on, as the ``feedback`` controller's does."""
-        if self._base is None:
-            return action
-        base = self._base(np.asarray(observation, dtype=np.float64))
-        return np.clip(base + np.asarray(action, dtype=float), -1.0, 1.0)
-
     def advance(self, action: np.ndarray | None) -> np.ndarray | None:
         """step()'s push step without its observation, reward and info, for loops that only
         act (evaluation and validation: they ask for :meth:`observation` only while
         :attr:`gate_open`, and a policy's forward pass only then). ``action`` (3,) in
         [−1, 1], unchecked, or None, which the open gate takes as zeros. Returns the
         world-frame residual twist applied (3,) [m/s, m/s, rad/s], None while the gate was
-        shut. The same steps, and the same draws of the proxy's force noise, as step()."""
+        shut. The same steps, and the same draws of the proxy's force noise, as step().
+        With a ``base_law`` the law's action, from the observation of this step (the law
+        runs at every step, as the ``feedback`` controller does), is added to ``action``
+        (None: zeros) before the clip."""
         episode = self.episode
         if episode is None:
             raise StateError("call reset() before advance()")
         n = episode.step_index
         residual = None
         if self.gate_open:
-            clipped = np.zeros(3) if action is None else np.clip(action, -1.0, 1.0)
+            if self._base is None:
+                clipped = np.zeros(3) if action is None else np.clip(action, -1.0, 1.0)
+            else:  # the law acts at every step, on the state now; the policy's action is held
+                law = self._base(np.asarray(self.observation(), dtype=np.float64))
+                clipped = np.clip(law if action is None else law + action, -1.0, 1.0)
             residual = self._world_twist(clipped, n)
         self._last = episode.step(residual)
         self._error = self._pose_error(n + 1)  # the observation's, the next gate's
@@ -324,7 +318,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
             return None
         from pushctl.rl.feedback_actor import FeedbackActor  # it imports this module
 
-        return FeedbackActor(self, self._base_gains)
+        return FeedbackActor(self, self._base_gains, interval=self.config.dt)
 
     def _draw(self, options: dict[str, Any]) -> tuple[Scenario, int, Plan | None]:
         unknown = sorted(set(options) - set(RESET_OPTIONS))

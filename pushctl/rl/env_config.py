@@ -56,10 +56,11 @@ class EnvConfig:
         :class:`~pushctl.control.residual.ReferenceOffset`; ``inf``: unbounded).
         ``base_law``: what the residual is added to. ``none``: PD-only, as in the paper;
         ``feedback``: PD plus the ``feedback`` controller's law
-        (``experiments/feedback_gains.toml``, read when the environment is made): the
-        environment adds the law's action to the policy's before the clip, so the policy
-        learns a residual on top of the law and a zero action pushes as the law does
-        (residual RL on a hand-designed controller, Johannink et al. 2019).
+        (``experiments/feedback_gains.toml``, read when the environment is made): at every
+        step the gate is open the environment adds the law's action (from that step's
+        observation) to the policy's held action before the clip, so the policy learns a
+        residual on top of the law, and a zero action pushes as the ``feedback`` controller
+        does (residual RL on a hand-designed controller, Johannink et al. 2019).
     Reward (eq. 17)
         ``w_normal`` [1/N], ``w_tangential`` [1/N], ``w_torque`` [1/(N·m)]: per-step reward
         −Σ_i (w1 |ΔF_n,i| + w2 |ΔF_t,i| + w3 |Δτ_z,i|), dimensionless. The default w3 of

@@ -19,14 +19,16 @@ class FeedbackActor:
     environment's action scale, clipped). Called only while the gate is open, so the
     integral covers the steps the law acted on."""
 
-    def __init__(self, env: PushEnv, gains: FeedbackGains) -> None:
+    def __init__(self, env: PushEnv, gains: FeedbackGains, interval: float | None = None) -> None:
         plan = env.plan
         start = plan.trajectory.pose[0]
         c, s = math.cos(start[2]), math.sin(start[2])
         dx, dy = plan.pusher_positions[0, :2] - start[:2]
         lever = np.array([c * dx + s * dy, -s * dx + c * dy])  # fixed in the object's frame
         # one call per decision: every step while the gate is open, or every action_repeat
-        self.law = FeedbackLaw(gains, lever, env.config.dt * env.config.action_repeat)
+        # steps; ``interval`` [s] overrides (the base law under a policy runs every step)
+        dt = env.config.dt * env.config.action_repeat if interval is None else interval
+        self.law = FeedbackLaw(gains, lever, dt, prongs=plan.pusher.prong_offsets())
         # the observation's layout for this plan's k prongs (the environment's own table
         # is sized for the paper's two; its observation follows the pusher it pushes with)
         where = index(

@@ -119,8 +119,7 @@ def finish_with_policy(env: PushEnv, actor: Callable[[np.ndarray], np.ndarray]) 
     the gate is open (the step ignores the action otherwise: :meth:`PushEnv.advance`). With
     ``action_repeat`` = k > 1 the actor decides at every k-th step, as step() does, and its
     action is held for the k steps (the gate may open within them). With a ``base_law``
-    the environment adds the law's action to the actor's at each decision
-    (:meth:`PushEnv.decide`).
+    the environment adds the law's action to it at every step (:meth:`PushEnv.advance`).
     """
     episode = env.episode
     if episode is None:
@@ -130,13 +129,11 @@ def finish_with_policy(env: PushEnv, actor: Callable[[np.ndarray], np.ndarray]) 
     held: np.ndarray | None = None
     while not episode.done:
         if repeat > 1 and episode.step_index % repeat == 0:
-            observation = np.asarray(env.observation(), dtype=np.float64)
-            held = env.decide(actor(observation), observation)
+            held = actor(np.asarray(env.observation(), dtype=np.float64))
         if env.gate_open:
             opened += 1
             if repeat == 1:
-                observation = np.asarray(env.observation(), dtype=np.float64)
-                held = env.decide(actor(observation), observation)
+                held = actor(np.asarray(env.observation(), dtype=np.float64))
             env.advance(held)
         else:
             env.advance(None)
