@@ -116,22 +116,28 @@ print(json.dumps({
 
 
 def record_cold_problems(steps: int = 1500, seed: int = 0) -> list[tuple]:
-    """The MLCPs that reached :func:`solve_box_mlcp` (the compiled warm step had failed)
-    during ``steps`` random-action ``Push-v0`` steps of this tree: (D, b, lo, hi, findex, mu,
-    warm_start) each."""
+    """The MLCPs whose warm active set failed (the ones that reach the cold path, which
+    :func:`solve_box_mlcp` times) during ``steps`` random-action ``Push-v0`` steps of this
+    tree: (D, b, lo, hi, findex, mu, warm_start) each."""
     import pushctl.contact.substep as world_module  # where the world step calls the solver
+    from pushctl.contact.cold_step import HELD
+    from pushctl.contact.kernels import assemble
     from pushctl.rl.env import PushEnv
     from pushctl.rl.env_config import EnvConfig
 
     recorded: list[tuple] = []
-    solve = world_module.solve_box_mlcp
+    solve = world_module.cold_contact_step
 
-    def record(D, b, lo, hi, findex, mu, warm_start=None, **options):
-        warm = None if warm_start is None else warm_start.copy()
-        recorded.append((D.copy(), b.copy(), lo.copy(), hi.copy(), findex.copy(), mu.copy(), warm))
-        return solve(D, b, lo, hi, findex, mu, warm_start=warm_start, **options)
+    def record(*args):
+        solved = solve(*args)
+        guess, has_guess = args[18], args[19]
+        if not (has_guess and solved[0] == HELD):
+            D, b, lo, hi, findex, mu, *_ = assemble(*args[:18])
+            warm = guess.copy() if has_guess else None
+            recorded.append((D, b, lo, hi, findex, mu, warm))
+        return solved
 
-    world_module.solve_box_mlcp = record  # type: ignore[assignment]
+    world_module.cold_contact_step = record  # type: ignore[assignment]
     try:
         env = PushEnv(EnvConfig(duration=6.0, gate_threshold=0.0))
         rng = np.random.default_rng(seed)
@@ -141,7 +147,7 @@ def record_cold_problems(steps: int = 1500, seed: int = 0) -> list[tuple]:
             if terminated or truncated:
                 env.reset(seed=seed + i + 1)
     finally:
-        world_module.solve_box_mlcp = solve  # type: ignore[assignment]
+        world_module.cold_contact_step = solve  # type: ignore[assignment]
     return recorded
 
 
