@@ -4,9 +4,10 @@ friction boxes of the ground refined against the solved slip (a mixin of
 
 The common step is one compiled call (:func:`~pushctl.contact.kernels.warm_slip_step`: the
 previous step's active set, verified, with the refine-and-re-solve loop); when the active
-set fails, the full MLCP (ProxQP and pivoting, :func:`solve_box_mlcp`) takes over and the
-loop continues in Python (:meth:`SubstepSolver._settle_slip`), with the same calls in the
-same order, so the same bits.
+set fails, the full MLCP takes over (compiled pivoting in one call,
+:func:`~pushctl.contact.cold_step.cold_contact_step`; ProxQP if that verifies nothing) and
+the loop continues in Python (:meth:`SubstepSolver._settle_slip`), with the same calls in
+the same order, so the same bits.
 """
 
 from __future__ import annotations
