@@ -25,10 +25,13 @@ lint: $(STAMP)
 	$(PY) -m ruff format --check pushctl tests
 	$(PY) -m mypy pushctl
 
-# bench.compare: this tree against 551bcac side by side (git archive, interleaved children).
+# bench.compare: this tree against 551bcac side by side (git archive, interleaved children),
+# then against ac82d3c (before the step with the plant unknowns got cheaper:
+# docs/reproducibility-and-speed.md).
 bench: $(STAMP)
 	$(PY) -m pushctl.bench --profile --out results/bench.csv --force
 	$(PY) -m pushctl.bench.compare --against 551bcac --out results/bench_compare.csv --force
+	$(PY) -m pushctl.bench.compare --against ac82d3c --out results/bench_compare_unknowns.csv --force
 
 # Train (paper preset, seeds $(SEEDS) on Ray), evaluate (50 trials x 2 objects x 3 profiles x
 # 2 controllers x 2 plants), report, bench; QUICK=1: quick preset, 4 trials, into results-quick/;

@@ -4,7 +4,16 @@
 effector; see :mod:`pushctl.arm.model`.
 """
 
-from pushctl.arm.model import ArmConfig, ArmModel, ArmTerms, load_arm
+from pushctl.arm.believed import BelievedTerms
+from pushctl.arm.model import ArmConfig, ArmModel, ArmTerms, PusherFrame, load_arm
 from pushctl.arm.specs import ARM_NAMES
 
-__all__ = ["ARM_NAMES", "ArmConfig", "ArmModel", "ArmTerms", "load_arm"]
+__all__ = [
+    "ARM_NAMES",
+    "ArmConfig",
+    "ArmModel",
+    "ArmTerms",
+    "BelievedTerms",
+    "PusherFrame",
+    "load_arm",
+]

@@ -18,13 +18,18 @@ import numpy as np
 import pinocchio as pin
 
 from pushctl.arm.ik import IKResult, IKSettings, solve_frame_ik
-from pushctl.arm.pusher import attach_pusher, placement_ee_to_pusher
+from pushctl.arm.pusher import (
+    NOMINAL_PUSHER_FRAME,
+    add_frame_on_ee,
+    attach_pusher,
+    placement_ee_to_pusher,
+)
 from pushctl.arm.specs import ARM_NAMES, ArmSpec, arm_spec, check_spec_model
 from pushctl.checks import finite_vector
 from pushctl.config import GRAVITY, PusherConfig
 from pushctl.errors import ConfigError
 
-__all__ = ["ARM_NAMES", "ArmConfig", "ArmModel", "ArmTerms", "load_arm"]
+__all__ = ["ARM_NAMES", "ArmConfig", "ArmModel", "ArmTerms", "PusherFrame", "load_arm"]
 
 
 def _joint_parameter(name: str, values, nv: int, arm: str) -> tuple[float, ...] | None:
@@ -75,6 +80,15 @@ class ArmConfig:
         return np.array(self.damping or arm_spec(self.name).damping, dtype=float)
 
 
+class PusherFrame(NamedTuple):
+    """A pusher frame at one state: ``position`` (3,) [m] and ``rotation`` (3, 3) its world
+    placement, ``jacobian`` (6, nv) rows [linear; angular], world-aligned axes."""
+
+    position: np.ndarray
+    rotation: np.ndarray
+    jacobian: np.ndarray
+
+
 class ArmTerms(NamedTuple):
     """Dynamics and prong kinematics at one state (fresh arrays, owned by the caller).
 
@@ -120,8 +134,10 @@ class ArmModel:
     ``velocity_limit`` (nv,) [rad/s]; ``q_lower``, ``q_upper`` (nq,) [rad]; ``q_ready``
     (nq,) [rad], solved once at load; ``ready_pusher_position`` (3,) [m] where it puts the
     pusher frame (axes on the world axes); ``ready_ik`` (its IKResult); ``pusher``
-    (PusherConfig); ``pusher_frame_id``; ``prong_frame_ids`` (k,). Not thread-safe: one
-    Data per instance.
+    (PusherConfig); ``pusher_frame_id``; ``prong_frame_ids`` (k,);
+    ``nominal_pusher_frame_id``: with a mounting yaw, the massless frame where the pusher
+    would be without it (:meth:`nominal_pusher`), else None. Not thread-safe: one Data per
+    instance.
     """
 
     def __init__(self, config: ArmConfig) -> None:
@@ -135,6 +151,17 @@ class ArmModel:
         self.pusher_frame_id, self.prong_frame_ids = attach_pusher(
             model, spec.ee_frame, eeMp, config.pusher
         )
+        # A controller that believes the nominal mounting needs that frame every step: one
+        # more frame of this model is a placement and a Jacobian from the same pass, where a
+        # model of its own would repeat the whole pass (Episode.controller_terms).
+        self.nominal_pusher_frame_id: int | None = None
+        if config.pusher.mount_yaw != 0.0:
+            eeMn = placement_ee_to_pusher(
+                spec.push_axis_ee, spec.tool_axis_ee, config.pusher.nominal
+            )
+            self.nominal_pusher_frame_id = add_frame_on_ee(
+                model, spec.ee_frame, eeMn, NOMINAL_PUSHER_FRAME
+            )
         self.spec: ArmSpec = spec
         self.name, self.model, self.data = spec.name, model, model.createData()
         self.nq, self.nv = model.nq, model.nv
@@ -146,6 +173,7 @@ class ArmModel:
         self.q_lower = model.lowerPositionLimit.copy()
         self.q_upper = model.upperPositionLimit.copy()
         self._n_prongs = len(self.prong_frame_ids)
+        self._nominal_pass: tuple[np.ndarray, PusherFrame] | None = None
         self._symmetrise = not _fills_lower_triangle(model, self.data)
         self._bind_views()
         self.ready_ik = self._solve_ready()
@@ -211,6 +239,14 @@ class ArmModel:
         pusher = pin.updateFramePlacement(model, data, self.pusher_frame_id)
         # getFrameJacobian returns a fresh array (Eigen by value): no copy needed.
         pusher_jacobian = pin.getFrameJacobian(model, data, self.pusher_frame_id, _WORLD_ALIGNED)
+        if self.nominal_pusher_frame_id is not None:
+            placement = pin.updateFramePlacement(model, data, self.nominal_pusher_frame_id)
+            nominal = PusherFrame(
+                placement.translation.copy(),
+                placement.rotation.copy(),
+                pin.getFrameJacobian(model, data, self.nominal_pusher_frame_id, _WORLD_ALIGNED),
+            )
+            self._nominal_pass = (pusher_jacobian, nominal)
         mass = self._data_M.copy()
         if self._symmetrise:
             mass = np.triu(mass) + np.triu(mass, 1).T
@@ -224,6 +260,15 @@ class ArmModel:
             pusher.rotation.copy(),
             pusher_jacobian,
         )
+
+    def nominal_pusher(self, terms: ArmTerms) -> PusherFrame | None:
+        """Where the pusher frame would be without the plate's mounting yaw (the nominal
+        mounting a controller believes), at the state of ``terms``: computed in the pass of
+        :meth:`compute` that returned them if that was this model's last pass (recognised by
+        their ``pusher_jacobian``, an array of that pass only), else None; None also on an
+        arm without a mounting yaw."""
+        last = self._nominal_pass
+        return last[1] if last is not None and last[0] is terms.pusher_jacobian else None
 
     def mass_matrix(self, q: np.ndarray) -> np.ndarray:
         """M(q) (nv, nv) including armature."""
@@ -239,6 +284,15 @@ class ArmModel:
     def gravity(self, q: np.ndarray) -> np.ndarray:
         """g(q) (nv,) [N·m]: joint torques that hold the arm and pusher still."""
         return pin.computeGeneralizedGravity(self.model, self.data, q).copy()
+
+    def gravity_as_computed(self, q: np.ndarray) -> np.ndarray:
+        """g(q) (nv,) [N·m] to the bit as :meth:`compute` returns it, without the rest of its
+        pass (about a third of its time). computeAllTerms forms g as −A_linᵀ·gravity from
+        the composite inertias' centroidal map A, which computeCentroidalMap builds by the
+        same arithmetic (tested bit for bit); RNEA's :meth:`gravity` differs in the last
+        bits."""
+        centroidal = pin.computeCentroidalMap(self.model, self.data, q)
+        return -(centroidal[:3].T @ self.model.gravity.linear)
 
     def forward_dynamics(self, q: np.ndarray, v: np.ndarray, tau: np.ndarray) -> np.ndarray:
         """Joint accelerations (nv,) [rad/s²] under torques ``tau`` (nv,) [N·m]:

@@ -24,6 +24,10 @@ from pushctl.config import PusherConfig
 PUSHER_FRAME = "pusher"
 """Name of the pusher frame in the Pinocchio model."""
 
+NOMINAL_PUSHER_FRAME = "pusher_nominal"
+"""Name of the frame where the pusher would be without its mounting yaw (the controller's
+belief), added to the model of an arm whose plate has one."""
+
 
 def prong_frame_name(i: int) -> str:
     """Name of prong ``i``'s frame (0-based, ascending t_i)."""
@@ -70,7 +74,7 @@ def attach_pusher(
     """
     ee_id = model.getFrameId(ee_frame)
     ee = model.frames[ee_id]
-    jMp = ee.placement * eeMp  # pusher frame in the parent joint's frame
+    jMp = ee.placement * eeMp  # pusher frame in the parent joint's frame (as add_frame_on_ee)
     model.appendBodyToJoint(ee.parentJoint, plate_inertia(pusher), jMp)
     pusher_id = model.addFrame(
         pin.Frame(PUSHER_FRAME, ee.parentJoint, ee_id, jMp, pin.FrameType.OP_FRAME), False
@@ -83,3 +87,15 @@ def attach_pusher(
         )
         prong_ids.append(model.addFrame(frame, False))
     return pusher_id, tuple(prong_ids)
+
+
+def add_frame_on_ee(model: pin.Model, ee_frame: str, eeMf: pin.SE3, name: str) -> int:
+    """Add a massless frame ``name`` at ``eeMf`` in the end-effector frame (its placement in
+    the parent joint's frame computed as :func:`attach_pusher` computes the pusher's, so the
+    same ``eeMf`` gives the same bits). Modifies ``model`` in place; returns the frame id."""
+    ee_id = model.getFrameId(ee_frame)
+    ee = model.frames[ee_id]
+    jMf = ee.placement * eeMf
+    return model.addFrame(
+        pin.Frame(name, ee.parentJoint, ee_id, jMf, pin.FrameType.OP_FRAME), False
+    )

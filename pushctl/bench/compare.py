@@ -15,7 +15,16 @@ core (``taskset -c 0`` where it exists). Each child times, on the same inputs:
 - ``cold MLCP, ProxQP path of the reference``: the same over the problems the reference
   solved with its ProxQP fixed point (the ~400 µs path of issue 15);
 - ``env step, zero residual`` and ``env step, random actions``: ``Push-v0`` steps on one
-  wedge chirp push, median [µs].
+  wedge chirp push, median [µs];
+- ``unknowns: …``: the training environment with the plant unknowns on (the default ``sim``
+  plant: the pusher's mounting error, the friction field), ``action_repeat`` 10 and the
+  offset observed, on the same three 6 s pushes (scenario seeds 0-2 of the training
+  stream, cube and wedge), mean time per push step [µs]: ``gate shut`` (zero actions),
+  ``gate open`` (random actions every step) and ``feedback law`` (``finish_with_policy``
+  with the feedback actor, as the evaluation pushes); ``unknowns: controller terms`` the
+  median of :meth:`Episode.controller_terms` on a mounted pusher whose plate centre agrees
+  with the nominal one to the bit (scenario seed 0) and ``…, own g`` one where it does not
+  (seed 3) [µs]. NaN where the reference tree lacks these settings.
 
 The table gives the median over repeats of each tree and the ratio this / reference.
 """
@@ -53,6 +62,11 @@ METRICS = (
     "cold MLCP, ProxQP path of the reference",
     "env step, zero residual",
     "env step, random actions",
+    "unknowns: env step, gate shut",
+    "unknowns: env step, gate open",
+    "unknowns: feedback law push",
+    "unknowns: controller terms",
+    "unknowns: controller terms, own g",
 )
 
 _CHILD = r"""
@@ -103,7 +117,53 @@ def env_steps(random):
         times.append(time.perf_counter() - start)
     return times
 
+def unknowns_push_us(mode):
+    # mean time per push step [us] of three training pushes with the plant unknowns
+    try:
+        from pushctl.control.feedback import load_feedback_gains
+        from pushctl.rl.feedback_actor import FeedbackActor
+        from pushctl.rl.policy import finish_with_policy
+        gate = {"shut": {"gate_threshold": 1.0}, "open": {"gate_threshold": 0.0}}.get(mode, {})
+        config = EnvConfig(action_repeat=10, observe_offset=True, duration=6.0, **gate)
+    except (ImportError, TypeError):
+        return float("nan")
+    env = PushEnv(config)
+    rng = np.random.default_rng(0)
+    zero = np.zeros(3, dtype=np.float32)
+    total, steps = 0.0, 0
+    for seed, obj in ((0, "wedge"), (1, "cube"), (2, "wedge")):
+        env.reset(options={"object": obj, "profile": "chirp", "scenario_seed": seed})
+        episode = env.episode
+        start = time.perf_counter()
+        if mode == "feedback":
+            finish_with_policy(env, FeedbackActor(env, load_feedback_gains()))
+        else:
+            while not episode.done:
+                action = rng.uniform(-1, 1, 3).astype(np.float32) if mode == "open" else zero
+                env.step(action)
+        total += time.perf_counter() - start
+        steps += episode.n_steps
+    return 1e6 * total / steps
+
+def controller_terms_us(seed):
+    # median of Episode.controller_terms [us] on a mounted pusher (scenario seed)
+    try:
+        env = PushEnv(EnvConfig(duration=2.0))
+    except TypeError:
+        return float("nan")
+    env.reset(options={"object": "cube", "profile": "chirp", "scenario_seed": seed})
+    episode = env.episode
+    if episode.controller_arm is episode.world.arm:
+        return float("nan")
+    times = []
+    for _ in range(2000):
+        start = time.perf_counter()
+        episode.controller_terms()
+        times.append(time.perf_counter() - start)
+    return median_us(times)
+
 env_steps(True)  # warm-up
+unknowns_push_us("shut")
 print(json.dumps({
     "world step": median_us(steps),
     "cold MLCP": median_us(cold),
@@ -111,27 +171,38 @@ print(json.dumps({
     "methods": methods,
     "env step, zero residual": median_us(env_steps(False)),
     "env step, random actions": median_us(env_steps(True)),
+    "unknowns: env step, gate shut": unknowns_push_us("shut"),
+    "unknowns: env step, gate open": unknowns_push_us("open"),
+    "unknowns: feedback law push": unknowns_push_us("feedback"),
+    "unknowns: controller terms": controller_terms_us(0),
+    "unknowns: controller terms, own g": controller_terms_us(3),
 }))
 """
 
 
 def record_cold_problems(steps: int = 1500, seed: int = 0) -> list[tuple]:
-    """The MLCPs that reached :func:`solve_box_mlcp` (the compiled warm step had failed)
-    during ``steps`` random-action ``Push-v0`` steps of this tree: (D, b, lo, hi, findex, mu,
-    warm_start) each."""
+    """The MLCPs whose warm active set failed (the ones that reach the cold path, which
+    :func:`solve_box_mlcp` times) during ``steps`` random-action ``Push-v0`` steps of this
+    tree: (D, b, lo, hi, findex, mu, warm_start) each."""
     import pushctl.contact.substep as world_module  # where the world step calls the solver
+    from pushctl.contact.cold_step import HELD
+    from pushctl.contact.kernels import assemble
     from pushctl.rl.env import PushEnv
     from pushctl.rl.env_config import EnvConfig
 
     recorded: list[tuple] = []
-    solve = world_module.solve_box_mlcp
+    solve = world_module.cold_contact_step
 
-    def record(D, b, lo, hi, findex, mu, warm_start=None, **options):
-        warm = None if warm_start is None else warm_start.copy()
-        recorded.append((D.copy(), b.copy(), lo.copy(), hi.copy(), findex.copy(), mu.copy(), warm))
-        return solve(D, b, lo, hi, findex, mu, warm_start=warm_start, **options)
+    def record(*args):
+        solved = solve(*args)
+        guess, has_guess = args[18], args[19]
+        if not (has_guess and solved[0] == HELD):
+            D, b, lo, hi, findex, mu, *_ = assemble(*args[:18])
+            warm = guess.copy() if has_guess else None
+            recorded.append((D, b, lo, hi, findex, mu, warm))
+        return solved
 
-    world_module.solve_box_mlcp = record  # type: ignore[assignment]
+    world_module.cold_contact_step = record  # type: ignore[assignment]
     try:
         env = PushEnv(EnvConfig(duration=6.0, gate_threshold=0.0))
         rng = np.random.default_rng(seed)
@@ -141,7 +212,7 @@ def record_cold_problems(steps: int = 1500, seed: int = 0) -> list[tuple]:
             if terminated or truncated:
                 env.reset(seed=seed + i + 1)
     finally:
-        world_module.solve_box_mlcp = solve  # type: ignore[assignment]
+        world_module.cold_contact_step = solve  # type: ignore[assignment]
     return recorded
 
 
@@ -165,9 +236,10 @@ def unpack(commit: str, into: Path) -> Path:
     return tree
 
 
-def run_child(tree: Path, problems: Path) -> dict[str, float]:
-    """One child process timing the tree at ``tree`` (its ``pushctl`` first on the path)."""
-    pin = ["taskset", "-c", "0"] if shutil.which("taskset") else []
+def run_child(tree: Path, problems: Path, core: int = 0) -> dict[str, float]:
+    """One child process timing the tree at ``tree`` (its ``pushctl`` first on the path),
+    pinned to ``core``."""
+    pin = ["taskset", "-c", str(core)] if shutil.which("taskset") else []
     env = {**os.environ, "PYTHONPATH": str(tree)}
     done = subprocess.run(
         [*pin, sys.executable, "-c", _CHILD, str(problems)],
@@ -182,7 +254,7 @@ def run_child(tree: Path, problems: Path) -> dict[str, float]:
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
-def compare(against: str, repeats: int) -> tuple[pd.DataFrame, int]:
+def compare(against: str, repeats: int, core: int = 0) -> tuple[pd.DataFrame, int]:
     """Median [µs] of each metric per tree over ``repeats`` interleaved pairs of children,
     and the ratio; also the number of cold problems timed."""
     this_tree = Path(pushctl.__file__).resolve().parent.parent
@@ -197,7 +269,7 @@ def compare(against: str, repeats: int) -> tuple[pd.DataFrame, int]:
             order = ("reference", "this") if k % 2 == 0 else ("this", "reference")
             for name in order:
                 tree = reference if name == "reference" else this_tree
-                samples[name].append(run_child(tree, problems_file))
+                samples[name].append(run_child(tree, problems_file, core))
     proxqp = [i for i, m in enumerate(samples["reference"][0]["methods"]) if m.startswith("proxqp")]
     for sample in (*samples["this"], *samples["reference"]):
         each = sample["cold_each"]
@@ -225,6 +297,7 @@ def main(argv: list[str] | None = None) -> int:
     )
     parser.add_argument("--against", default=REFERENCE, help="reference commit (git)")
     parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--core", type=int, default=0, help="the core the children run on")
     parser.add_argument("--out", type=Path, default=None, help="also write the table as CSV")
     parser.add_argument("--force", action="store_true", help="overwrite an existing --out file")
     args = parser.parse_args(argv)
@@ -232,7 +305,9 @@ def main(argv: list[str] | None = None) -> int:
         refuse_existing_files("--out", (args.out,), args.force)
         if args.repeats < 1:
             raise ConfigError(f"--repeats must be an integer >= 1, got {args.repeats}")
-        frame, n_problems = compare(args.against, args.repeats)
+        if not 0 <= args.core < (os.cpu_count() or 1):
+            raise ConfigError(f"--core must be a core of this machine, 0-{os.cpu_count() - 1}")
+        frame, n_problems = compare(args.against, args.repeats, args.core)
     except ConfigError as error:
         print(f"error: {error}", file=sys.stderr)
         return 2

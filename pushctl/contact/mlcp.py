@@ -102,6 +102,12 @@ class MLCPResult:
     method: str
 
 
+def cold_pivot_budget(max_iterations: int = 50) -> int:
+    """Pivots of :func:`solve_box_mlcp`'s compiled cold path from each start, for its
+    ``max_iterations`` (the default's: 30)."""
+    return min(_COLD_PIVOTS, max_iterations)
+
+
 def solve_box_mlcp(
     D: np.ndarray,
     b: np.ndarray,
@@ -168,13 +174,35 @@ def solve_box_mlcp(
     # The cold path, compiled: pivoting from the warm start's active set, then from two
     # fixed ones (see the module doc).
     guess = np.zeros(n) if start is None else start
-    budget = min(_COLD_PIVOTS, max_iterations)
+    budget = cold_pivot_budget(max_iterations)
     p, w, residual, verified, iterations, which = cold_pivot(
         D, b, lo, hi, findex, mu, guess, start is not None, threshold, budget
     )
     if verified:
         method = "warm-start" if which == 0 else "active-set"
         return MLCPResult(p, w, float(residual), iterations, True, method)
+    return solve_after_pivoting(
+        D, b, lo, hi, findex, mu, start, threshold, iterations, max_iterations
+    )
+
+
+def solve_after_pivoting(
+    D: np.ndarray,
+    b: np.ndarray,
+    lo: np.ndarray,
+    hi: np.ndarray,
+    findex: np.ndarray,
+    mu: np.ndarray,
+    start: np.ndarray | None,
+    threshold: float,
+    iterations: int,
+    max_iterations: int = 50,
+) -> MLCPResult:
+    """The rest of :func:`solve_box_mlcp` once its compiled pivoting found nothing that
+    verifies (arrays as there, valid; ``start`` its warm start or None, ``threshold`` its
+    accepted residual, ``iterations`` the pivots so far): the exact finish from the warm
+    start's active set, ProxQP's fixed point, the best point met."""
+    n = len(b)
     prob = _box_problem(D, b, lo, hi, findex, mu, threshold)
     best = None
     if start is not None:

@@ -4,9 +4,10 @@ friction boxes of the ground refined against the solved slip (a mixin of
 
 The common step is one compiled call (:func:`~pushctl.contact.kernels.warm_slip_step`: the
 previous step's active set, verified, with the refine-and-re-solve loop); when the active
-set fails, the full MLCP (ProxQP and pivoting, :func:`solve_box_mlcp`) takes over and the
-loop continues in Python (:meth:`SubstepSolver._settle_slip`), with the same calls in the
-same order, so the same bits.
+set fails, the full MLCP takes over (compiled pivoting in one call,
+:func:`~pushctl.contact.cold_step.cold_contact_step`; ProxQP if that verifies nothing) and
+the loop continues in Python (:meth:`SubstepSolver._settle_slip`), with the same calls in
+the same order, so the same bits.
 """
 
 from __future__ import annotations
@@ -17,6 +18,13 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from pushctl.arm import ArmModel, ArmTerms
+from pushctl.contact.cold_step import (
+    FROM_WARM,
+    HELD,
+    PIVOTED,
+    UNVERIFIED,
+    cold_contact_step,
+)
 from pushctl.contact.ground_field import FrictionField
 from pushctl.contact.kernels import (
     SLIP_UNSETTLED,
@@ -25,10 +33,14 @@ from pushctl.contact.kernels import (
     assemble,
     refine_slip,
     slip_state,
-    warm_contact_step,
     warm_slip_step,
 )
-from pushctl.contact.mlcp import DEFAULT_TOL, MLCPResult, solve_box_mlcp
+from pushctl.contact.mlcp import (
+    DEFAULT_TOL,
+    MLCPResult,
+    cold_pivot_budget,
+    solve_after_pivoting,
+)
 from pushctl.types import ContactProblem, WorldStats
 
 STEP_STATE = (
@@ -89,6 +101,9 @@ MAX_SLIP_ITERATIONS = 6
 step keeps its first solution (the boxes aligned with the velocity before the step)."""
 
 _NO_CONTACTS = np.zeros((0, 5))
+_NO_GUESS = np.zeros(0)  # the guess argument of cold_contact_step without one
+_PIVOT_BUDGET = cold_pivot_budget()
+_METHODS = {HELD: "warm-start", FROM_WARM: "warm-start", PIVOTED: "active-set"}
 _NO_JACOBIANS = np.zeros((0, 3, 0))
 _NO_ARM_MATRIX = np.zeros((0, 0))
 
@@ -224,11 +239,12 @@ class SubstepSolver:
                 stats.slip_unsettled += 1
             elif status == SLIP_WARM_FAILED:
                 self.stats.slip_iterations += 1
-                solution = self._solve_step(h, tau, damping, inputs, solution[0].p, False)
+                # (the same warm active set fails again in _solve_step: no bits change)
+                solution = self._solve_step(h, tau, damping, inputs, solution[0].p)
                 self._record(solution[0], prongs)
                 start = attempt + 1
         else:  # no warm start, or it failed in the call above: the full MLCP
-            first = self._solve_step(h, tau, damping, inputs, guess, guess is None)
+            first = self._solve_step(h, tau, damping, inputs, guess)
             self._record(first[0], prongs)
             solution = first
         if status in (0, SLIP_WARM_FAILED):
@@ -264,38 +280,30 @@ class SubstepSolver:
             self._record(solution[0], prongs)
         return solution
 
-    def _solve_step(
-        self, h: float, tau: np.ndarray, damping: np.ndarray, inputs, guess, try_warm=True
-    ):
+    def _solve_step(self, h: float, tau: np.ndarray, damping: np.ndarray, inputs, guess):
         """The step's MLCP with the current friction boxes: (MLCPResult, v_arm (nv,), v_obj (3,),
         forces (p, 2) of the prongs in contact). ``inputs``: :meth:`_step_inputs`' (they hold
         the box arrays, which :func:`refine_slip` changes in place). While the same prongs
-        touch, the previous impulses' active set (``guess``) usually still holds: the whole
-        step is then one compiled call; otherwise ProxQP and pivoting
-        (:func:`solve_box_mlcp`). ``try_warm=False``: that compiled call already failed on
-        these inputs (in :func:`warm_slip_step`), go to the full MLCP."""
-        if guess is not None and try_warm:
-            verified, p, w, residual, v_arm, v_obj, contact_forces = warm_contact_step(
-                *inputs, *self._model, guess, DEFAULT_TOL
-            )  # type: ignore[call-arg]  # numba's Dispatcher hides the signature
-            if verified:
-                return (
-                    MLCPResult(p, w, residual, 0, True, "warm-start"),
-                    v_arm,
-                    v_obj,
-                    contact_forces,
-                )
+        touch, the previous impulses' active set (``guess``) usually still holds; otherwise
+        the compiled pivoting from it and two fixed starts solves the step, both in one
+        compiled call (:func:`~pushctl.contact.cold_step.cold_contact_step`: the calls of
+        :func:`solve_box_mlcp`, so its bits); ProxQP (:func:`solve_after_pivoting`) only when
+        the pivoting verifies nothing."""
+        has_guess = guess is not None
+        how, p, w, residual, pivots, v_arm, v_obj, contact_forces = cold_contact_step(
+            *inputs, *self._model, guess if has_guess else _NO_GUESS, has_guess, DEFAULT_TOL,
+            _PIVOT_BUDGET,
+        )  # type: ignore[call-arg]  # fmt: skip  # numba's Dispatcher hides the signature
+        if how != UNVERIFIED:
+            method = _METHODS.get(how, "warm-start" if has_guess else "proxqp+active-set")
+            result = MLCPResult(p, w, float(residual), pivots, True, method)
+            return result, v_arm, v_obj, contact_forces
         problem = self._build_problem(h, tau, damping)
-        result = solve_box_mlcp(
-            problem.D,
-            problem.b,
-            problem.lo,
-            problem.hi,
-            problem.findex,
-            problem.mu,
-            warm_start=guess,
-            validate=False,  # built here, valid by construction
-        )
+        threshold = DEFAULT_TOL * max(1.0, float(np.abs(problem.b).max()))
+        result = solve_after_pivoting(
+            problem.D, problem.b, problem.lo, problem.hi, problem.findex, problem.mu,
+            guess, threshold, pivots,
+        )  # fmt: skip
         v_arm, v_obj, contact_forces = apply_impulses(
             result.p, problem.v_arm_free, problem.Minv_At_arm, self.object_velocity,
             problem.Minv_At_obj, h,

@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pushctl.arm import ArmConfig, ArmModel, ArmTerms, load_arm
+from pushctl.arm import ArmConfig, ArmModel, ArmTerms, BelievedTerms, load_arm
 from pushctl.checks import finite_vector
 from pushctl.config import PusherConfig
 from pushctl.contact.build import make_world
@@ -172,6 +172,11 @@ class Episode:
         # The controller's model of the arm: the world's own unless the pusher is mounted
         # other than the controller believes (then the nominal pusher, same mass).
         self.controller_arm: ArmModel = self._nominal_arm(pusher)
+        self._believed = (
+            None
+            if self.controller_arm is self.world.arm
+            else BelievedTerms(self.world.arm, self.controller_arm)
+        )
         self.true_start: np.ndarray = unknowns.true_start(self.plan.trajectory.pose[0])
         self.controller = self._controller(self.gains)
         self.reference: PusherReference = push_reference(self.plan)
@@ -227,14 +232,16 @@ class Episode:
     def controller_terms(self) -> ArmTerms:
         """The arm's terms at the world's current state as the controller's model computes
         them: the world's own (:attr:`World.arm_terms`) unless the pusher has a mounting
-        error, then the nominal pusher's frame, Jacobian and g(q) (the prongs' true
-        positions are the world's business)."""
+        error, then the nominal pusher's frame, Jacobian and g(q), bit for bit what
+        :attr:`controller_arm` computes, taken from the world's pass
+        (:class:`~pushctl.arm.believed.BelievedTerms`; M, nle and the prongs' true
+        positions are the world's)."""
         world = self.world
         terms = world.arm_terms
         assert terms is not None
-        if self.controller_arm is world.arm:
+        if self._believed is None:
             return terms
-        return self.controller_arm.compute(world.q, world.v)
+        return self._believed(terms, world.q, world.v)
 
     @property
     def n_steps(self) -> int:

@@ -1,0 +1,85 @@
+"""cProfile of the training environment with the plant unknowns, as training and evaluation
+step it (docs/reproducibility-and-speed.md).
+
+Run as ``python -m pushctl.bench.profile_env [shut|open|feedback] [--pushes N] [--top K]``:
+``PushEnv(EnvConfig(action_repeat=10, observe_offset=True))`` on the ``sim`` plant (its
+plant unknowns on, as in training), N pushes of the training stream (seeds 0…N−1), with the
+gate ``shut`` (zero actions), ``open`` (gate threshold 0, uniform random actions) or the
+``feedback`` law pushing through :func:`~pushctl.rl.policy.finish_with_policy` as the
+evaluation does. The pushes run once unprofiled first (numba's caches, and the rate without
+the profiler's overhead), then under cProfile with the resets left out; prints both rates
+and the profile's top K functions by own time and by cumulative time.
+"""
+
+from __future__ import annotations
+
+import argparse
+import cProfile
+import pstats
+import sys
+import time
+from dataclasses import replace
+
+import numpy as np
+
+from pushctl.control.feedback import load_feedback_gains
+from pushctl.rl.env import PushEnv
+from pushctl.rl.env_config import EnvConfig
+from pushctl.rl.feedback_actor import FeedbackActor
+from pushctl.rl.policy import finish_with_policy
+
+MODES = ("shut", "open", "feedback")
+
+
+def push_steps_per_s(mode: str, pushes: int, profile: cProfile.Profile | None = None) -> float:
+    """Push steps per second of ``pushes`` pushes in ``mode`` (resets not timed nor
+    profiled)."""
+    config = EnvConfig(action_repeat=10, observe_offset=True)
+    if mode != "feedback":
+        config = replace(config, gate_threshold=1.0 if mode == "shut" else 0.0)
+    env = PushEnv(config)
+    zero = np.zeros(3, dtype=np.float32)
+    elapsed, steps = 0.0, 0
+    for seed in range(pushes):
+        env.reset(seed=seed)
+        episode = env.episode
+        assert episode is not None
+        rng = np.random.default_rng(seed)
+        start = time.perf_counter()
+        if profile is not None:
+            profile.enable()
+        if mode == "feedback":
+            finish_with_policy(env, FeedbackActor(env, load_feedback_gains()))
+        else:
+            while not episode.done:
+                env.step(rng.uniform(-1, 1, 3).astype(np.float32) if mode == "open" else zero)
+        if profile is not None:
+            profile.disable()
+        elapsed += time.perf_counter() - start
+        steps += episode.n_steps
+    return steps / elapsed
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(
+        prog="python -m pushctl.bench.profile_env", description=__doc__.splitlines()[0]
+    )
+    parser.add_argument("mode", choices=MODES)
+    parser.add_argument("--pushes", type=int, default=3)
+    parser.add_argument("--top", type=int, default=25)
+    args = parser.parse_args(argv)
+    if args.pushes < 1 or args.top < 1:
+        print("error: --pushes and --top must be integers >= 1", file=sys.stderr)
+        return 2
+    rate = push_steps_per_s(args.mode, args.pushes)
+    profile = cProfile.Profile()
+    profiled = push_steps_per_s(args.mode, args.pushes, profile)
+    print(f"{args.mode}: {rate:.0f} push steps/s ({profiled:.0f} under cProfile)")
+    stats = pstats.Stats(profile)
+    stats.sort_stats("tottime").print_stats(args.top)
+    stats.sort_stats("cumulative").print_stats(args.top)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

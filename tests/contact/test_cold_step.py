@@ -1,0 +1,86 @@
+"""The world step's cold path in one compiled call (:func:`cold_contact_step`) gives, to the
+bit, what the separate calls it replaces gave: assemble, :func:`solve_box_mlcp` with the
+previous impulses as warm start, apply the impulses."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import pushctl.contact.substep as substep_module
+from pushctl.contact.cold_step import HELD, PIVOTED, UNVERIFIED, cold_contact_step
+from pushctl.contact.kernels import apply_impulses, assemble
+from pushctl.contact.mlcp import DEFAULT_TOL, solve_box_mlcp
+from pushctl.rl.env import PushEnv
+from pushctl.rl.env_config import EnvConfig
+
+
+def _recorded_calls(monkeypatch, steps: int = 60) -> list[tuple]:
+    """The arguments of every cold_contact_step call of a random-action push on the training
+    environment (plant unknowns on, objects slipping), copied when made."""
+    calls: list[tuple] = []
+    solve = substep_module.cold_contact_step
+
+    def record(*args):
+        calls.append(tuple(a.copy() if isinstance(a, np.ndarray) else a for a in args))
+        return solve(*args)
+
+    monkeypatch.setattr(substep_module, "cold_contact_step", record)
+    env = PushEnv(EnvConfig(action_repeat=10, gate_threshold=0.0, duration=6.0))
+    rng = np.random.default_rng(0)
+    for seed in (0, 2):
+        env.reset(seed=seed)
+        for _ in range(steps):
+            env.step(rng.uniform(-1.0, 1.0, 3).astype(np.float32))
+    monkeypatch.setattr(substep_module, "cold_contact_step", solve)
+    return calls
+
+
+def _separate_calls(args: tuple) -> tuple:
+    """What World._solve_step did before: the problem assembled, solve_box_mlcp, the
+    impulses applied."""
+    state, guess, has_guess = args[:18], args[18], args[19]
+    D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, _ = assemble(*state)
+    result = solve_box_mlcp(
+        D, b, lo, hi, findex, mu, warm_start=guess if has_guess else None, validate=False
+    )
+    velocity, h = args[8], args[14]
+    v_arm, v_obj, forces = apply_impulses(
+        result.p, v_arm_free, Minv_At_arm, velocity, Minv_At_obj, h
+    )
+    return result, v_arm, v_obj, forces
+
+
+def test_the_compiled_cold_path_is_the_separate_calls_to_the_bit(monkeypatch) -> None:
+    calls = _recorded_calls(monkeypatch)
+    seen = {"held": 0, "pivoted": 0, "no guess": 0}
+    for args in calls:
+        how, p, w, residual, pivots, v_arm, v_obj, forces = cold_contact_step(*args)
+        assert how != UNVERIFIED
+        result, v_arm_0, v_obj_0, forces_0 = _separate_calls(args)
+        for got, expected in ((p, result.p), (w, result.w), (v_arm, v_arm_0),
+                              (v_obj, v_obj_0), (forces, forces_0)):  # fmt: skip
+            assert got.tobytes() == expected.tobytes()
+        assert float(residual) == result.residual and pivots == result.iterations
+        assert result.method == ("active-set" if how == PIVOTED else "warm-start")
+        seen["held" if how == HELD else "pivoted"] += 1
+        seen["no guess"] += not args[19]
+    # the warm active set held (after the compiled slip loop's failure, or without it) and
+    # failed (the pivoting ran) many times; a new contact set (no guess) at least once
+    assert seen["held"] > 20 and seen["pivoted"] > 20 and seen["no guess"] >= 1, seen
+
+
+def test_nothing_verified_leaves_it_to_the_caller(monkeypatch) -> None:
+    """With no pivots allowed the pivoting verifies nothing: UNVERIFIED, and the Python
+    fallback (solve_after_pivoting) then solves the problem."""
+    from pushctl.contact.mlcp import solve_after_pivoting
+
+    args = next(a for a in _recorded_calls(monkeypatch, steps=20) if a[19])
+    budget_zero = (*args[:-1], 0)
+    how, *_ = cold_contact_step(*budget_zero)
+    if how != UNVERIFIED:
+        pytest.skip("this problem verifies from its start without a pivot")
+    D, b, lo, hi, findex, mu, *_ = assemble(*args[:18])
+    threshold = DEFAULT_TOL * max(1.0, float(np.abs(b).max()))
+    result = solve_after_pivoting(D, b, lo, hi, findex, mu, args[18], threshold, 0)
+    assert result.converged and result.residual <= threshold
