@@ -37,8 +37,9 @@ FAILED_TRANSLATION_PCT = 3.0
 
 @dataclass(frozen=True)
 class Setting:
-    """One row of the study: the law with ``lateral_ratio`` and ``hold_off_contact`` under
-    the offset bound (``linear`` [m], ``angular`` [deg]); ``law`` False: PD-only."""
+    """One row of the study: the law with ``lateral_ratio``, ``hold_off_contact`` and
+    ``seek_rate`` under the offset bound (``linear`` [m], ``angular`` [deg]); ``law``
+    False: PD-only."""
 
     name: str
     law: bool = True
@@ -46,6 +47,7 @@ class Setting:
     angular_deg: float = math.inf
     lateral_ratio: float = math.inf
     hold_off_contact: bool = True
+    seek_rate: float = 0.0
 
 
 SETTINGS = (
@@ -59,6 +61,10 @@ SETTINGS = (
     Setting("3 mm, 1.5 deg + sideways cap 0.02", True, 0.003, 1.5, 0.02),
     Setting("3 mm, 1.5 deg + no sideways correction", True, 0.003, 1.5, 0.0),
     Setting("3 mm, 1.5 deg, acting off contact", True, 0.003, 1.5, hold_off_contact=False),
+    Setting("3 mm, 1.5 deg, cap 0.05 + seeking 0.005 rad/s", True, 0.003, 1.5, 0.05, True, 0.005),
+    Setting("3 mm, 1.5 deg, cap 0.05 + seeking 0.01 rad/s", True, 0.003, 1.5, 0.05, True, 0.01),
+    Setting("3 mm, 1.5 deg, cap 0.05 + seeking 0.02 rad/s", True, 0.003, 1.5, 0.05, True, 0.02),
+    Setting("3 mm, 1.5 deg, cap 0.05 + seeking 0.05 rad/s", True, 0.003, 1.5, 0.05, True, 0.05),
 )
 """The rows of docs/residual-and-feedback.md's table, in its order."""
 
@@ -68,7 +74,10 @@ def push_all(reset: list[PushEnv], setting: Setting, gains: FeedbackGains) -> pd
     angle error [%], and whether it failed."""
     limit = (setting.linear, math.radians(setting.angular_deg))
     law = replace(
-        gains, lateral_ratio=setting.lateral_ratio, hold_off_contact=setting.hold_off_contact
+        gains,
+        lateral_ratio=setting.lateral_ratio,
+        hold_off_contact=setting.hold_off_contact,
+        seek_rate=setting.seek_rate,
     )
     rows = []
     for member in reset:

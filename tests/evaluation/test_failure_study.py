@@ -1,5 +1,6 @@
 """The failure study (pushctl.evaluation.failure_study): its table's shape, and on six
-tuning pushes the bounded, capped law beats PD-only on the cube's translation error."""
+tuning pushes the default law (bounded, capped, seeking) beats PD-only on the cube's
+translation error."""
 
 from __future__ import annotations
 
@@ -7,8 +8,9 @@ from pushctl.evaluation.failure_study import SETTINGS, study
 
 
 def test_the_study_counts_per_object_and_the_default_law_beats_pd_on_the_cube() -> None:
-    chosen = (SETTINGS[0], SETTINGS[6])  # PD-only; 3 mm, 1.5 deg + sideways cap 0.05
+    chosen = (SETTINGS[0], SETTINGS[11])  # PD-only; the defaults: 3 mm, 1.5 deg, 0.05, 0.01
     assert chosen[1].lateral_ratio == 0.05 and chosen[1].linear == 0.003
+    assert chosen[1].seek_rate == 0.01
     table = study(seed=1000, per_case=1, settings=chosen)
     assert list(table["setting"]) == [s.name for s in chosen]
     for name in ("cube", "wedge"):
