@@ -10,6 +10,7 @@ import pytest
 from typer.testing import CliRunner
 
 from pushctl.cli import app
+from pushctl.control.feedback import load_feedback_gains
 from pushctl.rl.config import DDPGConfig
 from pushctl.rl.ddpg import DDPGAgent
 from pushctl.rl.env_config import EnvConfig
@@ -56,7 +57,10 @@ def test_two_workers_write_the_same_bytes_as_one(
     made_by = (tmp_path / "one" / "trials.csv").read_text().splitlines()[0]
     assert "--workers" not in made_by and "scenario seeds 0-0 (evaluation stream)" in made_by
     assert f"policy {policy}, made by: a test run" in made_by
-    assert "feedback k 1 /s, k_i 0.0141421 /s² (feedback_gains.toml)" in made_by
+    gains = load_feedback_gains()
+    law = f"feedback k {gains.k:g} /s, k_i {gains.k_i:g} /s², lateral_ratio "
+    law += f"{gains.lateral_ratio:g}, seek {gains.seek_rate:g} rad/s (feedback_gains.toml)"
+    assert law in made_by
     for heading in ("transl.", "mN·m", "slip", "goals redrawn as infeasible: 0 of 1 targets"):
         assert heading in one.output
     assert "proxy" in one.output and "RL" in one.output
