@@ -213,8 +213,8 @@ def test_bad_policies_and_workers_are_refused(tmp_path: Path) -> None:
 
 
 def test_a_zero_feedback_law_is_pd_only_and_rl_rows_name_the_policy_seed(tmp_path: Path) -> None:
-    """k = k_i = 0: the law's action is zero, the reference path adds nothing, and the push
-    is PD-only's to the bit; the rl row carries the policy's training seed, the others none."""
+    """k = k_i = 0 and no contact seeking: the law's action is zero, the reference path adds
+    nothing, and the push is PD-only's to the bit; the rl row carries the policy's training seed, the others none."""
     path = tmp_path / "policy.pt"
     agent = DDPGAgent(
         len(observation_entries(2, reference_offset=True)), 3, DDPGConfig(hidden=(4, 4)), seed=0
@@ -222,7 +222,9 @@ def test_a_zero_feedback_law_is_pd_only_and_rl_rows_name_the_policy_seed(tmp_pat
     env = EnvConfig(duration=DURATION, gate_threshold=0.0)
     write_policy(path, agent.actor_state(), env, "# made by: x; seed 5 (training stream)")
     spec = _spec(controllers=("pd", "feedback", "rl"), plants=("sim", "proxy"))
-    result = evaluate(spec, load_evaluation_policy(path), feedback_gains=FeedbackGains(0.0, 0.0))
+    result = evaluate(
+        spec, load_evaluation_policy(path), feedback_gains=FeedbackGains(0.0, 0.0, seek_rate=0.0)
+    )
     trials = result.trials
     assert list(trials["controller"]) == ["pd", "feedback", "rl"] * 2
     assert [None if pd.isna(s) else s for s in trials["policy_seed"]] == [None, None, 5] * 2
