@@ -4,9 +4,9 @@ one larger tuning set, per object, with the pushes that fail counted apart.
 
 All on the *tuning* stream (:func:`~pushctl.evaluation.tune_feedback.reset_pushes`, tuning
 seeds ``seed`` … ``seed + 6·per_case − 1``), never the evaluation's; the gains are
-``experiments/feedback_gains.toml``'s k and k_i whatever the setting.
-``python -m pushctl.evaluation.failure_study [SEED] [PER_CASE]`` prints the table (about
-ten minutes at the defaults on one core).
+``experiments/feedback_gains.toml``'s k and k_i whatever the setting, or the ``K`` and
+``K_I`` given. ``python -m pushctl.evaluation.failure_study [SEED] [PER_CASE] [K K_I]``
+prints the table (about ten minutes at the defaults on one core).
 """
 
 from __future__ import annotations
@@ -106,13 +106,16 @@ def push_all(reset: list[PushEnv], setting: Setting, gains: FeedbackGains) -> pd
 
 
 def study(
-    seed: int = 1000, per_case: int = 20, settings: tuple[Setting, ...] = SETTINGS
+    seed: int = 1000,
+    per_case: int = 20,
+    settings: tuple[Setting, ...] = SETTINGS,
+    gains: FeedbackGains | None = None,
 ) -> pd.DataFrame:
     """One row per setting: per object, the mean translation and angle errors [%] and the
-    number of failed pushes."""
+    number of failed pushes. ``gains``: k and k_i (default: the gains file's)."""
     env = tuning_env(config=EnvConfig())
     reset = reset_pushes(env, seed, OBJECT_NAMES, PROFILE_NAMES, per_case)
-    gains = load_feedback_gains()
+    gains = gains or load_feedback_gains()
     rows = []
     for setting in settings:
         frame = push_all(reset, setting, gains)
@@ -128,8 +131,11 @@ def study(
 def main(argv: list[str]) -> None:  # pragma: no cover - prints the table
     seed = int(argv[0]) if argv else 1000
     per_case = int(argv[1]) if len(argv) > 1 else 20
+    gains = None
+    if len(argv) > 3:
+        gains = replace(load_feedback_gains(), k=float(argv[2]), k_i=float(argv[3]))
     pd.set_option("display.width", 200)
-    print(study(seed, per_case).round(3).to_string(index=False))
+    print(study(seed, per_case, gains=gains).round(3).to_string(index=False))
 
 
 if __name__ == "__main__":  # pragma: no cover
