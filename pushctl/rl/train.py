@@ -14,7 +14,8 @@ size: no result depends on the number of collectors.
 Files in a run directory: ``checkpoint.pt`` (atomic, every ``checkpoint_every`` episodes and
 at the end), ``curve.csv`` (one row per episode, rewritten atomically with each checkpoint),
 ``policy.pt`` (the actor to evaluate: when the preset validates, the best of the actors
-that beat PD-only on the validation set, or the zero residual if none did; else the last),
+that beat PD-only on the validation set, or PD-only if none did: the zero residual, with no
+``base_law`` under it; else the last),
 ``policy_last.pt`` (the last actor) and ``validation.csv``.
 """
 
@@ -177,8 +178,11 @@ class Trainer:
             chosen = last
         elif self.best_actor is not None:
             chosen = self.best_actor
-        else:  # no actor beat PD-only on the validation set: ship PD-only
+        else:  # no actor beat PD-only on the validation set: ship PD-only, which is the
+            # zero residual on PD alone (on a base law the zero residual is that law, which
+            # did not beat PD-only either: it was scored as the first actors)
             chosen = ActorPolicy.zero_residual(last)
+            env = replace(env, base_law="none")
         write_policy(self.out / POLICY, chosen, env, made_by)
 
     # ------------------------------------------------------------------ checkpoints

@@ -214,7 +214,8 @@ def test_bad_policies_and_workers_are_refused(tmp_path: Path) -> None:
 
 def test_a_zero_feedback_law_is_pd_only_and_rl_rows_name_the_policy_seed(tmp_path: Path) -> None:
     """k = k_i = 0 and no contact seeking: the law's action is zero, the reference path adds
-    nothing, and the push is PD-only's to the bit; the rl row carries the policy's training seed, the others none."""
+    nothing, and the push is PD-only's to the bit; the rl row carries the policy's training
+    seed, the others none."""
     path = tmp_path / "policy.pt"
     agent = DDPGAgent(
         len(observation_entries(2, reference_offset=True)), 3, DDPGConfig(hidden=(4, 4)), seed=0

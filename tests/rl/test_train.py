@@ -197,9 +197,10 @@ def test_validation_keeps_the_best_actor_that_beats_pd_on_both_errors(straight: 
     if any(kept):
         assert straight.best_actor is not None
         expected = ActorPolicy.from_state(straight.best_actor)(obs)
-    else:  # nothing beat PD-only: the zero residual it started with
+    else:  # nothing beat PD-only: the zero residual it started with, on PD alone
         assert straight.best_actor is None
         expected = np.zeros(3)
+        assert chosen.env.base_law == "none"
     np.testing.assert_array_equal(chosen.actor(obs), expected)
 
 
