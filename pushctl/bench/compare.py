@@ -305,8 +305,9 @@ def main(argv: list[str] | None = None) -> int:
         refuse_existing_files("--out", (args.out,), args.force)
         if args.repeats < 1:
             raise ConfigError(f"--repeats must be an integer >= 1, got {args.repeats}")
-        if not 0 <= args.core < (os.cpu_count() or 1):
-            raise ConfigError(f"--core must be a core of this machine, 0-{os.cpu_count() - 1}")
+        cores = os.cpu_count() or 1
+        if not 0 <= args.core < cores:
+            raise ConfigError(f"--core must be a core of this machine, 0-{cores - 1}")
         frame, n_problems = compare(args.against, args.repeats, args.core)
     except ConfigError as error:
         print(f"error: {error}", file=sys.stderr)

@@ -172,10 +172,11 @@ class Episode:
         # The controller's model of the arm: the world's own unless the pusher is mounted
         # other than the controller believes (then the nominal pusher, same mass).
         self.controller_arm: ArmModel = self._nominal_arm(pusher)
+        world_arm = self.world.arm
         self._believed = (
             None
-            if self.controller_arm is self.world.arm
-            else BelievedTerms(self.world.arm, self.controller_arm)
+            if world_arm is None or self.controller_arm is world_arm
+            else BelievedTerms(world_arm, self.controller_arm)
         )
         self.true_start: np.ndarray = unknowns.true_start(self.plan.trajectory.pose[0])
         self.controller = self._controller(self.gains)

@@ -5,12 +5,25 @@ demonstrated warm-up of training, :mod:`pushctl.rl.collect`)."""
 from __future__ import annotations
 
 import math
+from typing import Any, Protocol
 
 import numpy as np
 
 from pushctl.control.feedback import FeedbackGains, FeedbackLaw
-from pushctl.rl.env import PushEnv
 from pushctl.rl.spaces import index, observation_entries
+
+
+class PushSource(Protocol):
+    """What the actor reads of a :class:`~pushctl.rl.env.PushEnv` (not imported: the
+    environment builds this actor as its ``base_law``): the plan, the settings and the
+    episode (its step index)."""
+
+    @property
+    def plan(self) -> Any: ...
+    @property
+    def config(self) -> Any: ...
+    @property
+    def episode(self) -> Any: ...
 
 
 class FeedbackActor:
@@ -19,7 +32,9 @@ class FeedbackActor:
     environment's action scale, clipped). Called only while the gate is open, so the
     integral covers the steps the law acted on."""
 
-    def __init__(self, env: PushEnv, gains: FeedbackGains, interval: float | None = None) -> None:
+    def __init__(
+        self, env: PushSource, gains: FeedbackGains, interval: float | None = None
+    ) -> None:
         plan = env.plan
         start = plan.trajectory.pose[0]
         c, s = math.cos(start[2]), math.sin(start[2])
