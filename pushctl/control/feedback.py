@@ -15,7 +15,7 @@ The lateral part of the output (plan-frame y, across the push) is capped at ``la
 times the plan's current speed: a pushed object is moved sideways only by the prongs'
 friction, and the tuning pushes showed that a sideways correction faster than a few per
 cent of the forward speed unloads a prong, which on the wedge starts a single-prong spin the
-push never recovers from (docs/residual-and-feedback.md, section 4).
+push never recovers from (docs/residual-and-feedback.md, "Third pass").
 
 While some prongs carry load and others do not (< ``contact_force``), the law instead turns
 the plate about the loaded prongs' centre at ``seek_rate``, the way that brings the unloaded

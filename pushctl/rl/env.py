@@ -112,6 +112,7 @@ import gymnasium as gym
 import numpy as np
 
 from pushctl.config import PusherConfig
+from pushctl.control.feedback import load_feedback_gains
 from pushctl.control.gains import PDGains, load_gains
 from pushctl.episode.draw import draw_planned_scenario
 from pushctl.episode.proxy import ProxyEffects, effects_for
@@ -121,6 +122,7 @@ from pushctl.episode.scenario import Scenario
 from pushctl.errors import ConfigError, StateError
 from pushctl.planning import Plan
 from pushctl.rl.env_config import EnvConfig
+from pushctl.rl.feedback_actor import FeedbackActor
 from pushctl.rl.spaces import ACTION_ENTRIES, observation_entries
 
 RESET_OPTIONS = ("object", "profile", "scenario_seed", "scenario")
@@ -167,8 +169,6 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         self._exact_pose = self.effects is None or not self.config.observe_camera
         self._base_gains = None
         if self.config.base_law == "feedback":
-            from pushctl.control.feedback import load_feedback_gains
-
             self._base_gains = load_feedback_gains()
         self._base: Callable[[np.ndarray], np.ndarray] | None = None
 
@@ -316,8 +316,6 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         """The law under the residual for the episode just reset (None: PD-only)."""
         if self._base_gains is None:
             return None
-        from pushctl.rl.feedback_actor import FeedbackActor  # it imports this module
-
         return FeedbackActor(self, self._base_gains, interval=self.config.dt)
 
     def _draw(self, options: dict[str, Any]) -> tuple[Scenario, int, Plan | None]:
