@@ -6,7 +6,9 @@ All on the *tuning* stream (:func:`~pushctl.evaluation.tune_feedback.reset_pushe
 seeds ``seed`` … ``seed + 6·per_case − 1``), never the evaluation's; the gains are
 ``experiments/feedback_gains.toml``'s k and k_i whatever the setting, or the ``K`` and
 ``K_I`` given. ``python -m pushctl.evaluation.failure_study [SEED] [PER_CASE] [K K_I]``
-prints the table (about ten minutes at the defaults on one core).
+prints the table (about ten minutes at the defaults on one core);
+``python -m pushctl.evaluation.failure_study gains PLANT SEED PER_CASE K K_I [K K_I ...]``
+compares today's law at several gains with PD-only per cell (:func:`gain_table`).
 """
 
 from __future__ import annotations
@@ -94,8 +96,11 @@ def push_all(reset: list[PushEnv], setting: Setting, gains: FeedbackGains) -> pd
         rows.append(
             {
                 "object": env.scenario.object,
+                "profile": env.scenario.profile,
                 "translation_pct": metrics.translation_error_pct,
                 "angle_pct": metrics.angle_error_pct,
+                "force_error": metrics.force_error,
+                "contact_loss": metrics.contact_loss_fraction,
             }
         )
     frame = pd.DataFrame(rows)
@@ -128,7 +133,35 @@ def study(
     return pd.DataFrame(rows)
 
 
+def gain_table(
+    plant: str, seed: int, per_case: int, gains: list[tuple[float, float]]
+) -> pd.DataFrame:
+    """PD-only and today's law (the defaults of ``experiments/feedback_gains.toml`` and
+    :class:`EnvConfig`) at each (k, k_i) of ``gains`` on ``plant``'s tuning pushes: per
+    object × profile, the means of translation and angle error [%], force error [N] and
+    contact-loss share."""
+    env = tuning_env(plant=plant, config=EnvConfig())
+    reset = reset_pushes(env, seed, OBJECT_NAMES, PROFILE_NAMES, per_case)
+    base = load_feedback_gains()
+    bound = (env.config.offset_limit_linear, math.degrees(env.config.offset_limit_angular))
+    law = Setting("law", True, *bound, base.lateral_ratio, base.hold_off_contact, base.seek_rate)
+    frames = [push_all(reset, Setting("PD-only", law=False), base).assign(controller="PD-only")]
+    for k, k_i in gains:
+        frame = push_all(reset, law, replace(base, k=k, k_i=k_i))
+        frames.append(frame.assign(controller=f"k {k:.3g}, k_i {k_i:.3g}"))
+    columns = ["translation_pct", "angle_pct", "force_error", "contact_loss"]
+    frame = pd.concat(frames)
+    return frame.groupby(["controller", "object", "profile"], sort=False)[columns].mean()
+
+
 def main(argv: list[str]) -> None:  # pragma: no cover - prints the table
+    pd.set_option("display.width", 200)
+    if argv and argv[0] == "gains":  # gains PLANT SEED PER_CASE K K_I [K K_I ...]
+        plant, seed, per_case = argv[1], int(argv[2]), int(argv[3])
+        values = [float(v) for v in argv[4:]]
+        pairs = list(zip(values[::2], values[1::2], strict=True))
+        print(gain_table(plant, seed, per_case, pairs).round(3).to_string())
+        return
     seed = int(argv[0]) if argv else 1000
     per_case = int(argv[1]) if len(argv) > 1 else 20
     gains = None

@@ -18,3 +18,16 @@ def test_the_study_counts_per_object_and_the_default_law_beats_pd_on_the_cube() 
         assert (table[f"{name}_translation_pct"] > 0).all()
     pd_only, law = table.iloc[0], table.iloc[1]
     assert law["cube_translation_pct"] < pd_only["cube_translation_pct"]
+
+
+def test_the_gain_table_has_pd_only_and_each_gain_per_cell() -> None:
+    from pushctl.evaluation.failure_study import gain_table
+
+    table = gain_table("sim", 1000, 1, [(0.5, 0.0)])
+    assert list(table.index.get_level_values("controller").unique()) == [
+        "PD-only",
+        "k 0.5, k_i 0",
+    ]
+    assert len(table) == 12  # 2 controllers x 2 objects x 3 profiles
+    assert (table["force_error"] > 0).all()
+    assert table["contact_loss"].between(0.0, 1.0).all()
