@@ -17,6 +17,12 @@ friction, and the tuning pushes showed that a sideways correction faster than a 
 cent of the forward speed unloads a prong, which on the wedge starts a single-prong spin the
 push never recovers from (docs/residual-and-feedback.md, "Third pass").
 
+The turn is capped too: it may move the prong farthest from the object's centre at no more
+than ``turn_ratio`` times the plan's speed. Uncapped, an angle error of a degree asked for
+turns of 0.2 rad/s at the tuned gain, ten times the plan's own turn rate on a 35° push; each
+lifted a prong for a step, and on the wedge one of them started a spin
+(docs/residual-and-feedback.md, "Fourth pass").
+
 While some prongs carry load and others do not (< ``contact_force``), the law instead turns
 the plate about the loaded prongs' centre at ``seek_rate``, the way that brings the unloaded
 prong farthest from them towards the face: with the output held there, a correction that
@@ -54,7 +60,9 @@ class FeedbackGains:
     (tens of mm and degrees on the tuning pushes, docs/residual-and-feedback.md).
     ``lateral_ratio`` [-]: the sideways rate's cap as a fraction of the plan's speed
     (``inf``: no cap). ``seek_rate`` [rad/s]: the turn that re-closes a prong's gap while
-    others carry load (0: hold still then too)."""
+    others carry load (0: hold still then too). ``turn_ratio`` [-]: the object turn's cap,
+    as the speed it gives the farthest prong about the object's centre over the plan's
+    speed (``inf``: no cap)."""
 
     k: float = 0.5
     k_i: float = 0.0
@@ -62,6 +70,7 @@ class FeedbackGains:
     hold_off_contact: bool = True
     lateral_ratio: float = 0.05
     seek_rate: float = 0.01
+    turn_ratio: float = 0.05
 
     def __post_init__(self) -> None:
         if not isinstance(self.hold_off_contact, bool):
@@ -73,11 +82,12 @@ class FeedbackGains:
             ok = isinstance(value, int | float) and not isinstance(value, bool)
             if not ok or not math.isfinite(value) or value < 0.0:
                 raise ConfigError(f"feedback {name} must be a finite number >= 0, got {value!r}")
-        ratio = self.lateral_ratio
-        if isinstance(ratio, bool) or not isinstance(ratio, int | float) or not ratio >= 0.0:
-            raise ConfigError(
-                f"feedback lateral_ratio must be a number >= 0 (inf: no cap), got {ratio!r}"
-            )
+        for name in ("lateral_ratio", "turn_ratio"):
+            ratio = getattr(self, name)
+            if isinstance(ratio, bool) or not isinstance(ratio, int | float) or not ratio >= 0.0:
+                raise ConfigError(
+                    f"feedback {name} must be a number >= 0 (inf: no cap), got {ratio!r}"
+                )
 
 
 def load_feedback_gains(path: str | Path | None = None) -> FeedbackGains:
@@ -88,7 +98,15 @@ def load_feedback_gains(path: str | Path | None = None) -> FeedbackGains:
     table = data.get("feedback")
     if not isinstance(table, dict):
         raise ConfigError(f"{path}: no [feedback] table; expected k, k_i and contact_force")
-    names = ["k", "k_i", "contact_force", "hold_off_contact", "lateral_ratio", "seek_rate"]
+    names = [
+        "k",
+        "k_i",
+        "contact_force",
+        "hold_off_contact",
+        "lateral_ratio",
+        "seek_rate",
+        "turn_ratio",
+    ]
     check_keys(table, names, f"{path} [feedback]", all_required=False)
     return FeedbackGains(**table)
 
@@ -130,6 +148,11 @@ class FeedbackLaw:
             return np.zeros(3)
         u = gains.k * error + gains.k_i * self.integral
         r_x, r_y = self.lever
+        if self.prongs is not None and speed is not None and math.isfinite(gains.turn_ratio):
+            # the turn moves the farthest prong at |u_θ| · reach relative to the object's centre
+            reach = float(np.max(np.abs(r_y + self.prongs)))
+            cap = gains.turn_ratio * abs(speed) / reach
+            u[2] = min(max(u[2], -cap), cap)
         lateral = u[1] + u[2] * r_x
         if speed is not None and math.isfinite(gains.lateral_ratio):
             cap = gains.lateral_ratio * abs(speed)

@@ -7,7 +7,9 @@ seeds ``seed`` … ``seed + 6·per_case − 1``), never the evaluation's; the ga
 ``experiments/feedback_gains.toml``'s k and k_i whatever the setting, or the ``K`` and
 ``K_I`` given. ``python -m pushctl.evaluation.failure_study [SEED] [PER_CASE] [K K_I]``
 prints the table (about ten minutes at the defaults on one core);
-``python -m pushctl.evaluation.failure_study gains PLANT SEED PER_CASE K K_I [K K_I ...]``
+``python -m pushctl.evaluation.failure_study turn [SEED PER_CASE K K_I]`` the turn cap's
+(the "Fourth pass"); ``python -m pushctl.evaluation.failure_study gains PLANT SEED PER_CASE
+K K_I [K K_I ...]``
 compares today's law at several gains with PD-only per cell (:func:`gain_table`).
 """
 
@@ -39,9 +41,9 @@ FAILED_TRANSLATION_PCT = 3.0
 
 @dataclass(frozen=True)
 class Setting:
-    """One row of the study: the law with ``lateral_ratio``, ``hold_off_contact`` and
-    ``seek_rate`` under the offset bound (``linear`` [m], ``angular`` [deg]); ``law``
-    False: PD-only."""
+    """One row of the study: the law with ``lateral_ratio``, ``hold_off_contact``,
+    ``seek_rate`` and ``turn_ratio`` under the offset bound (``linear`` [m], ``angular``
+    [deg]); ``law`` False: PD-only."""
 
     name: str
     law: bool = True
@@ -50,6 +52,7 @@ class Setting:
     lateral_ratio: float = math.inf
     hold_off_contact: bool = True
     seek_rate: float = 0.0
+    turn_ratio: float = math.inf
 
 
 SETTINGS = (
@@ -68,7 +71,18 @@ SETTINGS = (
     Setting("3 mm, 1.5 deg, cap 0.05 + seeking 0.02 rad/s", True, 0.003, 1.5, 0.05, True, 0.02),
     Setting("3 mm, 1.5 deg, cap 0.05 + seeking 0.05 rad/s", True, 0.003, 1.5, 0.05, True, 0.05),
 )
-"""The rows of docs/residual-and-feedback.md's table, in its order."""
+"""The rows of docs/residual-and-feedback.md's "Third pass" table, in its order."""
+
+_THIRD_PASS_LAW = (True, 0.003, 1.5, 0.05, True, 0.01)
+TURN_SETTINGS = (
+    Setting("PD-only", law=False),
+    Setting("third-pass law, turn uncapped", *_THIRD_PASS_LAW),
+    *(
+        Setting(f"+ turn cap {ratio:g}", *_THIRD_PASS_LAW, turn_ratio=ratio)
+        for ratio in (0.2, 0.1, 0.05, 0.03)
+    ),
+)
+"""The rows of its "Fourth pass" table (``failure_study turn``)."""
 
 
 def push_all(reset: list[PushEnv], setting: Setting, gains: FeedbackGains) -> pd.DataFrame:
@@ -80,6 +94,7 @@ def push_all(reset: list[PushEnv], setting: Setting, gains: FeedbackGains) -> pd
         lateral_ratio=setting.lateral_ratio,
         hold_off_contact=setting.hold_off_contact,
         seek_rate=setting.seek_rate,
+        turn_ratio=setting.turn_ratio,
     )
     rows = []
     for member in reset:
@@ -144,7 +159,15 @@ def gain_table(
     reset = reset_pushes(env, seed, OBJECT_NAMES, PROFILE_NAMES, per_case)
     base = load_feedback_gains()
     bound = (env.config.offset_limit_linear, math.degrees(env.config.offset_limit_angular))
-    law = Setting("law", True, *bound, base.lateral_ratio, base.hold_off_contact, base.seek_rate)
+    law = Setting(
+        "law",
+        True,
+        *bound,
+        base.lateral_ratio,
+        base.hold_off_contact,
+        base.seek_rate,
+        base.turn_ratio,
+    )
     frames = [push_all(reset, Setting("PD-only", law=False), base).assign(controller="PD-only")]
     for k, k_i in gains:
         frame = push_all(reset, law, replace(base, k=k, k_i=k_i))
@@ -162,13 +185,16 @@ def main(argv: list[str]) -> None:  # pragma: no cover - prints the table
         pairs = list(zip(values[::2], values[1::2], strict=True))
         print(gain_table(plant, seed, per_case, pairs).round(3).to_string())
         return
+    settings = SETTINGS
+    if argv and argv[0] == "turn":  # turn [SEED PER_CASE K K_I]
+        settings, argv = TURN_SETTINGS, argv[1:]
     seed = int(argv[0]) if argv else 1000
     per_case = int(argv[1]) if len(argv) > 1 else 20
     gains = None
     if len(argv) > 3:
         gains = replace(load_feedback_gains(), k=float(argv[2]), k_i=float(argv[3]))
     pd.set_option("display.width", 200)
-    print(study(seed, per_case, gains=gains).round(3).to_string(index=False))
+    print(study(seed, per_case, settings, gains).round(3).to_string(index=False))
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -68,6 +68,26 @@ def test_the_sideways_rate_is_capped_at_a_share_of_the_plans_speed() -> None:
         FeedbackGains(lateral_ratio=-0.1)
 
 
+def test_the_turn_is_capped_so_the_farthest_prong_moves_at_a_share_of_the_plans_speed() -> None:
+    """Prongs at ±35 mm, the pusher 10 mm left of the object's centre: the farthest prong is
+    45 mm from it, so a 5 % cap at 10 mm/s allows 0.5 mm/s / 45 mm = 11.1 mrad/s; the
+    pusher origin then moves as a point of the object at that turn."""
+    lever = np.array([-0.03, 0.01])
+    prongs = np.array([-0.035, 0.035])
+    law = FeedbackLaw(FeedbackGains(k=1.0, turn_ratio=0.05), lever, dt=0.01, prongs=prongs)
+    cap = 0.05 * 0.01 / 0.045
+    twist = law.twist(np.array([0.0, 0.0, 0.2]), TOUCHING, speed=0.01)
+    np.testing.assert_allclose(twist, [-cap * lever[1], cap * lever[0], cap], rtol=1e-12)
+    assert law.twist(np.array([0.0, 0.0, -0.2]), TOUCHING, speed=0.01)[2] == pytest.approx(-cap)
+    small = law.twist(np.array([0.0, 0.0, 1e-3]), TOUCHING, speed=0.01)  # under the cap
+    assert small[2] == pytest.approx(1e-3)
+    assert law.twist(np.array([0.0, 0.0, 0.2]), TOUCHING)[2] == pytest.approx(0.2)  # no speed
+    free = FeedbackLaw(FeedbackGains(k=1.0, turn_ratio=math.inf), lever, dt=0.01, prongs=prongs)
+    assert free.twist(np.array([0.0, 0.0, 0.2]), TOUCHING, speed=0.01)[2] == pytest.approx(0.2)
+    with pytest.raises(ConfigError, match="turn_ratio must be a number >= 0"):
+        FeedbackGains(turn_ratio=-1.0)
+
+
 def test_gains_file_round_trip_and_bad_values(tmp_path: Path) -> None:
     path = tmp_path / "gains.toml"
     path.write_text("[feedback]\nk = 0.7\nk_i = 0.1\ncontact_force = 0.01\n")

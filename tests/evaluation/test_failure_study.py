@@ -8,7 +8,7 @@ from pushctl.evaluation.failure_study import SETTINGS, study
 
 
 def test_the_study_counts_per_object_and_the_default_law_beats_pd_on_the_cube() -> None:
-    chosen = (SETTINGS[0], SETTINGS[11])  # PD-only; the defaults: 3 mm, 1.5 deg, 0.05, 0.01
+    chosen = (SETTINGS[0], SETTINGS[11])  # PD-only; the third pass: 3 mm, 1.5 deg, 0.05, 0.01
     assert chosen[1].lateral_ratio == 0.05 and chosen[1].linear == 0.003
     assert chosen[1].seek_rate == 0.01
     table = study(seed=1000, per_case=1, settings=chosen)
@@ -31,3 +31,18 @@ def test_the_gain_table_has_pd_only_and_each_gain_per_cell() -> None:
     assert len(table) == 12  # 2 controllers x 2 objects x 3 profiles
     assert (table["force_error"] > 0).all()
     assert table["contact_loss"].between(0.0, 1.0).all()
+
+
+def test_the_fourth_pass_caps_the_third_pass_law_s_turn() -> None:
+    from pushctl.evaluation.failure_study import TURN_SETTINGS
+
+    third = SETTINGS[11]
+    assert not TURN_SETTINGS[0].law and TURN_SETTINGS[1].turn_ratio == float("inf")
+    for setting in TURN_SETTINGS[1:]:
+        assert (setting.linear, setting.angular_deg, setting.lateral_ratio) == (
+            third.linear,
+            third.angular_deg,
+            third.lateral_ratio,
+        )
+        assert setting.seek_rate == third.seek_rate
+    assert [s.turn_ratio for s in TURN_SETTINGS[2:]] == [0.2, 0.1, 0.05, 0.03]
