@@ -28,6 +28,9 @@ def tune_feedback_command(
     seed: Annotated[int, typer.Option(help="first scenario seed of the tuning set")] = 0,
     per_case: Annotated[int, typer.Option(help="scenarios per object × profile")] = 2,
     duration: Annotated[float, typer.Option(help="push duration [s]")] = 20.0,
+    plant: Annotated[
+        str, typer.Option(help="tuning pushes on sim, proxy or both (each per_case per cell)")
+    ] = "both",
     out: Annotated[
         Path | None,
         typer.Option(help="gains file to write; default experiments/feedback_gains.toml"),
@@ -41,7 +44,9 @@ def tune_feedback_command(
     try:
         check_output("--out", out, (".toml",))
         refuse_existing_files("--out", (out if out is not None else DEFAULT_FEEDBACK_FILE,), force)
-        target, text, table = run_search(seed, per_case, duration, out, invocation(ctx), console)
+        target, text, table = run_search(
+            seed, per_case, duration, out, invocation(ctx), console, plant
+        )
     except PushctlError as error:
         fail(error)
     console.print(table)

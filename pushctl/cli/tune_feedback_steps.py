@@ -23,17 +23,32 @@ from pushctl.objects import OBJECT_NAMES
 from pushctl.planning import PROFILE_NAMES
 from pushctl.provenance import provenance_line
 
+TUNING_PLANTS = {"sim": ("sim",), "proxy": ("proxy",), "both": ("sim", "proxy")}
+"""``--plant``: the plants whose tuning pushes the search scores (the same scenario seeds
+on each)."""
+
 
 def run_search(
-    seed: int, per_case: int, duration: float, out: Path | None, command: str, console: Console
+    seed: int,
+    per_case: int,
+    duration: float,
+    out: Path | None,
+    command: str,
+    console: Console,
+    plant: str = "both",
 ) -> tuple[Path, str, Table]:
     """Reset the tuning set, score PD-only and the candidates; returns the file to write,
     its text and the table of the best candidates."""
     if not isinstance(seed, int) or seed < 0:
         raise ConfigError(f"--seed must be an integer >= 0, got {seed!r}")
-    env = tuning_env(duration)
+    if plant not in TUNING_PLANTS:
+        raise ConfigError(f"--plant must be one of {', '.join(TUNING_PLANTS)}, got {plant!r}")
+    plants = TUNING_PLANTS[plant]
+    pushes = []
     with console.status("resetting the tuning pushes"):
-        pushes = reset_pushes(env, seed, OBJECT_NAMES, PROFILE_NAMES, per_case)
+        for kind in plants:
+            plant_env = tuning_env(duration, plant=kind)
+            pushes += reset_pushes(plant_env, seed, OBJECT_NAMES, PROFILE_NAMES, per_case)
     with console.status("PD-only") as status:
         pd_only = score(None, pushes)
 
@@ -46,7 +61,7 @@ def run_search(
         base = FeedbackGains()
         candidates = tune_feedback(pushes, base, progress=show)
     best = best_feedback(candidates)
-    config = env.config
+    config = plant_env.config  # the residual settings: the same on every plant
     search: dict[str, object] = {
         "procedure": "grid then refinement (pushctl.evaluation.tune_feedback)",
         "objective": "mean over the tuning set of translation error % + angle error %",
@@ -55,7 +70,8 @@ def run_search(
         "per_case": per_case,
         "objects": list(OBJECT_NAMES),
         "profiles": list(PROFILE_NAMES),
-        "plant": "sim ranges with the plant unknowns (experiments/randomisation.toml)",
+        "plants": list(plants),
+        "plant_ranges": "experiments/randomisation.toml, with the plant unknowns",
         "duration": duration,
         "residual_path": config.residual_path,
         "action_scale_linear": config.action_scale_linear,

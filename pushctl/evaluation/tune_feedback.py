@@ -7,8 +7,10 @@ The procedure:
    :data:`~pushctl.objects.OBJECT_NAMES` × :data:`~pushctl.planning.PROFILE_NAMES`),
    ``per_case`` scenarios of the *tuning* stream, scenario seeds ``seed + c·per_case + i``
    (every push its own goal and unknowns), on the ``sim`` plant, the plant the policy trains
-   on, with everything a reset draws there (goal, parameters and the plant unknowns the
-   planner cannot see). Each is reset once; every candidate pushes from a copy
+   on, and (``pushctl tune-feedback --plant both``, the default) the same seeds again on the
+   ``proxy``, whose 30 Hz camera noise (σ 1 mm, 0.5°) a high gain integrates into the
+   reference offset; with everything a reset draws there (goal, parameters and the plant
+   unknowns the planner cannot see). Each is reset once; every candidate pushes from a copy
    of the episode as the approach left it, so all candidates see the same pushes.
 2. The push: the feedback law (:class:`~pushctl.evaluation.controllers.FeedbackActor`)
    through the environment's gate, action scale and residual path: today's defaults of

@@ -28,6 +28,7 @@ def test_the_search_writes_a_gains_file_with_its_record(tmp_path: Path) -> None:
     gains = load_feedback_gains(out)
     search = read_toml(out, "gains")["search"]
     assert search["stream"] == "tuning" and search["residual_path"] == "reference"
+    assert search["plants"] == ["sim", "proxy"] and gains.turn_ratio == 0.05
     candidates = search["candidates_k_ki_objective_translation_angle"]
     assert len(candidates) >= len(GRID["k"]) * len(GRID["k_i"])
     best = min(candidates, key=lambda c: c[2])
@@ -43,6 +44,9 @@ def test_a_bad_output_is_one_line_and_nothing_runs(tmp_path: Path) -> None:
     fresh = ["--out", str(tmp_path / "fresh.toml")]
     result = runner.invoke(app, ["tune-feedback", "--per-case", "0", "--duration", "2", *fresh])
     assert result.exit_code == 2 and "--per-case must be an integer >= 1" in result.output
+    result = runner.invoke(app, ["tune-feedback", "--plant", "real", *fresh])
+    assert result.exit_code == 2 and "--plant must be one of sim, proxy, both" in result.output
+    assert not (tmp_path / "fresh.toml").exists()
 
 
 def test_an_existing_gains_file_is_refused_before_the_search(tmp_path: Path) -> None:
