@@ -23,6 +23,12 @@ turns of 0.2 rad/s at the tuned gain, ten times the plan's own turn rate on a 35
 lifted a prong for a step, and on the wedge one of them started a spin
 (docs/residual-and-feedback.md, "Fourth pass").
 
+The output passes through a first-order lag of ``smoothing`` (0.1 s). The law switches
+between its modes (acting, holding, seeking) on the measured forces, so its raw output can
+change sign from one 10 ms step to the next; on the MuJoCo plant, whose prong contact has a
+time constant of two steps, that alternation rang the contact and lost it on 85-94 % of
+steps (docs/residual-and-feedback.md, "Fourth pass").
+
 While some prongs carry load and others do not (< ``contact_force``), the law instead turns
 the plate about the loaded prongs' centre at ``seek_rate``, the way that brings the unloaded
 prong farthest from them towards the face: with the output held there, a correction that
@@ -62,7 +68,8 @@ class FeedbackGains:
     (``inf``: no cap). ``seek_rate`` [rad/s]: the turn that re-closes a prong's gap while
     others carry load (0: hold still then too). ``turn_ratio`` [-]: the object turn's cap,
     as the speed it gives the farthest prong about the object's centre over the plan's
-    speed (``inf``: no cap)."""
+    speed (``inf``: no cap). ``smoothing`` [s]: the time constant of a first-order lag on
+    the output (0: none)."""
 
     k: float = 0.5
     k_i: float = 0.0
@@ -71,13 +78,14 @@ class FeedbackGains:
     lateral_ratio: float = 0.05
     seek_rate: float = 0.01
     turn_ratio: float = 0.05
+    smoothing: float = 0.1
 
     def __post_init__(self) -> None:
         if not isinstance(self.hold_off_contact, bool):
             raise ConfigError(
                 f"feedback hold_off_contact must be true or false, got {self.hold_off_contact!r}"
             )
-        for name in ("k", "k_i", "contact_force", "seek_rate"):
+        for name in ("k", "k_i", "contact_force", "seek_rate", "smoothing"):
             value = getattr(self, name)
             ok = isinstance(value, int | float) and not isinstance(value, bool)
             if not ok or not math.isfinite(value) or value < 0.0:
@@ -106,6 +114,7 @@ def load_feedback_gains(path: str | Path | None = None) -> FeedbackGains:
         "lateral_ratio",
         "seek_rate",
         "turn_ratio",
+        "smoothing",
     ]
     check_keys(table, names, f"{path} [feedback]", all_required=False)
     return FeedbackGains(**table)
@@ -129,6 +138,7 @@ class FeedbackLaw:
         self.dt = float(dt)
         self.prongs = None if prongs is None else np.asarray(prongs, dtype=float).copy()
         self.integral = np.zeros(3)
+        self.output = np.zeros(3)
 
     def twist(
         self, error: np.ndarray, normal_forces: np.ndarray, speed: float | None = None
@@ -136,7 +146,19 @@ class FeedbackLaw:
         """The pusher twist (3,) [m/s, m/s, rad/s], plan frame, for the pose ``error`` (3,)
         [m, m, rad] (planned minus actual) and the prongs' measured ``normal_forces`` (k,) [N];
         integrates the error unless a prong is below the contact threshold. ``speed`` [m/s]:
-        the plan's object speed now, which caps the sideways rate (None: no cap)."""
+        the plan's object speed now, which caps the sideways rate (None: no cap). With
+        ``smoothing`` τ > 0 the output follows the law through a first-order lag of τ."""
+        raw = self._law(error, normal_forces, speed)
+        tau = self.gains.smoothing
+        if tau <= 0.0:
+            return raw
+        self.output = self.output + (self.dt / (tau + self.dt)) * (raw - self.output)
+        return self.output.copy()
+
+    def _law(
+        self, error: np.ndarray, normal_forces: np.ndarray, speed: float | None = None
+    ) -> np.ndarray:
+        """The law's twist before the lag (:meth:`twist`)."""
         gains = self.gains
         error = np.asarray(error, dtype=float)
         loaded = np.asarray(normal_forces) >= gains.contact_force

@@ -4,6 +4,7 @@ frozen off contact, the twist carried to the pusher origin, and its gains file."
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -13,11 +14,12 @@ from pushctl.control.feedback import FeedbackGains, FeedbackLaw, load_feedback_g
 from pushctl.errors import ConfigError
 
 LEVER = np.array([-0.03, 0.0])  # the pusher 30 mm behind the object's centre
+# smoothing=0.0 below: the law itself, without the output lag (tested apart)
 TOUCHING = np.array([0.2, 0.3])  # both prongs above the 10 mN threshold [N]
 
 
 def test_the_p_term_and_the_integral_of_a_constant_error() -> None:
-    law = FeedbackLaw(FeedbackGains(k=0.5, k_i=0.2), LEVER, dt=0.01)
+    law = FeedbackLaw(FeedbackGains(k=0.5, k_i=0.2, smoothing=0.0), LEVER, dt=0.01)
     error = np.array([1e-3, -2e-3, 0.0])
     for _ in range(100):  # 1 s
         twist = law.twist(error, TOUCHING)
@@ -28,13 +30,13 @@ def test_the_p_term_and_the_integral_of_a_constant_error() -> None:
 
 def test_off_contact_the_law_holds_still_by_default() -> None:
     """On the reference path the output is the offset's rate: zero while a prong is off."""
-    law = FeedbackLaw(FeedbackGains(k=0.5, k_i=1.0), LEVER, dt=0.01)
+    law = FeedbackLaw(FeedbackGains(k=0.5, k_i=1.0, smoothing=0.0), LEVER, dt=0.01)
     np.testing.assert_array_equal(law.twist(np.array([2e-3, 0.0, 0.01]), [0.2, 0.0]), 0.0)
     np.testing.assert_array_equal(law.integral, np.zeros(3))
 
 
 def test_the_integral_is_frozen_while_a_prong_carries_under_10_mN() -> None:
-    gains = FeedbackGains(k=0.5, k_i=1.0, hold_off_contact=False)
+    gains = FeedbackGains(k=0.5, k_i=1.0, hold_off_contact=False, smoothing=0.0)
     law = FeedbackLaw(gains, LEVER, dt=0.01)
     error = np.array([2e-3, 0.0, 0.0])  # an object ahead of the plan, not touched yet
     twist = law.twist(error, np.array([0.2, 0.009]))
@@ -47,7 +49,7 @@ def test_the_integral_is_frozen_while_a_prong_carries_under_10_mN() -> None:
 def test_an_angle_correction_moves_the_pusher_origin_as_a_point_of_the_object() -> None:
     """u_θ about the object's centre: the pusher origin at r moves at u_θ ẑ × r."""
     lever = np.array([-0.03, 0.01])
-    law = FeedbackLaw(FeedbackGains(k=1.0, k_i=0.0), lever, dt=0.01)
+    law = FeedbackLaw(FeedbackGains(k=1.0, k_i=0.0, smoothing=0.0), lever, dt=0.01)
     twist = law.twist(np.array([0.0, 0.0, 0.02]), TOUCHING)
     omega = 0.02
     np.testing.assert_allclose(twist, [-omega * lever[1], omega * lever[0], omega], rtol=1e-12)
@@ -58,11 +60,11 @@ def test_the_sideways_rate_is_capped_at_a_share_of_the_plans_speed() -> None:
     either direction; without a speed (or with an infinite ratio) uncapped; x and the
     angle untouched."""
     error = np.array([1e-3, 5e-3, 0.0])
-    capped = FeedbackLaw(FeedbackGains(k=1.0, lateral_ratio=0.05), LEVER, dt=0.01)
+    capped = FeedbackLaw(FeedbackGains(k=1.0, lateral_ratio=0.05, smoothing=0.0), LEVER, dt=0.01)
     np.testing.assert_allclose(capped.twist(error, TOUCHING, speed=0.01), [1e-3, 5e-4, 0.0])
     np.testing.assert_allclose(capped.twist(-error, TOUCHING, speed=0.01), [-1e-3, -5e-4, 0.0])
     np.testing.assert_allclose(capped.twist(error, TOUCHING), error)
-    free = FeedbackLaw(FeedbackGains(k=1.0, lateral_ratio=math.inf), LEVER, dt=0.01)
+    free = FeedbackLaw(FeedbackGains(k=1.0, lateral_ratio=math.inf, smoothing=0.0), LEVER, dt=0.01)
     np.testing.assert_allclose(free.twist(error, TOUCHING, speed=0.01), error)
     with pytest.raises(ConfigError, match="lateral_ratio must be a number >= 0"):
         FeedbackGains(lateral_ratio=-0.1)
@@ -74,7 +76,9 @@ def test_the_turn_is_capped_so_the_farthest_prong_moves_at_a_share_of_the_plans_
     pusher origin then moves as a point of the object at that turn."""
     lever = np.array([-0.03, 0.01])
     prongs = np.array([-0.035, 0.035])
-    law = FeedbackLaw(FeedbackGains(k=1.0, turn_ratio=0.05), lever, dt=0.01, prongs=prongs)
+    law = FeedbackLaw(
+        FeedbackGains(k=1.0, turn_ratio=0.05, smoothing=0.0), lever, dt=0.01, prongs=prongs
+    )
     cap = 0.05 * 0.01 / 0.045
     twist = law.twist(np.array([0.0, 0.0, 0.2]), TOUCHING, speed=0.01)
     np.testing.assert_allclose(twist, [-cap * lever[1], cap * lever[0], cap], rtol=1e-12)
@@ -82,10 +86,30 @@ def test_the_turn_is_capped_so_the_farthest_prong_moves_at_a_share_of_the_plans_
     small = law.twist(np.array([0.0, 0.0, 1e-3]), TOUCHING, speed=0.01)  # under the cap
     assert small[2] == pytest.approx(1e-3)
     assert law.twist(np.array([0.0, 0.0, 0.2]), TOUCHING)[2] == pytest.approx(0.2)  # no speed
-    free = FeedbackLaw(FeedbackGains(k=1.0, turn_ratio=math.inf), lever, dt=0.01, prongs=prongs)
+    free = FeedbackLaw(
+        FeedbackGains(k=1.0, turn_ratio=math.inf, smoothing=0.0), lever, dt=0.01, prongs=prongs
+    )
     assert free.twist(np.array([0.0, 0.0, 0.2]), TOUCHING, speed=0.01)[2] == pytest.approx(0.2)
     with pytest.raises(ConfigError, match="turn_ratio must be a number >= 0"):
         FeedbackGains(turn_ratio=-1.0)
+
+
+def test_the_output_follows_the_law_through_a_first_order_lag() -> None:
+    """τ = 0.1 s, dt = 0.01 s: each call moves the output 1/11 of the way to the law's; a
+    law that flips between a value and zero every step gives about half of it, steadily,
+    instead of the flip."""
+    gains = FeedbackGains(k=1.0, smoothing=0.1, lateral_ratio=math.inf, turn_ratio=math.inf)
+    law = FeedbackLaw(gains, LEVER, dt=0.01)
+    error = np.array([1e-3, 0.0, 0.0])
+    first = law.twist(error, TOUCHING)
+    np.testing.assert_allclose(first, error / 11.0, rtol=1e-12)
+    outputs = [law.twist(error if i % 2 else 0.0 * error, TOUCHING)[0] for i in range(400)]
+    assert 0.4e-3 < min(outputs[-20:]) < max(outputs[-20:]) < 0.6e-3
+    assert FeedbackLaw(replace(gains, smoothing=0.0), LEVER, 0.01).twist(error, TOUCHING)[0] == (
+        pytest.approx(1e-3)
+    )
+    with pytest.raises(ConfigError, match="smoothing must be a finite number >= 0"):
+        FeedbackGains(smoothing=-0.1)
 
 
 def test_gains_file_round_trip_and_bad_values(tmp_path: Path) -> None:

@@ -29,6 +29,7 @@ def test_the_search_writes_a_gains_file_with_its_record(tmp_path: Path) -> None:
     search = read_toml(out, "gains")["search"]
     assert search["stream"] == "tuning" and search["residual_path"] == "reference"
     assert search["plants"] == ["sim", "proxy"] and gains.turn_ratio == 0.05
+    assert gains.smoothing == 0.1
     candidates = search["candidates_k_ki_objective_translation_angle"]
     assert len(candidates) >= len(GRID["k"]) * len(GRID["k_i"])
     best = min(candidates, key=lambda c: c[2])
