@@ -8,7 +8,8 @@ seeds ``seed`` … ``seed + 6·per_case − 1``), never the evaluation's; the ga
 ``K_I`` given. ``python -m pushctl.evaluation.failure_study [SEED] [PER_CASE] [K K_I]``
 prints the table (about ten minutes at the defaults on one core);
 ``python -m pushctl.evaluation.failure_study turn [SEED PER_CASE K K_I]`` the turn cap's
-(the "Fourth pass"); ``python -m pushctl.evaluation.failure_study gains PLANT SEED PER_CASE
+and ``... smoothing PLANT [SEED PER_CASE K K_I]`` the output lag's (the "Fourth pass");
+``python -m pushctl.evaluation.failure_study gains PLANT SEED PER_CASE
 K K_I [K K_I ...]``
 compares today's law at several gains with PD-only per cell (:func:`gain_table`).
 """
@@ -42,8 +43,8 @@ FAILED_TRANSLATION_PCT = 3.0
 @dataclass(frozen=True)
 class Setting:
     """One row of the study: the law with ``lateral_ratio``, ``hold_off_contact``,
-    ``seek_rate`` and ``turn_ratio`` under the offset bound (``linear`` [m], ``angular``
-    [deg]); ``law`` False: PD-only."""
+    ``seek_rate``, ``turn_ratio`` and ``smoothing`` under the offset bound (``linear`` [m],
+    ``angular`` [deg]); ``law`` False: PD-only."""
 
     name: str
     law: bool = True
@@ -53,6 +54,7 @@ class Setting:
     hold_off_contact: bool = True
     seek_rate: float = 0.0
     turn_ratio: float = math.inf
+    smoothing: float = 0.0
 
 
 SETTINGS = (
@@ -82,7 +84,16 @@ TURN_SETTINGS = (
         for ratio in (0.2, 0.1, 0.05, 0.03)
     ),
 )
-"""The rows of its "Fourth pass" table (``failure_study turn``)."""
+"""The rows of its "Fourth pass" turn table (``failure_study turn``)."""
+
+SMOOTHING_SETTINGS = (
+    Setting("PD-only", law=False),
+    *(
+        Setting(f"turn cap 0.05, lag {tau:g} s", *_THIRD_PASS_LAW, 0.05, tau)
+        for tau in (0.0, 0.03, 0.1, 0.3)
+    ),
+)
+"""The rows of its "Fourth pass" lag table (``failure_study smoothing PLANT``)."""
 
 
 def push_all(reset: list[PushEnv], setting: Setting, gains: FeedbackGains) -> pd.DataFrame:
@@ -95,6 +106,7 @@ def push_all(reset: list[PushEnv], setting: Setting, gains: FeedbackGains) -> pd
         hold_off_contact=setting.hold_off_contact,
         seek_rate=setting.seek_rate,
         turn_ratio=setting.turn_ratio,
+        smoothing=setting.smoothing,
     )
     rows = []
     for member in reset:
@@ -130,10 +142,12 @@ def study(
     per_case: int = 20,
     settings: tuple[Setting, ...] = SETTINGS,
     gains: FeedbackGains | None = None,
+    plant: str = "sim",
 ) -> pd.DataFrame:
-    """One row per setting: per object, the mean translation and angle errors [%] and the
-    number of failed pushes. ``gains``: k and k_i (default: the gains file's)."""
-    env = tuning_env(config=EnvConfig())
+    """One row per setting: per object, the mean translation and angle errors [%], the
+    number of failed pushes and the share of steps with a prong off the face, on
+    ``plant``'s tuning pushes. ``gains``: k and k_i (default: the gains file's)."""
+    env = tuning_env(plant=plant, config=EnvConfig())
     reset = reset_pushes(env, seed, OBJECT_NAMES, PROFILE_NAMES, per_case)
     gains = gains or load_feedback_gains()
     rows = []
@@ -144,6 +158,7 @@ def study(
             row[f"{name}_translation_pct"] = group["translation_pct"].mean()
             row[f"{name}_angle_pct"] = np.nanmean(group["angle_pct"])
             row[f"{name}_failed"] = int(group["failed"].sum())
+            row[f"{name}_contact_loss"] = group["contact_loss"].mean()
         rows.append(row)
     return pd.DataFrame(rows)
 
@@ -167,6 +182,7 @@ def gain_table(
         base.hold_off_contact,
         base.seek_rate,
         base.turn_ratio,
+        base.smoothing,
     )
     frames = [push_all(reset, Setting("PD-only", law=False), base).assign(controller="PD-only")]
     for k, k_i in gains:
@@ -185,16 +201,18 @@ def main(argv: list[str]) -> None:  # pragma: no cover - prints the table
         pairs = list(zip(values[::2], values[1::2], strict=True))
         print(gain_table(plant, seed, per_case, pairs).round(3).to_string())
         return
-    settings = SETTINGS
+    settings, plant = SETTINGS, "sim"
     if argv and argv[0] == "turn":  # turn [SEED PER_CASE K K_I]
         settings, argv = TURN_SETTINGS, argv[1:]
+    elif argv and argv[0] == "smoothing":  # smoothing PLANT [SEED PER_CASE K K_I]
+        settings, plant, argv = SMOOTHING_SETTINGS, argv[1], argv[2:]
     seed = int(argv[0]) if argv else 1000
     per_case = int(argv[1]) if len(argv) > 1 else 20
     gains = None
     if len(argv) > 3:
         gains = replace(load_feedback_gains(), k=float(argv[2]), k_i=float(argv[3]))
     pd.set_option("display.width", 200)
-    print(study(seed, per_case, settings, gains).round(3).to_string(index=False))
+    print(study(seed, per_case, settings, gains, plant).round(3).to_string(index=False))
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -46,3 +46,14 @@ def test_the_fourth_pass_caps_the_third_pass_law_s_turn() -> None:
         )
         assert setting.seek_rate == third.seek_rate
     assert [s.turn_ratio for s in TURN_SETTINGS[2:]] == [0.2, 0.1, 0.05, 0.03]
+
+
+def test_the_lag_rows_differ_only_in_the_lag() -> None:
+    from pushctl.evaluation.failure_study import SMOOTHING_SETTINGS
+
+    laws = SMOOTHING_SETTINGS[1:]
+    assert not SMOOTHING_SETTINGS[0].law
+    assert [s.smoothing for s in laws] == [0.0, 0.03, 0.1, 0.3]
+    assert {(s.turn_ratio, s.seek_rate, s.lateral_ratio, s.linear) for s in laws} == {
+        (0.05, 0.01, 0.05, 0.003)
+    }
