@@ -22,7 +22,6 @@ from itertools import cycle
 from typing import Any
 
 import ray
-from ray.util import ActorPool
 
 from pushctl.errors import ConfigError
 
@@ -34,6 +33,9 @@ CONNECT_TIMEOUT = 5.0
 LOCAL_OBJECT_STORE = 256 * 1024**2
 """Object-store bytes of a local instance: results here are episodes' transitions and trial
 rows (kilobytes to a few MB), and Ray's default (30 % of the RAM) only reserves /dev/shm."""
+AHEAD = 4
+"""Items per worker that :meth:`WorkerPool.ordered` lets run, or wait finished, beyond the
+first result not yet yielded."""
 
 
 def address_from(option: str | None) -> str | None:
@@ -161,10 +163,34 @@ class WorkerPool:
         self._actors = [host.options(num_cpus=share).remote(factory, args) for _ in range(workers)]
         self._turn = cycle(self._actors)
 
-    def ordered(self, method: str, items: Iterable[Any]) -> Iterator[Any]:
-        """``getattr(held, method)(item)`` for each item, in order."""
-        pool = ActorPool(self._actors)
-        return pool.map(lambda actor, item: actor.call.remote(method, item), list(items))
+    def ordered(self, method: str, items: Iterable[Any], ahead: int = AHEAD) -> Iterator[Any]:
+        """``getattr(held, method)(item)`` for each item, yielded in input order.
+
+        A worker gets the next item as soon as it finishes one, even while an earlier item
+        still runs elsewhere (Ray's ``ActorPool.map`` frees a worker only once its result is
+        taken in order, so a fast worker waited for a slow one's job). At most ``ahead`` ×
+        workers items run or wait finished beyond the first not yet yielded, which bounds the
+        results held here."""
+        todo = list(items)
+        window = max(1, ahead) * len(self._actors)
+        idle = list(self._actors)
+        running: dict[Any, tuple[int, Any]] = {}  # ObjectRef → (item index, actor)
+        finished: dict[int, Any] = {}  # item index → ObjectRef
+        sent = yielded = 0
+        while yielded < len(todo):
+            while idle and sent < len(todo) and sent < yielded + window:
+                actor = idle.pop()
+                running[actor.call.remote(method, todo[sent])] = (sent, actor)
+                sent += 1
+            if yielded in finished:
+                yield ray.get(finished.pop(yielded))
+                yielded += 1
+                continue
+            ready, _ = ray.wait(list(running), num_returns=1)
+            for ref in ready:
+                index, actor = running.pop(ref)
+                finished[index] = ref
+                idle.append(actor)
 
     def submit(self, method: str, *args: Any) -> Future[Any]:
         return next(self._turn).call.remote(method, *args).future()

@@ -16,6 +16,7 @@ the proxy, the same camera noise), one after the other.
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -167,7 +168,7 @@ def run_trial(
     plant, its own residual settings) and its gains (None only without ``feedback``);
     ``policy_seed``: the policy's training seed, for the ``rl`` row; ``policies``: several
     (actor, training seed) pairs instead of ``actor`` and ``policy_seed``, each pushing the
-    same scenario (the environment reset again with the same options) and adding its own
+    same scenario (from a copy of the environment as the reset left it) and adding its own
     ``rl`` row; ``rl``'s per-step quantities are then their mean. The reset draws the
     scenario even when only PD runs, so PD-only's rows are the same with and without the
     others. ``pusher``: the trial's plate and prongs (None: the paper's); the scenario of
@@ -193,12 +194,16 @@ def run_trial(
     pd_episode = pd_only_episode(env) if "pd" in controllers else None
     rl_runs: list[tuple[int | None, tuple[Trace, float]]] = []
     if "rl" in controllers:
-        for k, (one, seed) in enumerate(policies or ((actor, policy_seed),)):
+        runs = policies or ((actor, policy_seed),)
+        # Each further policy pushes from a copy of the environment as the reset left it: the
+        # same episode, approach and generators as a second reset with the same options
+        # (tested to the byte), without drawing, planning and approaching again.
+        start = copy.deepcopy(env) if len(runs) > 1 else None
+        for k, (one, seed) in enumerate(runs):
             if one is None:
                 raise ConfigError("RL-assisted trials need a policy")
-            if k > 0:
-                env.reset(options=options)  # the same scenario again for the next policy
-            rl_runs.append((seed, _push_with(env, one)))
+            pushing = env if start is None or k == 0 else copy.deepcopy(start)
+            rl_runs.append((seed, _push_with(pushing, one)))
         traces["rl"] = rl_runs[0][1]
     if "feedback" in controllers:
         if feedback is None:

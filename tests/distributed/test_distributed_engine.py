@@ -3,8 +3,10 @@ calls sent to it run again, and the CPU share of more workers than cores."""
 
 from __future__ import annotations
 
+import importlib
 import os
 import signal
+from pathlib import Path
 
 from pushctl.distributed.engine import WorkerPool, cpus_per_worker
 
@@ -14,6 +16,21 @@ def test_results_come_in_input_order(ray_local: None) -> None:
     with WorkerPool(2, bytearray, (b"abcb",)) as pool:
         needles = [b"a", b"b", b"z", b"bc"] * 5
         assert list(pool.ordered("count", needles)) == [1, 2, 0, 1] * 5
+
+
+def test_a_free_worker_takes_later_items_while_an_earlier_one_runs(
+    ray_local: None, tmp_path: Path
+) -> None:
+    # Item 0 waits (at most 20 s) for a file that only item 3 makes: a worker that finished
+    # item 1 must go on to items 2 and 3 before item 0's result is taken. With Ray's
+    # ActorPool.map it waited for item 0, and item 0 gave up (exit status 1).
+    flag = tmp_path / "flag"
+    wait = f"for i in $(seq 400); do [ -e {flag} ] && exit 0; sleep 0.05; done; exit 1"
+    items = [["sh", "-c", wait], ["true"], ["true"], ["touch", str(flag)], ["true"]]
+    with WorkerPool(2, importlib.import_module, ("subprocess",)) as pool:
+        done = list(pool.ordered("run", items, ahead=2))
+    assert [run.args for run in done] == items  # in input order
+    assert [run.returncode for run in done] == [0] * len(items)
 
 
 def test_a_killed_worker_is_restarted_and_its_calls_rerun(ray_local: None) -> None:

@@ -153,3 +153,28 @@ def test_the_cli_takes_repeated_policies_and_any_workers_write_the_same_bytes(
     )
     assert twice.exit_code == 2 and "names one file twice" in twice.output
     assert not (tmp_path / "twice").exists()
+
+
+def test_a_further_policy_pushes_as_after_a_fresh_reset_on_every_plant(
+    policies: list[Path],
+) -> None:
+    # The second policy pushes a copy of the environment as the first reset left it; its
+    # rows and per-step quantities must be those of an evaluation of it alone (its own
+    # reset), to the bit, on each engine and on the proxy (its generators copied too).
+    loaded = [load_evaluation_policy(p) for p in policies]
+    spec = TrialSpec(
+        objects=("wedge",),
+        profiles=("trapezoid",),
+        plants=("sim", "proxy", "mujoco"),
+        controllers=("rl",),
+        trials=1,
+    )
+    both = evaluate(spec, loaded)
+    alone = evaluate(spec, loaded[1])
+    second = both.trials[both.trials["policy_seed"] == loaded[1].seed]
+    pd.testing.assert_frame_equal(
+        second.reset_index(drop=True), alone.trials.reset_index(drop=True), check_exact=True
+    )
+    first = evaluate(spec, loaded[0]).steps[list(STEP_COLUMNS)].to_numpy()
+    mean = both.steps[list(STEP_COLUMNS)].to_numpy()
+    assert np.array_equal(mean, np.mean([first, alone.steps[list(STEP_COLUMNS)].to_numpy()], 0))

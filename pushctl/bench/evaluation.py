@@ -1,0 +1,149 @@
+"""``make bench``'s evaluation timing: ``pushctl evaluate`` of this tree against a reference
+commit, side by side, and the two trees' outputs compared byte for byte.
+
+Run as ``python -m pushctl.bench.evaluation [--against 998b653] [--repeats 3] [--trials 1]
+[--workers 2] [--out FILE] [--force]``. The evaluation is ``make reproduce-tables``'s in
+shape (every controller, the plants sim, proxy and mujoco, the three shipped training
+seeds' policies, evaluation seed 0) with fewer trials. The reference commit's ``pushctl/``
+and ``experiments/`` are unpacked with ``git archive`` (:func:`~pushctl.bench.compare.unpack`);
+both trees read the same policy files, this checkout's ``results/training/seed-K/policy.pt``.
+Each tree first runs the evaluation once untimed (numba compiles its kernels into a fresh
+tree's cache), then ``repeats`` timed runs per tree alternate which tree goes first. A run is
+the whole command in a fresh process (Ray's start included), on every core with
+``--workers`` > 1, else pinned to one core (``taskset -c 0`` where it exists).
+
+The table gives the median wall time of each tree [s], the ratio this / reference, and
+whether every run's ``trials.csv`` and ``steps.csv`` equal the reference's first run's to
+the byte (after their ``# made by:`` line, which names the tree's commit).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import pandas as pd
+
+import pushctl
+from pushctl.bench.compare import unpack
+from pushctl.errors import ConfigError
+from pushctl.output_guard import refuse_existing_files
+from pushctl.provenance import git_commit, provenance_line, write_csv
+
+REFERENCE = "998b653"
+"""The commit before the evaluation was made faster (docs/evaluation-speed.md)."""
+SEEDS = (0, 1, 2)
+"""The shipped training seeds whose policies are evaluated, as ``make reproduce-tables`` does."""
+OUTPUTS = ("trials.csv", "steps.csv")
+
+
+def command(trials: int, workers: int, out: Path, policies: list[Path]) -> list[str]:
+    """The ``pushctl evaluate`` command line timed (without the interpreter)."""
+    chosen = [part for path in policies for part in ("--policy", str(path))]
+    return [
+        "-m", "pushctl.cli", "evaluate", "--trials", str(trials), "--workers", str(workers),
+        "--plant", "all", "--seed", "0", *chosen, "--out", str(out), "--force",
+    ]  # fmt: skip
+
+
+def run(tree: Path, args: list[str], workers: int) -> float:
+    """Wall time [s] of ``python args`` with ``tree``'s ``pushctl`` first on the path (the
+    Ray workers it starts inherit the path)."""
+    pin = ["taskset", "-c", "0"] if workers == 1 and shutil.which("taskset") else []
+    env = {**os.environ, "PYTHONPATH": str(tree)}
+    start = time.perf_counter()
+    done = subprocess.run(
+        [*pin, sys.executable, *args], capture_output=True, text=True, env=env, cwd=tree
+    )
+    took = time.perf_counter() - start
+    if done.returncode != 0:
+        raise RuntimeError(f"evaluation in {tree} failed:\n{done.stderr[-2000:]}")
+    return took
+
+
+def body(directory: Path) -> tuple[bytes, ...]:
+    """The outputs' bytes after their first (``# made by:``) line."""
+    return tuple((directory / name).read_bytes().split(b"\n", 1)[1] for name in OUTPUTS)
+
+
+def compare(against: str, repeats: int, trials: int, workers: int) -> pd.DataFrame:
+    """One row per tree: median, min and max wall time [s] over ``repeats`` interleaved
+    runs, and whether all its outputs equal the reference's to the byte."""
+    this_tree = Path(pushctl.__file__).resolve().parent.parent
+    policies = [this_tree / "results" / "training" / f"seed-{s}" / "policy.pt" for s in SEEDS]
+    missing = [str(path) for path in policies if not path.is_file()]
+    if missing:
+        raise ConfigError(f"no policy file {missing[0]}; the shipped results/training/ is needed")
+    with tempfile.TemporaryDirectory(prefix="pushctl-bench-evaluate-") as scratch:
+        scratch_dir = Path(scratch)
+        trees = {"this": this_tree, "reference": unpack(against, scratch_dir)}
+        times: dict[str, list[float]] = {"this": [], "reference": []}
+        outputs: dict[str, list[tuple[bytes, ...]]] = {"this": [], "reference": []}
+        for name, tree in trees.items():  # untimed: numba's cache of a fresh tree
+            run(tree, command(trials, workers, scratch_dir / f"warm-{name}", policies), workers)
+        for k in range(repeats):
+            order = ("reference", "this") if k % 2 == 0 else ("this", "reference")
+            for name in order:
+                out = scratch_dir / f"{name}-{k}"
+                args = command(trials, workers, out, policies)
+                times[name].append(run(trees[name], args, workers))
+                outputs[name].append(body(out))
+    expected = outputs["reference"][0]
+    return pd.DataFrame(
+        [
+            {
+                "tree": name if name == "this" else f"reference {against}",
+                "median_s": statistics.median(times[name]),
+                "min_s": min(times[name]),
+                "max_s": max(times[name]),
+                "ratio": statistics.median(times[name]) / statistics.median(times["reference"]),
+                "identical": all(result == expected for result in outputs[name]),
+                "note": f"{repeats} interleaved runs, {trials} trial(s) per cell, "
+                f"{workers} worker(s)",
+            }
+            for name in ("this", "reference")
+        ]
+    )
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(
+        prog="python -m pushctl.bench.evaluation", description=__doc__.splitlines()[0]
+    )
+    parser.add_argument("--against", default=REFERENCE, help="reference commit (git)")
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--trials", type=int, default=1, help="trials per object × profile")
+    parser.add_argument("--workers", type=int, default=2, help="pushctl evaluate --workers")
+    parser.add_argument("--out", type=Path, default=None, help="also write the table as CSV")
+    parser.add_argument("--force", action="store_true", help="overwrite an existing --out file")
+    args = parser.parse_args(argv)
+    try:
+        refuse_existing_files("--out", (args.out,), args.force)
+        for option, value, low in (("repeats", args.repeats, 1), ("trials", args.trials, 1)):
+            if value < low:
+                raise ConfigError(f"--{option} must be an integer >= {low}, got {value}")
+        if not 1 <= args.workers <= 8:
+            raise ConfigError(f"--workers must be an integer in 1 … 8, got {args.workers}")
+        frame = compare(args.against, args.repeats, args.trials, args.workers)
+    except ConfigError as error:
+        print(f"error: {error}", file=sys.stderr)
+        return 2
+    print(f"pushctl evaluate, this tree ({git_commit()}) against {args.against}:")
+    print(frame.to_string(index=False, float_format=lambda v: f"{v:.2f}"))
+    if args.out is not None:
+        args.out.parent.mkdir(parents=True, exist_ok=True)
+        write_csv(args.out, frame, provenance_line(extra=f"against {args.against}"))
+    if not frame["identical"].all():  # a timing, not a check: other commits may push otherwise
+        print(f"the outputs differ from {args.against}'s (trials.csv or steps.csv)")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
