@@ -8,7 +8,8 @@ seeds ``seed`` … ``seed + 6·per_case − 1``), never the evaluation's; the ga
 ``K_I`` given. ``python -m pushctl.evaluation.failure_study [SEED] [PER_CASE] [K K_I]``
 prints the table (about ten minutes at the defaults on one core);
 ``python -m pushctl.evaluation.failure_study turn [SEED PER_CASE K K_I]`` the turn cap's
-and ``... smoothing PLANT [SEED PER_CASE K K_I]`` the output lag's (the "Fourth pass");
+and ``... smoothing PLANT [SEED PER_CASE K K_I]`` the output lag's, ``... ringing [SEED]``
+what a command alternating every step does to each engine's contact (the "Fourth pass");
 ``python -m pushctl.evaluation.failure_study gains PLANT SEED PER_CASE
 K K_I [K K_I ...]``
 compares today's law at several gains with PD-only per cell (:func:`gain_table`).
@@ -17,8 +18,10 @@ compares today's law at several gains with PD-only per cell (:func:`gain_table`)
 from __future__ import annotations
 
 import copy
+import itertools
 import math
 import sys
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -193,6 +196,42 @@ def gain_table(
     return frame.groupby(["controller", "object", "profile"], sort=False)[columns].mean()
 
 
+SEEK_ACTION = np.array([0.07, 0.0, -0.2], dtype=np.float32)
+"""The law's seek twist (0.35 mm/s, 10 mrad/s) as an action at the default action scale."""
+
+
+def ringing(seed: int = 1000) -> pd.DataFrame:
+    """The share of steps with a prong off the face on one cube push (tuning seed ``seed``,
+    constant profile) on ``sim`` and ``mujoco``: PD-only, the seek twist held, and the seek
+    twist alternating with zero every step (what the law's mode switches do)."""
+    rows = []
+    for plant in ("sim", "mujoco"):
+        env = tuning_env(plant=plant, config=EnvConfig())
+        reset = reset_pushes(env, seed, ("cube",), ("constant",), 1)[0]
+        policies = {
+            "PD-only": None,
+            "seek twist held": lambda _obs: SEEK_ACTION,
+            "seek twist alternating with zero": _alternating(SEEK_ACTION),
+        }
+        for name, policy in policies.items():
+            push = copy.deepcopy(reset)
+            assert push.episode is not None
+            if policy is None:
+                trace = push.episode.finish()
+            else:
+                finish_with_policy(push, policy)
+                trace = push.episode.trace()
+            loss = compute_metrics(trace).contact_loss_fraction
+            rows.append({"plant": plant, "command": name, "contact_loss": loss})
+    return pd.DataFrame(rows)
+
+
+def _alternating(action: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
+    """A policy that returns ``action`` on its 1st, 3rd, ... call and zero on the others."""
+    calls = itertools.count()
+    return lambda _obs: action * float(next(calls) % 2 == 0)
+
+
 def main(argv: list[str]) -> None:  # pragma: no cover - prints the table
     pd.set_option("display.width", 200)
     if argv and argv[0] == "gains":  # gains PLANT SEED PER_CASE K K_I [K K_I ...]
@@ -200,6 +239,9 @@ def main(argv: list[str]) -> None:  # pragma: no cover - prints the table
         values = [float(v) for v in argv[4:]]
         pairs = list(zip(values[::2], values[1::2], strict=True))
         print(gain_table(plant, seed, per_case, pairs).round(3).to_string())
+        return
+    if argv and argv[0] == "ringing":  # ringing [SEED]
+        print(ringing(*(int(a) for a in argv[1:2])).round(4).to_string(index=False))
         return
     settings, plant = SETTINGS, "sim"
     if argv and argv[0] == "turn":  # turn [SEED PER_CASE K K_I]

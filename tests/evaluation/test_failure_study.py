@@ -57,3 +57,34 @@ def test_the_lag_rows_differ_only_in_the_lag() -> None:
     assert {(s.turn_ratio, s.seek_rate, s.lateral_ratio, s.linear) for s in laws} == {
         (0.05, 0.01, 0.05, 0.003)
     }
+
+
+def test_mujocos_contact_rings_under_a_command_alternating_each_step() -> None:
+    """Why the law's output has a lag (docs/residual-and-feedback.md, "Fourth pass")."""
+    from pushctl.evaluation.failure_study import ringing
+
+    loss = ringing(1000).set_index(["plant", "command"])["contact_loss"]
+    assert loss["mujoco", "seek twist alternating with zero"] > 0.15
+    assert loss["mujoco", "seek twist held"] < 0.05 and loss["mujoco", "PD-only"] < 0.05
+    assert loss["sim", "seek twist alternating with zero"] < 0.05
+
+
+def test_the_lagged_law_keeps_contact_on_mujoco() -> None:
+    import copy
+    from dataclasses import replace
+
+    from pushctl.control.feedback import load_feedback_gains
+    from pushctl.episode.metrics import compute_metrics
+    from pushctl.evaluation.controllers import FeedbackActor
+    from pushctl.evaluation.tune_feedback import reset_pushes, tuning_env
+    from pushctl.rl.policy import finish_with_policy
+
+    reset = reset_pushes(tuning_env(plant="mujoco"), 1000, ("cube",), ("constant",), 1)[0]
+    gains = load_feedback_gains()
+    assert gains.smoothing == 0.1
+    loss = {}
+    for tau in (0.0, gains.smoothing):
+        push = copy.deepcopy(reset)
+        finish_with_policy(push, FeedbackActor(push, replace(gains, smoothing=tau)))
+        loss[tau] = compute_metrics(push.episode.trace()).contact_loss_fraction
+    assert loss[0.1] < 0.1 < 0.5 < loss[0.0]
