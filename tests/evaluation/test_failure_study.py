@@ -80,7 +80,8 @@ def test_the_lagged_law_keeps_contact_on_mujoco() -> None:
     from pushctl.rl.policy import finish_with_policy
 
     reset = reset_pushes(tuning_env(plant="mujoco"), 1000, ("cube",), ("constant",), 1)[0]
-    gains = load_feedback_gains()
+    # at the gain the lag was found with (k = 11.3 /s: the ringing needs a law that acts)
+    gains = replace(load_feedback_gains(), k=11.313708498984761, k_i=0.028284271247461905)
     assert gains.smoothing == 0.1
     loss = {}
     for tau in (0.0, gains.smoothing):
