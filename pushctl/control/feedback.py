@@ -19,14 +19,14 @@ push never recovers from (docs/residual-and-feedback.md, "Third pass").
 
 The turn is capped too: it may move the prong farthest from the object's centre at no more
 than ``turn_ratio`` times the plan's speed. Uncapped, an angle error of a degree asked for
-turns of 0.2 rad/s at the tuned gain, ten times the plan's own turn rate on a 35° push; each
-lifted a prong for a step, and on the wedge one of them started a spin
+turns of 0.2 rad/s at the third search's k = 11.3 /s, ten times the plan's own turn rate on
+a 35° push; each lifted a prong for a step, and on the wedge one of them started a spin
 (docs/residual-and-feedback.md, "Fourth pass").
 
 The output passes through a first-order lag of ``smoothing`` (0.1 s). The law switches
 between its modes (acting, holding, seeking) on the measured forces, so its raw output can
 change sign from one 10 ms step to the next; on the MuJoCo plant, whose prong contact has a
-time constant of two steps, that alternation rang the contact and lost it on 85-94 % of
+time constant of two steps, that alternation rang the contact and lost it on 86-94 % of
 steps (docs/residual-and-feedback.md, "Fourth pass").
 
 While some prongs carry load and others do not (< ``contact_force``), the law instead turns
