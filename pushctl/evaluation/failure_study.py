@@ -1,18 +1,21 @@
 """The measurements behind the feedback law's offset bound and sideways cap
-(docs/residual-and-feedback.md, "Third pass"): PD-only and the law under each setting on
-one larger tuning set, per object, with the pushes that fail counted apart.
+(docs/residual-and-feedback.md, "Third pass") and its turn cap and output lag ("Fourth
+pass"): PD-only and the law under each setting on one larger tuning set, per object, with
+the pushes that fail counted apart.
 
 All on the *tuning* stream (:func:`~pushctl.evaluation.tune_feedback.reset_pushes`, tuning
 seeds ``seed`` … ``seed + 6·per_case − 1``), never the evaluation's; the gains are
 ``experiments/feedback_gains.toml``'s k and k_i whatever the setting, or the ``K`` and
-``K_I`` given. ``python -m pushctl.evaluation.failure_study [SEED] [PER_CASE] [K K_I]``
-prints the table (about ten minutes at the defaults on one core);
-``python -m pushctl.evaluation.failure_study turn [SEED PER_CASE K K_I]`` the turn cap's
-and ``... smoothing PLANT [SEED PER_CASE K K_I]`` the output lag's, ``... ringing [SEED]``
-what a command alternating every step does to each engine's contact (the "Fourth pass");
-``python -m pushctl.evaluation.failure_study gains PLANT SEED PER_CASE
-K K_I [K K_I ...]``
-compares today's law at several gains with PD-only per cell (:func:`gain_table`).
+``K_I`` given. ``python -m pushctl.evaluation.failure_study ...`` prints:
+
+- ``[SEED] [PER_CASE] [K K_I]``: the third pass's table (about ten minutes at the defaults
+  on one core);
+- ``turn [SEED PER_CASE K K_I]``: the turn cap's (:data:`TURN_SETTINGS`);
+- ``smoothing PLANT [SEED PER_CASE K K_I]``: the output lag's on ``PLANT``;
+- ``ringing [SEED]``: what a command alternating every step does to each engine's contact
+  (:func:`ringing`);
+- ``gains PLANT SEED PER_CASE K K_I [K K_I ...]``: today's law at several gains against
+  PD-only per cell (:func:`gain_table`).
 """
 
 from __future__ import annotations
