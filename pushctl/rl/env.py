@@ -245,13 +245,17 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         shut. The same steps, and the same draws of the proxy's force noise, as step().
         With a ``base_law`` the law's action, from the observation of this step (the law
         runs at every step, as the ``feedback`` controller does), is added to ``action``
-        (None: zeros) before the clip."""
+        (None: zeros) before the clip; ``action`` is first multiplied by
+        ``residual_scale``."""
         episode = self.episode
         if episode is None:
             raise StateError("call reset() before advance()")
         n = episode.step_index
         residual = None
         if self.gate_open:
+            scale = self.config.residual_scale
+            if action is not None and scale != 1.0:
+                action = scale * np.asarray(action, dtype=np.float64)
             if self._base is None:
                 clipped = np.zeros(3) if action is None else np.clip(action, -1.0, 1.0)
             else:  # the law acts at every step, on the state now; the policy's action is held

@@ -61,6 +61,8 @@ class EnvConfig:
         observation) to the policy's held action before the clip, so the policy learns a
         residual on top of the law, and a zero action pushes as the ``feedback`` controller
         does (residual RL on a hand-designed controller, Johannink et al. 2019).
+        ``residual_scale`` (0, 1]: the policy's action is multiplied by it before the law's
+        is added, so a learned residual reaches at most that share of the action scale.
     Reward (eq. 17)
         ``w_normal`` [1/N], ``w_tangential`` [1/N], ``w_torque`` [1/(N·m)]: per-step reward
         −Σ_i (w1 |ΔF_n,i| + w2 |ΔF_t,i| + w3 |Δτ_z,i|), dimensionless. The default w3 of
@@ -100,6 +102,7 @@ class EnvConfig:
     offset_limit_linear: float = 0.003
     offset_limit_angular: float = math.radians(1.5)
     base_law: str = "none"
+    residual_scale: float = 1.0
     w_normal: float = 1.0
     w_tangential: float = 1.0
     w_torque: float = 25.0
@@ -114,6 +117,10 @@ class EnvConfig:
             raise ConfigError(
                 f"env base_law must be one of {', '.join(BASE_LAWS)}, got {self.base_law!r}"
             )
+        scale = self.residual_scale
+        ok = isinstance(scale, int | float) and not isinstance(scale, bool)
+        if not ok or not 0.0 < scale <= 1.0:
+            raise ConfigError(f"env residual_scale must be a number in (0, 1], got {scale!r}")
         repeat = self.action_repeat
         if isinstance(repeat, bool) or not isinstance(repeat, int) or not 1 <= repeat <= 100:
             raise ConfigError(f"env action_repeat must be an integer in 1..100, got {repeat!r}")

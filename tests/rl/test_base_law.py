@@ -66,3 +66,19 @@ def test_the_feedback_column_never_adds_the_law_twice_and_bad_values_are_one_lin
     assert EnvConfig.from_saved({}).base_law == "none"
     with pytest.raises(ConfigError, match="env base_law must be one of none, feedback"):
         EnvConfig(base_law="pid")
+
+
+def test_the_residual_scale_shrinks_the_policys_action_before_the_law_is_added() -> None:
+    """residual_scale 0.2 with action a pushes exactly as scale 1 with action 0.2 a."""
+    env = _reset(10)
+    scaled, equivalent = copy.deepcopy(env), copy.deepcopy(env)
+    scaled.config = replace(scaled.config, residual_scale=0.2)
+    finish_with_policy(scaled, lambda obs: np.array([0.5, -0.5, 1.0]))
+    finish_with_policy(equivalent, lambda obs: 0.2 * np.array([0.5, -0.5, 1.0]))
+    assert _frame(scaled) == _frame(equivalent)
+    full = copy.deepcopy(env)
+    finish_with_policy(full, lambda obs: np.array([0.5, -0.5, 1.0]))
+    assert _frame(full) != _frame(scaled)
+    for bad in (0.0, 1.5, True):
+        with pytest.raises(ConfigError, match="residual_scale must be a number in"):
+            EnvConfig(residual_scale=bad)
