@@ -40,4 +40,5 @@ def feedback_config(config: EnvConfig) -> EnvConfig:
         offset_limit_linear=default.offset_limit_linear,
         offset_limit_angular=default.offset_limit_angular,
         base_law=default.base_law,  # the law itself is the actor: not added twice
+        residual_scale=default.residual_scale,  # and acts with the whole envelope
     )

@@ -63,6 +63,9 @@ def test_a_residual_moves_the_push_off_the_laws() -> None:
 
 def test_the_feedback_column_never_adds_the_law_twice_and_bad_values_are_one_line() -> None:
     assert feedback_config(EnvConfig(base_law="feedback")).base_law == "none"
+    # beside a policy whose residual is scaled down, the law still acts with the whole envelope
+    policy_config = EnvConfig(base_law="feedback", residual_scale=0.2)
+    assert feedback_config(policy_config).residual_scale == 1.0
     assert EnvConfig.from_saved({}).base_law == "none"
     with pytest.raises(ConfigError, match="env base_law must be one of none, feedback"):
         EnvConfig(base_law="pid")
