@@ -19,8 +19,8 @@ push never recovers from (docs/residual-and-feedback.md, "Third pass").
 
 The turn is capped too: it may move the prong farthest from the object's centre at no more
 than ``turn_ratio`` times the plan's speed. Uncapped, an angle error of a degree asked for
-turns of 0.2 rad/s at the third search's k = 11.3 /s, ten times the plan's own turn rate on
-a 35° push; each lifted a prong for a step, and on the wedge one of them started a spin
+turns of 0.18-0.27 rad/s at the third search's k = 11.3 /s, six to nine times the plan's own
+turn rate on a 35° push; each lifted a prong for a step, and on the wedge one of them started a spin
 (docs/residual-and-feedback.md, "Fourth pass").
 
 The output passes through a first-order lag of ``smoothing`` (0.1 s). The law switches
@@ -137,6 +137,9 @@ class FeedbackLaw:
         self.lever = np.asarray(lever, dtype=float).copy()
         self.dt = float(dt)
         self.prongs = None if prongs is None else np.asarray(prongs, dtype=float).copy()
+        # the farthest prong's distance across the push from the object's centre [m]: a
+        # turn u_θ moves it at |u_θ| · reach (fixed for the push; the turn cap's divisor)
+        self._reach = None if prongs is None else float(np.max(np.abs(self.lever[1] + self.prongs)))
         self.integral = np.zeros(3)
         self.output = np.zeros(3)
 
@@ -170,10 +173,8 @@ class FeedbackLaw:
             return np.zeros(3)
         u = gains.k * error + gains.k_i * self.integral
         r_x, r_y = self.lever
-        if self.prongs is not None and speed is not None and math.isfinite(gains.turn_ratio):
-            # the turn moves the farthest prong at |u_θ| · reach relative to the object's centre
-            reach = float(np.max(np.abs(r_y + self.prongs)))
-            cap = gains.turn_ratio * abs(speed) / reach
+        if self._reach is not None and speed is not None and math.isfinite(gains.turn_ratio):
+            cap = gains.turn_ratio * abs(speed) / self._reach
             u[2] = min(max(u[2], -cap), cap)
         lateral = u[1] + u[2] * r_x
         if speed is not None and math.isfinite(gains.lateral_ratio):
