@@ -33,7 +33,13 @@ While some prongs carry load and others do not (< ``contact_force``), the law in
 the plate about the loaded prongs' centre at ``seek_rate``, the way that brings the unloaded
 prong farthest from them towards the face: with the output held there, a correction that
 lifted a prong by a hundredth of a millimetre left the push on one prong for good
-(docs/residual-and-feedback.md, "Third pass").
+(docs/residual-and-feedback.md, "Third pass"). The seek is fast (0.1 rad/s): at the third
+pass's 0.01 rad/s a wedge that came off one prong as its turn began spun away from the plate
+at about 15 mrad/s, faster than the plate followed, and 3 of 40 wedge trapezoid tuning
+pushes failed; at 0.1 rad/s none of 240 tuning pushes did ("Fifth pass"). It ramps up over
+``seek_ramp`` (0.2 s) of one prong off: on MuJoCo, whose soft contact flickers below the
+threshold for a step at a time, a seek at full rate from the first step lost contact on
+15 % of the wedge's steps and failed 4 of 30 tuning pushes; ramped, 5 % and 1.
 
 The output is a residual twist like a policy's: it goes through the same residual path
 (:mod:`pushctl.control.residual`). On the ``reference`` path it is the rate of the reference
@@ -66,9 +72,9 @@ class FeedbackGains:
     (tens of mm and degrees on the tuning pushes, docs/residual-and-feedback.md).
     ``lateral_ratio`` [-]: the sideways rate's cap as a fraction of the plan's speed
     (``inf``: no cap). ``seek_rate`` [rad/s]: the turn that re-closes a prong's gap while
-    others carry load (0: hold still then too). ``turn_ratio`` [-]: the object turn's cap,
-    as the speed it gives the farthest prong about the object's centre over the plan's
-    speed (``inf``: no cap). ``smoothing`` [s]: the time constant of a first-order lag on
+    others carry load (0: hold still then too), reached ``seek_ramp`` [s] after a prong
+    came off (0: at once). ``turn_ratio`` [-]: the object turn's cap, as the speed it gives
+    the farthest prong about the object's centre over the plan's speed (``inf``: no cap). ``smoothing`` [s]: the time constant of a first-order lag on
     the output (0: none)."""
 
     k: float = 0.5
@@ -76,7 +82,8 @@ class FeedbackGains:
     contact_force: float = 0.01
     hold_off_contact: bool = True
     lateral_ratio: float = 0.05
-    seek_rate: float = 0.01
+    seek_rate: float = 0.1
+    seek_ramp: float = 0.2
     turn_ratio: float = 0.05
     smoothing: float = 0.1
 
@@ -85,7 +92,7 @@ class FeedbackGains:
             raise ConfigError(
                 f"feedback hold_off_contact must be true or false, got {self.hold_off_contact!r}"
             )
-        for name in ("k", "k_i", "contact_force", "seek_rate", "smoothing"):
+        for name in ("k", "k_i", "contact_force", "seek_rate", "seek_ramp", "smoothing"):
             value = getattr(self, name)
             ok = isinstance(value, int | float) and not isinstance(value, bool)
             if not ok or not math.isfinite(value) or value < 0.0:
@@ -113,6 +120,7 @@ def load_feedback_gains(path: str | Path | None = None) -> FeedbackGains:
         "hold_off_contact",
         "lateral_ratio",
         "seek_rate",
+        "seek_ramp",
         "turn_ratio",
         "smoothing",
     ]
@@ -142,6 +150,7 @@ class FeedbackLaw:
         self._reach = None if prongs is None else float(np.max(np.abs(self.lever[1] + self.prongs)))
         self.integral = np.zeros(3)
         self.output = np.zeros(3)
+        self.seeking_for = 0.0  # [s] since the law last saw every prong loaded or none
 
     def twist(
         self, error: np.ndarray, normal_forces: np.ndarray, speed: float | None = None
@@ -165,10 +174,12 @@ class FeedbackLaw:
         gains = self.gains
         error = np.asarray(error, dtype=float)
         loaded = np.asarray(normal_forces) >= gains.contact_force
+        seeking = loaded.any() and not loaded.all()
+        self.seeking_for = self.seeking_for + self.dt if seeking else 0.0
         if loaded.all():
             self.integral = self.integral + self.dt * error
         elif gains.hold_off_contact:
-            if loaded.any() and self.prongs is not None and gains.seek_rate > 0.0:
+            if seeking and self.prongs is not None and gains.seek_rate > 0.0:
                 return self._seek(loaded)
             return np.zeros(3)
         u = gains.k * error + gains.k_i * self.integral
@@ -192,5 +203,7 @@ class FeedbackLaw:
         centre = float(np.mean(prongs[loaded]))
         free = prongs[~loaded]
         farthest = float(free[np.argmax(np.abs(free - centre))])
-        omega = -math.copysign(self.gains.seek_rate, farthest - centre)
+        ramp = self.gains.seek_ramp
+        rate = self.gains.seek_rate * (min(1.0, self.seeking_for / ramp) if ramp > 0.0 else 1.0)
+        omega = -math.copysign(rate, farthest - centre)
         return np.array([omega * centre, 0.0, omega])

@@ -12,6 +12,8 @@ seeds ``seed`` … ``seed + 6·per_case − 1``), never the evaluation's; the ga
   on one core);
 - ``turn [SEED PER_CASE K K_I]``: the turn cap's (:data:`TURN_SETTINGS`);
 - ``smoothing PLANT [SEED PER_CASE K K_I]``: the output lag's on ``PLANT``;
+- ``seek PLANT [SEED PER_CASE K K_I]``: the contact-seeking turn's rate on ``PLANT``
+  (:data:`SEEK_SETTINGS`, docs/residual-and-feedback.md "Fifth pass");
 - ``ringing [SEED]``: what a command alternating every step does to each engine's contact
   (:func:`ringing`);
 - ``gains PLANT SEED PER_CASE K K_I [K K_I ...]``: today's law at several gains against
@@ -101,6 +103,15 @@ SMOOTHING_SETTINGS = (
 )
 """The rows of its "Fourth pass" lag table (``failure_study smoothing PLANT``)."""
 
+SEEK_SETTINGS = (
+    Setting("PD-only", law=False),
+    *(  # the fourth pass's law (turn cap 0.05, lag 0.1 s) at each seeking rate
+        Setting(f"seeking {rate:g} rad/s", *_THIRD_PASS_LAW[:5], rate, 0.05, 0.1)
+        for rate in (0.0, 0.01, 0.03, 0.1, 0.2, 0.4)
+    ),
+)
+"""The rows of its "Fifth pass" seek table (``failure_study seek PLANT``)."""
+
 
 def push_all(reset: list[PushEnv], setting: Setting, gains: FeedbackGains) -> pd.DataFrame:
     """Every push of ``reset`` (a copy of it) under ``setting``: object, translation and
@@ -165,6 +176,7 @@ def study(
             row[f"{name}_angle_pct"] = np.nanmean(group["angle_pct"])
             row[f"{name}_failed"] = int(group["failed"].sum())
             row[f"{name}_contact_loss"] = group["contact_loss"].mean()
+            row[f"{name}_force_mN"] = 1e3 * group["force_error"].mean()
         rows.append(row)
     return pd.DataFrame(rows)
 
@@ -251,6 +263,8 @@ def main(argv: list[str]) -> None:  # pragma: no cover - prints the table
         settings, argv = TURN_SETTINGS, argv[1:]
     elif argv and argv[0] == "smoothing":  # smoothing PLANT [SEED PER_CASE K K_I]
         settings, plant, argv = SMOOTHING_SETTINGS, argv[1], argv[2:]
+    elif argv and argv[0] == "seek":  # seek PLANT [SEED PER_CASE K K_I]
+        settings, plant, argv = SEEK_SETTINGS, argv[1], argv[2:]
     seed = int(argv[0]) if argv else 1000
     per_case = int(argv[1]) if len(argv) > 1 else 20
     gains = None

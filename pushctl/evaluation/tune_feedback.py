@@ -185,6 +185,7 @@ def feedback_toml(
     lines += [f"hold_off_contact = {_toml(base.hold_off_contact)}"]
     lines += [f"lateral_ratio = {_toml(float(base.lateral_ratio))}"]
     lines += [f"seek_rate = {_toml(float(base.seek_rate))}"]
+    lines += [f"seek_ramp = {_toml(float(base.seek_ramp))}"]
     lines += [f"turn_ratio = {_toml(float(base.turn_ratio))}"]
     lines += [f"smoothing = {_toml(float(base.smoothing))}", "", "[search]"]
     lines += [f"{key} = {_toml(value)}" for key, value in record.items()]

@@ -85,6 +85,22 @@ class ValidationScore:
             return self.translation_ratio < 1.0 and self.angle_ratio < 1.0
         return self.force_ratio < 1.0 and self.translation_ratio < 1.0
 
+    def no_worse_than(self, row: dict[str, Any] | None) -> bool:
+        """Whether the two errors the rule selects on (``tracking``: translation and angle;
+        ``force_and_translation``: force and translation) are each at most ``row``'s (a
+        ``validation.csv`` row; None: nothing to compare with, True)."""
+        if row is None:
+            return True
+        if self.rule == "tracking":
+            return (
+                self.translation_error_pct <= row["translation_error_pct"]
+                and self.angle_error_pct <= row["angle_error_pct"]
+            )
+        return (
+            self.force_error <= row["force_error"]
+            and self.translation_error_pct <= row["translation_error_pct"]
+        )
+
 
 def validation_env(env_config: EnvConfig, gains: PDGains) -> PushEnv:
     """The environment validation pushes run in: ``env_config`` on the tuning stream."""

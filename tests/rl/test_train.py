@@ -349,3 +349,37 @@ def test_a_preset_with_an_unknown_key_is_refused(tmp_path: Path) -> None:
     path.write_text(TINY.format(workers=0, per_round=1).replace("[train]", "[train]\nepochs = 3"))
     with pytest.raises(ConfigError, match=r"\[train\] has unknown keys \['epochs'\]"):
         load_preset(str(path))
+
+
+def test_on_a_base_law_the_zero_residual_is_scored_and_no_kept_actor_tracks_worse(
+    tmp_path: Path,
+) -> None:
+    """Episode 0's actor (a zero residual: the law) gets a validation row, and every later
+    row is kept only if it also tracks no worse than that row on translation and angle."""
+    text = TINY.format(workers=0, per_round=1).replace(
+        "gate_threshold = 0.0\n",
+        'gate_threshold = 0.0\nbase_law = "feedback"\naction_repeat = 10\n',
+    )
+    text = text.replace(
+        "validation_per_cell = 1\n", 'validation_per_cell = 1\nselect_on = "tracking"\n'
+    )
+    path = tmp_path / "law.toml"
+    path.write_text(text.replace("warmup_steps = 200", "warmup_steps = 20"))
+    trainer = Trainer.start(load_preset(str(path)), 7, tmp_path / "run")
+    trainer.run(5, made_by="# made by: test")
+    table = pd.read_csv(trainer.out / VALIDATION, comment="#")
+    assert list(table["episode"]) == [0, 2, 4, 5]
+    base = table.iloc[0]
+    for _, row in table.iloc[1:].iterrows():
+        no_worse = (
+            row["translation_error_pct"] <= base["translation_error_pct"]
+            and row["angle_error_pct"] <= base["angle_error_pct"]
+        )
+        if row["kept"]:
+            assert no_worse
+    from pushctl.rl.validate import ValidationScore
+
+    score = ValidationScore(0.03, 0.2, 0.02, 0.8, 0.5, 2.0, rule="tracking")
+    assert score.no_worse_than({"translation_error_pct": 0.2, "angle_error_pct": 0.5})
+    assert not score.no_worse_than({"translation_error_pct": 0.3, "angle_error_pct": 0.4})
+    assert score.no_worse_than(None)
