@@ -106,8 +106,8 @@ def evaluate(
             law = load_feedback_gains()
             extra += (
                 f"; feedback k {law.k:g} /s, k_i {law.k_i:g} /s², lateral_ratio "
-                f"{law.lateral_ratio:g}, seek {law.seek_rate:g} rad/s, turn_ratio "
-                f"{law.turn_ratio:g}, smoothing {law.smoothing:g} s "
+                f"{law.lateral_ratio:g}, seek {law.seek_rate:g} rad/s over {law.seek_ramp:g} s, "
+                f"turn_ratio {law.turn_ratio:g}, smoothing {law.smoothing:g} s "
                 f"({DEFAULT_FEEDBACK_FILE.name})"
             )
         # --workers changes no byte of the results, so the files do not record it either

@@ -74,8 +74,8 @@ class FeedbackGains:
     (``inf``: no cap). ``seek_rate`` [rad/s]: the turn that re-closes a prong's gap while
     others carry load (0: hold still then too), reached ``seek_ramp`` [s] after a prong
     came off (0: at once). ``turn_ratio`` [-]: the object turn's cap, as the speed it gives
-    the farthest prong about the object's centre over the plan's speed (``inf``: no cap). ``smoothing`` [s]: the time constant of a first-order lag on
-    the output (0: none)."""
+    the farthest prong about the object's centre over the plan's speed (``inf``: no cap).
+    ``smoothing`` [s]: the time constant of a first-order lag on the output (0: none)."""
 
     k: float = 0.5
     k_i: float = 0.0

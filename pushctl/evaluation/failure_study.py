@@ -51,8 +51,8 @@ FAILED_TRANSLATION_PCT = 3.0
 @dataclass(frozen=True)
 class Setting:
     """One row of the study: the law with ``lateral_ratio``, ``hold_off_contact``,
-    ``seek_rate``, ``turn_ratio`` and ``smoothing`` under the offset bound (``linear`` [m],
-    ``angular`` [deg]); ``law`` False: PD-only."""
+    ``seek_rate``, ``turn_ratio``, ``smoothing`` and ``seek_ramp`` under the offset bound
+    (``linear`` [m], ``angular`` [deg]); ``law`` False: PD-only."""
 
     name: str
     law: bool = True
@@ -63,6 +63,7 @@ class Setting:
     seek_rate: float = 0.0
     turn_ratio: float = math.inf
     smoothing: float = 0.0
+    seek_ramp: float = 0.0
 
 
 SETTINGS = (
@@ -105,9 +106,11 @@ SMOOTHING_SETTINGS = (
 
 SEEK_SETTINGS = (
     Setting("PD-only", law=False),
-    *(  # the fourth pass's law (turn cap 0.05, lag 0.1 s) at each seeking rate
-        Setting(f"seeking {rate:g} rad/s", *_THIRD_PASS_LAW[:5], rate, 0.05, 0.1)
-        for rate in (0.0, 0.01, 0.03, 0.1, 0.2, 0.4)
+    *(  # the fourth pass's law (turn cap 0.05, lag 0.1 s) at each seeking rate and ramp
+        Setting(
+            f"seeking {rate:g} rad/s, ramp {ramp:g} s", *_THIRD_PASS_LAW[:5], rate, 0.05, 0.1, ramp
+        )
+        for rate, ramp in ((0.01, 0.0), (0.03, 0.0), (0.1, 0.0), (0.1, 0.2))
     ),
 )
 """The rows of its "Fifth pass" seek table (``failure_study seek PLANT``)."""
@@ -124,6 +127,7 @@ def push_all(reset: list[PushEnv], setting: Setting, gains: FeedbackGains) -> pd
         seek_rate=setting.seek_rate,
         turn_ratio=setting.turn_ratio,
         smoothing=setting.smoothing,
+        seek_ramp=setting.seek_ramp,
     )
     rows = []
     for member in reset:

@@ -59,8 +59,8 @@ def test_two_workers_write_the_same_bytes_as_one(
     assert f"policy {policy}, made by: a test run" in made_by
     gains = load_feedback_gains()
     law = f"feedback k {gains.k:g} /s, k_i {gains.k_i:g} /s², lateral_ratio "
-    law += f"{gains.lateral_ratio:g}, seek {gains.seek_rate:g} rad/s, turn_ratio "
-    law += f"{gains.turn_ratio:g}, smoothing {gains.smoothing:g} s (feedback_gains.toml)"
+    law += f"{gains.lateral_ratio:g}, seek {gains.seek_rate:g} rad/s over {gains.seek_ramp:g} s, "
+    law += f"turn_ratio {gains.turn_ratio:g}, smoothing {gains.smoothing:g} s (feedback_gains.toml)"
     assert law in made_by
     for heading in ("transl.", "mN·m", "slip", "goals redrawn as infeasible: 0 of 1 targets"):
         assert heading in one.output

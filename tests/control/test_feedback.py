@@ -112,6 +112,29 @@ def test_the_output_follows_the_law_through_a_first_order_lag() -> None:
         FeedbackGains(smoothing=-0.1)
 
 
+def test_with_one_prong_off_the_plate_turns_about_the_loaded_one_ramping_up() -> None:
+    """Prongs at y = ∓30 mm, the first off: the plate turns about the second (which stays
+    put) so the first moves forwards, at a rate ramped from 0 to 0.1 rad/s over 0.2 s; the
+    ramp starts again after both prongs were loaded."""
+    gains = FeedbackGains(seek_rate=0.1, seek_ramp=0.2, smoothing=0.0)
+    law = FeedbackLaw(gains, LEVER, dt=0.01, prongs=np.array([-0.03, 0.03]))
+    first_off = np.array([0.0, 0.2])
+    twists = np.array([law.twist(np.zeros(3), first_off) for _ in range(30)])
+    omega = twists[:, 2]
+    np.testing.assert_allclose(omega[:20], 0.1 * np.arange(1, 21) * 0.01 / 0.2, rtol=1e-12)
+    np.testing.assert_allclose(omega[20:], 0.1, rtol=1e-12)
+    loaded_prong_x = twists[:, 0] - omega * 0.03  # the plate point at y = +30 mm
+    free_prong_x = twists[:, 0] - omega * -0.03
+    np.testing.assert_allclose(loaded_prong_x, 0.0, atol=1e-15)
+    assert (free_prong_x > 0.0).all()
+    law.twist(np.zeros(3), TOUCHING)
+    assert law.twist(np.zeros(3), first_off)[2] == pytest.approx(0.1 * 0.01 / 0.2)
+    at_once = FeedbackLaw(replace(gains, seek_ramp=0.0), LEVER, 0.01, np.array([-0.03, 0.03]))
+    assert at_once.twist(np.zeros(3), first_off)[2] == pytest.approx(0.1)
+    with pytest.raises(ConfigError, match="seek_ramp must be a finite number >= 0"):
+        FeedbackGains(seek_ramp=-1.0)
+
+
 def test_gains_file_round_trip_and_bad_values(tmp_path: Path) -> None:
     path = tmp_path / "gains.toml"
     path.write_text("[feedback]\nk = 0.7\nk_i = 0.1\ncontact_force = 0.01\n")

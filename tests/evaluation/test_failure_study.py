@@ -89,3 +89,38 @@ def test_the_lagged_law_keeps_contact_on_mujoco() -> None:
         finish_with_policy(push, FeedbackActor(push, replace(gains, smoothing=tau)))
         loss[tau] = compute_metrics(push.episode.trace()).contact_loss_fraction
     assert loss[0.1] < 0.1 < 0.5 < loss[0.0]
+
+
+def test_the_seek_rows_differ_only_in_the_seek() -> None:
+    from pushctl.evaluation.failure_study import SEEK_SETTINGS
+
+    laws = SEEK_SETTINGS[1:]
+    assert not SEEK_SETTINGS[0].law
+    assert [(s.seek_rate, s.seek_ramp) for s in laws] == [
+        (0.01, 0.0),
+        (0.03, 0.0),
+        (0.1, 0.0),
+        (0.1, 0.2),
+    ]
+    assert {(s.turn_ratio, s.smoothing, s.lateral_ratio, s.linear) for s in laws} == {
+        (0.05, 0.1, 0.05, 0.003)
+    }
+
+
+def test_a_fast_seek_keeps_the_wedge_on_both_prongs_where_the_slow_one_lost_it() -> None:
+    """Tuning push 2180 (wedge, trapezoid): a prong comes off as the turn begins. Seeking at
+    the third pass's 0.01 rad/s the wedge spins away and the push goes on with a prong off;
+    at 0.1 rad/s ramped over 0.2 s both stay on (docs/residual-and-feedback.md, "Fifth
+    pass"). The fourth pass's k and k_i, whatever the gains file holds."""
+    from pushctl.control.feedback import FeedbackGains
+    from pushctl.evaluation.failure_study import SEEK_SETTINGS, push_all
+    from pushctl.evaluation.tune_feedback import tuning_env
+    from pushctl.rl.env_config import EnvConfig
+
+    env = tuning_env(plant="sim", config=EnvConfig())
+    env.reset(options={"object": "wedge", "profile": "trapezoid", "scenario_seed": 2180})
+    gains = FeedbackGains(k=0.35, k_i=0.014142135623730949)
+    slow, fast = SEEK_SETTINGS[1], SEEK_SETTINGS[4]
+    loss = [push_all([env], s, gains)["contact_loss"].item() for s in (slow, fast)]
+    assert loss[0] > 0.5
+    assert loss[1] < 0.1
