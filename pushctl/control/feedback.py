@@ -34,8 +34,8 @@ the plate about the loaded prongs' centre at ``seek_rate``, the way that brings 
 prong farthest from them towards the face: with the output held there, a correction that
 lifted a prong by a hundredth of a millimetre left the push on one prong for good
 (docs/residual-and-feedback.md, "Third pass"). The seek is fast (0.1 rad/s): at the third
-pass's 0.01 rad/s a wedge that came off one prong as its turn began spun away from the plate
-at about 15 mrad/s, faster than the plate followed, and 3 of 40 wedge trapezoid tuning
+pass's 0.01 rad/s a wedge that came off one prong as its turn began spun away from the plan
+at about 17 mrad/s, faster than the plate followed, and 3 of 40 wedge trapezoid tuning
 pushes failed; at 0.1 rad/s none of 240 tuning pushes did ("Fifth pass"). It ramps up over
 ``seek_ramp`` (0.2 s) of one prong off: on MuJoCo, whose soft contact flickers below the
 threshold for a step at a time, a seek at full rate from the first step lost contact on
