@@ -39,7 +39,8 @@ at about 17 mrad/s, faster than the plate followed, and 3 of 40 wedge trapezoid 
 pushes failed; at 0.1 rad/s none of 240 tuning pushes did ("Fifth pass"). It ramps up over
 ``seek_ramp`` (0.2 s) of one prong off: on MuJoCo, whose soft contact flickers below the
 threshold for a step at a time, a seek at full rate from the first step lost contact on
-15 % of the wedge's steps and failed 4 of 30 tuning pushes; ramped, 5 % and 1.
+15 % of the wedge's steps and failed 4 of 30 tuning pushes; ramped, 5 % and 1 (the slow
+seek's 6 % and 1).
 
 The output is a residual twist like a policy's: it goes through the same residual path
 (:mod:`pushctl.control.residual`). On the ``reference`` path it is the rate of the reference
