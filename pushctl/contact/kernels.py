@@ -334,16 +334,23 @@ def warm_slip_step(
     the Python loop, so the same bits). A slipping step re-solves one to six times; in
     Python each round trip cost more than its compiled solve.
 
-    Returns ``(status, solves, first, last, attempt, iterations, worst)``: ``first`` and
-    ``last`` are ``(p, w, residual, v_arm, v_obj, forces)`` of the first and the latest
-    solve, ``solves`` how many verified solves ran, ``iterations`` the re-solves for the
-    slip directions, ``worst`` the largest residual of the verified solves. ``status`` 0:
-    the first warm solve failed (the boxes are untouched); ``SLIP_SETTLED``: ``last`` is
-    the step; ``SLIP_UNSETTLED``: not settled after ``max_iterations``, the step keeps
-    ``first`` (the caller restores its boxes); ``SLIP_WARM_FAILED``: the boxes were refined
-    at loop index ``attempt`` (< max) and the warm re-solve from ``last`` failed: the
-    caller continues the loop from there.
+    The step's friction boxes are set first (:func:`slip_state`, from ``velocity``; one
+    compiled call fewer per step than calling it from Python).
+
+    Returns ``(status, solves, first, last, attempt, iterations, worst, next_pose)``:
+    ``first`` and ``last`` are ``(p, w, residual, v_arm, v_obj, forces)`` of the first and
+    the latest solve, ``solves`` how many verified solves ran, ``iterations`` the re-solves
+    for the slip directions, ``worst`` the largest residual of the verified solves,
+    ``next_pose`` (3,) the object's pose after the step, ``pose + h v_obj`` with the
+    step's solution (the semi-implicit Euler of ``World._advance_object``; ``pose`` itself
+    when the caller goes on in Python). ``status`` 0: the first warm solve failed (the boxes
+    are as :func:`slip_state` set them); ``SLIP_SETTLED``: ``last`` is the step;
+    ``SLIP_UNSETTLED``: not settled after ``max_iterations``, the step keeps ``first`` (the
+    caller restores its boxes); ``SLIP_WARM_FAILED``: the boxes were refined at loop index
+    ``attempt`` (< max) and the warm re-solve from ``last`` failed: the caller continues the
+    loop from there.
     """
+    slip_state(pose, velocity, support_points, slip_directions, sliding)
     inputs_velocity = velocity
     ok, p, w, res, va, vo, f = warm_contact_step(
         contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, inputs_velocity,
@@ -352,14 +359,14 @@ def warm_slip_step(
     )  # fmt: skip
     first = (p, w, res, va, vo, f)
     if not ok:
-        return 0, 0, first, first, 0, 0, 0.0
+        return 0, 0, first, first, 0, 0, 0.0, pose
     last = first
     solves, iterations, worst = 1, 0, res
     for attempt in range(max_iterations + 1):
         if not refine_slip(pose, last[4], support_points, slip_directions, sliding, cos_tolerance):
-            return SLIP_SETTLED, solves, first, last, attempt, iterations, worst
+            return SLIP_SETTLED, solves, first, last, attempt, iterations, worst, pose + h * last[4]
         if attempt == max_iterations:
-            return SLIP_UNSETTLED, solves, first, last, attempt, iterations, worst
+            break
         iterations += 1
         ok, p, w, res, va, vo, f = warm_contact_step(
             contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, inputs_velocity,
@@ -367,8 +374,9 @@ def warm_slip_step(
             stabilisation, tie_break, mu_contact, last[0], tol,
         )  # fmt: skip
         if not ok:
-            return SLIP_WARM_FAILED, solves, first, last, attempt, iterations - 1, worst
+            return SLIP_WARM_FAILED, solves, first, last, attempt, iterations - 1, worst, pose
         last = (p, w, res, va, vo, f)
         solves += 1
         worst = max(worst, res)
-    return SLIP_UNSETTLED, solves, first, last, max_iterations, iterations, worst
+    next_pose = pose + h * first[4]  # the step keeps its first solution
+    return SLIP_UNSETTLED, solves, first, last, max_iterations, iterations, worst, next_pose

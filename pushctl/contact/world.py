@@ -32,7 +32,6 @@ from pushctl.checks import finite_vector
 from pushctl.config import GRAVITY
 from pushctl.contact.ground_field import FrictionField
 from pushctl.contact.kernels import coriolis_energy_error
-from pushctl.contact.mlcp import MLCPResult
 from pushctl.contact.rows import edge_array, prong_contacts
 from pushctl.contact.substep import (
     _NO_CONTACTS,
@@ -178,7 +177,7 @@ class World(SubstepSolver):
         self._energy_ledger = 0.0  # spurious arm kinetic energy not yet removed [J]
         self._refresh_arm_terms()
         self._find_contacts()
-        return self._result(np.zeros((self._n_prongs, 2)), None, 0)
+        return self._result(np.zeros((self._n_prongs, 2)), 0.0, True, 0)
 
     def prong_positions(self) -> np.ndarray:
         """World positions [m] of the prongs at the current arm state, (k, 3)."""
@@ -214,16 +213,16 @@ class World(SubstepSolver):
         damping = scalar[2] if kv is scalar[1] else self._damping + kv
         n_sub = self.config.substeps
         h = self.config.dt / n_sub
-        forces, worst = self._substep(h, tau_arm, damping)
-        iterations = worst.iterations
+        forces, residual, converged, iterations = self._substep(h, tau_arm, damping)
         for _ in range(n_sub - 1):
-            more_forces, result = self._substep(h, tau_arm, damping)
+            more_forces, more_residual, more_converged, more = self._substep(h, tau_arm, damping)
             forces = forces + more_forces
-            iterations += result.iterations
-            if result.residual > worst.residual:
-                worst = result
+            iterations += more
+            if more_residual > residual:  # the worst substep's solve is reported
+                residual, converged = more_residual, more_converged
         self.stats.steps += 1
-        return self._result(forces / n_sub if n_sub > 1 else forces, worst, iterations)
+        forces = forces / n_sub if n_sub > 1 else forces
+        return self._result(forces, residual, converged, iterations)
 
     def contact_problem(self, tau=None, implicit_kv=None) -> ContactProblem:
         """The MLCP the next (sub)step would solve, without stepping: for inspection and
@@ -323,15 +322,17 @@ class World(SubstepSolver):
             raise StateError(f"implicit_kv must be >= 0 N·m·s/rad, got {kv.tolist()}")
         return tau, kv
 
-    def _result(self, forces, result: MLCPResult | None, iterations: int) -> StepResult:
-        return StepResult(
-            object_pose=self.object_pose.copy(),
-            object_velocity=self.object_velocity.copy(),
-            contact_forces=forces,
-            prong_gaps=self._gaps.copy(),
-            arm_q=self.q.copy(),
-            arm_v=self.v.copy(),
-            mlcp_residual=0.0 if result is None else float(result.residual),
-            mlcp_converged=True if result is None else bool(result.converged),
-            mlcp_iterations=iterations,
+    def _result(self, forces, residual: float, converged: bool, iterations: int) -> StepResult:
+        """The state as a StepResult sharing the world's arrays: every step replaces them
+        with new ones (nothing writes into them in place), so no copies are needed."""
+        return StepResult.sharing(
+            self.object_pose,
+            self.object_velocity,
+            forces,
+            self._gaps,
+            self.q,
+            self.v,
+            float(residual),
+            bool(converged),
+            iterations,
         )
