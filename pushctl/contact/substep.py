@@ -221,7 +221,7 @@ class SubstepSolver:
         if guess is None:  # the boxes here; warm_slip_step sets them itself
             slip_state(*inputs[7:9], self._support_points, self._slip_directions, self._sliding)
         else:  # the common case: the whole loop in one compiled call
-            status, solves, first_t, last_t, attempt, iterations, worst, pose = warm_slip_step(
+            status, solves, solved, last_p, attempt, iterations, worst, pose = warm_slip_step(
                 *inputs,
                 *self._model,
                 guess,
@@ -235,12 +235,10 @@ class SubstepSolver:
             stats.warm_starts += solves
             stats.max_residual = max(stats.max_residual, worst)
             stats.slip_iterations += iterations
-            self._last_prongs, self._last_p = prongs, last_t[0]
+            self._last_prongs, self._last_p = prongs, last_p
         if status == SLIP_SETTLED or status == SLIP_UNSETTLED:
             # Verified warm solves only: no MLCPResult, the pose advanced in the kernel.
-            solved = last_t
-            if status == SLIP_UNSETTLED:  # keep the first solution and its boxes
-                solved = first_t
+            if status == SLIP_UNSETTLED:  # the step keeps its first solution and its boxes
                 self._start_slip_state()
                 self.stats.slip_unsettled += 1
             _, _, residual, v_arm, v_obj, contact_forces = solved
@@ -248,11 +246,10 @@ class SubstepSolver:
             self.object_velocity, self.object_pose = v_obj, pose
         else:
             if status == SLIP_WARM_FAILED:
-                first = _warm_solution(first_t)
-                solution = first if solves == 1 else _warm_solution(last_t)
+                first = _warm_solution(solved)
                 self.stats.slip_iterations += 1
                 # (the same warm active set fails again in _solve_step: no bits change)
-                solution = self._solve_step(h, tau, damping, inputs, solution[0].p)
+                solution = self._solve_step(h, tau, damping, inputs, last_p)
                 self._record(solution[0], prongs)
                 start = attempt + 1
             else:  # no warm start, or it failed in the call above: the full MLCP
