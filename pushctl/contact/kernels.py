@@ -24,6 +24,8 @@ import math
 import numpy as np
 from numba import njit
 
+from pushctl.contact.step_end import coriolis_energy_error  # noqa: F401  (its old home)
+
 SINGULAR_PIVOT = 1e-11
 """An LU pivot below this fraction of the largest one marks an active-set system singular."""
 
@@ -280,18 +282,6 @@ def apply_impulses(p, v_arm_free, Minv_At_arm, velocity, Minv_At_obj, h):
     v_arm = v_arm_free + Minv_At_arm @ p_prong
     v_obj = velocity + Minv_At_obj @ p
     return v_arm, v_obj, p_prong.reshape(-1, 2) / h
-
-
-@njit(cache=True)
-def coriolis_energy_error(ledger, v_new, M_old, nle_old, g_old, M_new, h):
-    """Add one step's Coriolis energy error to ``ledger`` [J]; return it and the new
-    kinetic energy ``½ v⁺ᵀ M(q⁺) v⁺`` [J] (see ``World._advance_arm``).
-
-    The error is ``½ v⁺ᵀ (M(q⁺) − M(q)) v⁺ − h v⁺ᵀ C(q, v) v``, with ``C(q, v) v = nle − g``.
-    """
-    energy = 0.5 * (v_new @ (M_new @ v_new))
-    error = energy - 0.5 * (v_new @ (M_old @ v_new)) - h * (v_new @ (nle_old - g_old))
-    return ledger + error, energy
 
 
 @njit(cache=True)

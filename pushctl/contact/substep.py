@@ -266,8 +266,9 @@ class SubstepSolver:
             forces = np.zeros((self._n_prongs, 2))
             forces[list(prongs)] = contact_forces
         if self.arm is not None:
-            self._advance_arm(v_arm, h)
-        self._find_contacts()
+            self._advance_arm(v_arm, h)  # which also finds the contacts
+        else:
+            self._find_contacts()
         return forces, residual, converged, n_iterations
 
     def _settle_slip(self, h, tau, damping, inputs, prongs, first, solution, start: int):

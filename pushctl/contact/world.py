@@ -31,8 +31,8 @@ from pushctl.arm import ArmModel, ArmTerms
 from pushctl.checks import finite_vector
 from pushctl.config import GRAVITY
 from pushctl.contact.ground_field import FrictionField
-from pushctl.contact.kernels import coriolis_energy_error
-from pushctl.contact.rows import edge_array, prong_contacts
+from pushctl.contact.rows import edge_array, mask_indices, prong_contacts
+from pushctl.contact.step_end import arm_moved
 from pushctl.contact.substep import (
     _NO_CONTACTS,
     MAX_SLIP_ITERATIONS,
@@ -242,7 +242,8 @@ class World(SubstepSolver):
         self.object_pose = self.object_pose + h * v_obj
 
     def _advance_arm(self, v_arm: np.ndarray, h: float) -> None:
-        """Move the arm with its new velocity, then remove spurious energy it has gained.
+        """Move the arm with its new velocity, then remove spurious energy it has gained;
+        find the prongs' contacts at the new state (what :meth:`_find_contacts` does).
 
         In continuous time the Coriolis forces do no work: ½ q̇ᵀ Ṁ q̇ − q̇ᵀ C q̇ = 0. Semi-implicit
         Euler evaluates the two halves at different instants, and on a configuration-dependent
@@ -260,9 +261,12 @@ class World(SubstepSolver):
         self._refresh_arm_terms()
         new = self._terms
         assert new is not None
-        self._energy_ledger, energy = coriolis_energy_error(
-            self._energy_ledger, v_arm, old.M, old.nle, old.g, new.M, h
-        )
+        # the energy check and the prongs' geometry at the new state in one compiled call
+        self._energy_ledger, energy, self._contacts, self._gaps, mask = arm_moved(
+            self._energy_ledger, v_arm, old.M, old.nle, old.g, new.M, h, self._edges,
+            self.object_pose, new.prong_positions, self.config.contact_margin,
+        )  # fmt: skip
+        self._prongs = mask_indices(mask)
         if self._energy_ledger > 0.0 and energy > 0.0:
             scale = math.sqrt(max(energy - self._energy_ledger, 0.0) / energy)
             self.stats.energy_removed += energy * (1.0 - scale**2)
