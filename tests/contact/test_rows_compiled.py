@@ -97,6 +97,7 @@ def test_compiled_slip_loop_matches_the_python_loop_bit_for_bit(monkeypatch):
     Python loop it replaces, on a push whose boxes are refined and re-solved many times."""
     import pushctl.contact.substep as substep_module
     import pushctl.contact.world as world_module
+    from pushctl.contact.kernels import slip_state
 
     compiled, stats = _slipping_push_digest()
     original = world_module.World._solve_step
@@ -104,8 +105,10 @@ def test_compiled_slip_loop_matches_the_python_loop_bit_for_bit(monkeypatch):
     def python_solve(self, h, tau, damping, inputs, guess, try_warm=True):
         return original(self, h, tau, damping, inputs, guess)  # always tries the warm step
 
-    def never(*args):
-        return (0, 0, None, None, 0, 0, 0.0)
+    def never(*args):  # the kernel's first warm solve fails: only the boxes are set
+        pose, velocity, model = args[7], args[8], substep_module.ContactModel(*args[9:18])
+        slip_state(pose, velocity, model.support_points, model.slip_directions, model.sliding)
+        return (0, 0, None, None, 0, 0, 0.0, pose)  # status 0: nothing else is read
 
     monkeypatch.setattr(substep_module, "warm_slip_step", never)
     monkeypatch.setattr(world_module.World, "_solve_step", python_solve)
