@@ -287,7 +287,7 @@ class Trainer:
         a base law, is no worse on those two errors than episode 0's zero residual, the law
         itself. A lower score alone could trade one error for another: on the feedback law
         a quick run kept an actor with a 4 % lower score and a 21 % higher angle error,
-        which then lost to the law on the evaluation stream (docs/learning-the-residual.md
+        which did not beat the law on the evaluation stream (docs/learning-the-residual.md
         §6). A run whose actors never qualify keeps the zero residual it started with."""
         assert self._validator is not None
         metrics = [m for future in pending.futures for m in future.result()]
