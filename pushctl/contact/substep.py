@@ -219,7 +219,8 @@ class SubstepSolver:
         guess = self._last_p if prongs == self._last_prongs else None
         start, status = 0, 0
         if guess is None:  # the boxes here; warm_slip_step sets them itself
-            slip_state(*inputs[7:9], self._support_points, self._slip_directions, self._sliding)
+            slip_state(self.object_pose, self.object_velocity, self._support_points,
+                       self._slip_directions, self._sliding)  # fmt: skip
         else:  # the common case: the whole loop in one compiled call
             status, solves, solved, last_p, attempt, iterations, worst, pose = warm_slip_step(
                 *inputs,
@@ -236,7 +237,7 @@ class SubstepSolver:
             stats.max_residual = max(stats.max_residual, worst)
             stats.slip_iterations += iterations
             self._last_prongs, self._last_p = prongs, last_p
-        if status == SLIP_SETTLED or status == SLIP_UNSETTLED:
+        if status in (SLIP_SETTLED, SLIP_UNSETTLED):
             # Verified warm solves only: no MLCPResult, the pose advanced in the kernel.
             if status == SLIP_UNSETTLED:  # the step keeps its first solution and its boxes
                 self._start_slip_state()

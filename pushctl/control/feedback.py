@@ -175,9 +175,10 @@ class FeedbackLaw:
         gains = self.gains
         error = np.asarray(error, dtype=float)
         loaded = np.asarray(normal_forces) >= gains.contact_force
-        seeking = loaded.any() and not loaded.all()
+        all_loaded = bool(loaded.all())
+        seeking = not all_loaded and bool(loaded.any())  # some prongs carry load, not all
         self.seeking_for = self.seeking_for + self.dt if seeking else 0.0
-        if loaded.all():
+        if all_loaded:
             self.integral = self.integral + self.dt * error
         elif gains.hold_off_contact:
             if seeking and self.prongs is not None and gains.seek_rate > 0.0:

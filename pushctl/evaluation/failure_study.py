@@ -108,7 +108,12 @@ SEEK_SETTINGS = (
     Setting("PD-only", law=False),
     *(  # the fourth pass's law (turn cap 0.05, lag 0.1 s) at each seeking rate and ramp
         Setting(
-            f"seeking {rate:g} rad/s, ramp {ramp:g} s", *_THIRD_PASS_LAW[:5], rate, 0.05, 0.1, ramp
+            f"seeking {rate:g} rad/s, ramp {ramp:g} s",
+            *_THIRD_PASS_LAW[:5],
+            seek_rate=rate,
+            turn_ratio=0.05,
+            smoothing=0.1,
+            seek_ramp=ramp,
         )
         for rate, ramp in ((0.01, 0.0), (0.03, 0.0), (0.1, 0.0), (0.1, 0.2))
     ),

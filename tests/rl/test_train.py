@@ -370,13 +370,18 @@ def test_on_a_base_law_the_zero_residual_is_scored_and_no_kept_actor_tracks_wors
     table = pd.read_csv(trainer.out / VALIDATION, comment="#")
     assert list(table["episode"]) == [0, 2, 4, 5]
     base = table.iloc[0]
-    for _, row in table.iloc[1:].iterrows():
-        no_worse = (
+    best, kept = np.inf, []
+    for _, row in table.iterrows():
+        beats_pd = (row["translation_error_pct"] < row["pd_translation_error_pct"]) and (
+            row["angle_error_pct"] < row["pd_angle_error_pct"]
+        )
+        no_worse = row["episode"] == 0 or (
             row["translation_error_pct"] <= base["translation_error_pct"]
             and row["angle_error_pct"] <= base["angle_error_pct"]
         )
-        if row["kept"]:
-            assert no_worse
+        kept.append(bool(beats_pd and row["score"] < best and no_worse))
+        best = row["score"] if kept[-1] else best
+    assert list(table["kept"]) == kept
     from pushctl.rl.validate import ValidationScore
 
     score = ValidationScore(0.03, 0.2, 0.02, 0.8, 0.5, 2.0, rule="tracking")
