@@ -6,8 +6,11 @@ frame (x along the push), the law asks the object for the twist u = k e + k_i �
 v = (u_x − u_θ r_y, u_y + u_θ r_x, u_θ), with r the pusher origin's lever from the object's
 centre in the plan frame [m]: with both prongs sticking the object moves with the pusher.
 The integral is frozen while any prong's measured normal force is below ``contact_force``
-(10 mN): an object placed ahead of the plan is not touched yet, and integrating its error
-would back the pusher away from it. With ``hold_off_contact`` (the default) the output is
+(50 mN): an object placed ahead of the plan is not touched yet, and integrating its error
+would back the pusher away from it. The threshold sits above the noise of the proxy's force
+estimate (σ = 20 mN at no load, docs/design.md §9): at 10 mN an unloaded prong read as
+loaded on about a third of the steps, which restarted the contact seek's ramp and left the
+seek at a tenth of its rate (docs/residual-and-feedback.md, "Sixth pass"). With ``hold_off_contact`` (the default) the output is
 zero then too: on the ``reference`` path the output is the offset's rate, so its P term is an
 integrator as well.
 
@@ -80,7 +83,7 @@ class FeedbackGains:
 
     k: float = 0.5
     k_i: float = 0.0
-    contact_force: float = 0.01
+    contact_force: float = 0.05
     hold_off_contact: bool = True
     lateral_ratio: float = 0.05
     seek_rate: float = 0.1
