@@ -14,6 +14,8 @@ seeds ``seed`` … ``seed + 6·per_case − 1``), never the evaluation's; the ga
 - ``smoothing PLANT [SEED PER_CASE K K_I]``: the output lag's on ``PLANT``;
 - ``seek PLANT [SEED PER_CASE K K_I]``: the contact-seeking turn's rate on ``PLANT``
   (:data:`SEEK_SETTINGS`, docs/residual-and-feedback.md "Fifth pass");
+- ``contact PLANT [SEED PER_CASE K K_I]``: the contact threshold and the offset's yaw bound
+  on ``PLANT`` (:data:`CONTACT_SETTINGS`, "Sixth pass");
 - ``ringing [SEED]``: what a command alternating every step does to each engine's contact
   (:func:`ringing`);
 - ``gains PLANT SEED PER_CASE K K_I [K K_I ...]``: today's law at several gains against
@@ -51,8 +53,8 @@ FAILED_TRANSLATION_PCT = 3.0
 @dataclass(frozen=True)
 class Setting:
     """One row of the study: the law with ``lateral_ratio``, ``hold_off_contact``,
-    ``seek_rate``, ``turn_ratio``, ``smoothing`` and ``seek_ramp`` under the offset bound
-    (``linear`` [m], ``angular`` [deg]); ``law`` False: PD-only."""
+    ``seek_rate``, ``turn_ratio``, ``smoothing``, ``seek_ramp`` and ``contact_force`` [N]
+    under the offset bound (``linear`` [m], ``angular`` [deg]); ``law`` False: PD-only."""
 
     name: str
     law: bool = True
@@ -64,6 +66,7 @@ class Setting:
     turn_ratio: float = math.inf
     smoothing: float = 0.0
     seek_ramp: float = 0.0
+    contact_force: float = 0.01  # the first five passes' threshold
 
 
 SETTINGS = (
@@ -120,6 +123,24 @@ SEEK_SETTINGS = (
 )
 """The rows of its "Fifth pass" seek table (``failure_study seek PLANT``)."""
 
+_FIFTH_PASS_LAW = {
+    "lateral_ratio": 0.05, "seek_rate": 0.1, "turn_ratio": 0.05, "smoothing": 0.1, "seek_ramp": 0.2
+}  # fmt: skip
+CONTACT_SETTINGS = (
+    Setting("PD-only", law=False),
+    *(  # the fifth pass's law at each contact threshold [mN] and yaw bound [deg]
+        Setting(
+            f"{1e3 * force:g} mN, yaw bound {angular:g} deg",
+            linear=0.003,
+            angular_deg=angular,
+            contact_force=force,
+            **_FIFTH_PASS_LAW,
+        )
+        for force, angular in ((0.01, 1.5), (0.05, 1.5), (0.01, 3.0), (0.05, 3.0), (0.05, 5.0))
+    ),
+)
+"""The rows of its "Sixth pass" table (``failure_study contact PLANT``)."""
+
 
 def push_all(reset: list[PushEnv], setting: Setting, gains: FeedbackGains) -> pd.DataFrame:
     """Every push of ``reset`` (a copy of it) under ``setting``: object, translation and
@@ -133,6 +154,7 @@ def push_all(reset: list[PushEnv], setting: Setting, gains: FeedbackGains) -> pd
         turn_ratio=setting.turn_ratio,
         smoothing=setting.smoothing,
         seek_ramp=setting.seek_ramp,
+        contact_force=setting.contact_force,
     )
     rows = []
     for member in reset:
@@ -210,6 +232,8 @@ def gain_table(
         base.seek_rate,
         base.turn_ratio,
         base.smoothing,
+        base.seek_ramp,
+        base.contact_force,
     )
     frames = [push_all(reset, Setting("PD-only", law=False), base).assign(controller="PD-only")]
     for k, k_i in gains:
@@ -274,6 +298,8 @@ def main(argv: list[str]) -> None:  # pragma: no cover - prints the table
         settings, plant, argv = SMOOTHING_SETTINGS, argv[1], argv[2:]
     elif argv and argv[0] == "seek":  # seek PLANT [SEED PER_CASE K K_I]
         settings, plant, argv = SEEK_SETTINGS, argv[1], argv[2:]
+    elif argv and argv[0] == "contact":  # contact PLANT [SEED PER_CASE K K_I]
+        settings, plant, argv = CONTACT_SETTINGS, argv[1], argv[2:]
     seed = int(argv[0]) if argv else 1000
     per_case = int(argv[1]) if len(argv) > 1 else 20
     gains = None

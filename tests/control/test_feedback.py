@@ -15,7 +15,7 @@ from pushctl.errors import ConfigError
 
 LEVER = np.array([-0.03, 0.0])  # the pusher 30 mm behind the object's centre
 # smoothing=0.0 below: the law itself, without the output lag (tested apart)
-TOUCHING = np.array([0.2, 0.3])  # both prongs above the 10 mN threshold [N]
+TOUCHING = np.array([0.2, 0.3])  # both prongs above the 50 mN threshold [N]
 
 
 def test_the_p_term_and_the_integral_of_a_constant_error() -> None:
@@ -35,15 +35,38 @@ def test_off_contact_the_law_holds_still_by_default() -> None:
     np.testing.assert_array_equal(law.integral, np.zeros(3))
 
 
-def test_the_integral_is_frozen_while_a_prong_carries_under_10_mN() -> None:
+def test_the_integral_is_frozen_while_a_prong_carries_under_50_mN() -> None:
     gains = FeedbackGains(k=0.5, k_i=1.0, hold_off_contact=False, smoothing=0.0)
+    assert gains.contact_force == 0.05
     law = FeedbackLaw(gains, LEVER, dt=0.01)
     error = np.array([2e-3, 0.0, 0.0])  # an object ahead of the plan, not touched yet
-    twist = law.twist(error, np.array([0.2, 0.009]))
+    twist = law.twist(error, np.array([0.2, 0.049]))
     np.testing.assert_array_equal(law.integral, np.zeros(3))
     assert twist[0] == pytest.approx(0.5 * 2e-3)  # the P term still acts
-    law.twist(error, np.array([0.01, 0.01]))
+    law.twist(error, np.array([0.05, 0.05]))
     np.testing.assert_allclose(law.integral, 0.01 * error)
+
+
+def test_the_proxys_force_noise_on_an_unloaded_prong_leaves_the_seek_at_full_rate() -> None:
+    """The proxy's force estimate (σ = 20 mN at no load) on a prong that carries nothing:
+    at the 50 mN threshold the seek ramps up and turns at its full rate; at the first five
+    passes' 10 mN the prong reads loaded on about a third of the steps, each restarting the
+    ramp, and the seek turns at a tenth of its rate (docs/residual-and-feedback.md,
+    "Sixth pass")."""
+    from pushctl.episode.proxy import ProxyEffects
+
+    effects = ProxyEffects()
+    assert effects.force_noise_floor == 0.02
+    rng = np.random.default_rng(0)
+    readings = [effects.noisy_forces(np.array([0.0, 0.5]), rng) for _ in range(300)]
+    mean_rate = {}
+    for threshold in (0.01, 0.05):
+        gains = FeedbackGains(seek_rate=0.1, seek_ramp=0.2, smoothing=0.0, contact_force=threshold)
+        law = FeedbackLaw(gains, LEVER, dt=0.01, prongs=np.array([-0.035, 0.035]))
+        omega = [law.twist(np.zeros(3), reading)[2] for reading in readings]
+        mean_rate[threshold] = float(np.mean(omega[100:]))
+    assert mean_rate[0.05] > 0.09
+    assert mean_rate[0.01] < 0.02  # measured 0.0105 rad/s, against 0.0948 at 50 mN
 
 
 def test_an_angle_correction_moves_the_pusher_origin_as_a_point_of_the_object() -> None:

@@ -124,3 +124,40 @@ def test_a_fast_seek_keeps_the_wedge_on_both_prongs_where_the_slow_one_lost_it()
     loss = [push_all([env], s, gains)["contact_loss"].item() for s in (slow, fast)]
     assert loss[0] > 0.5
     assert loss[1] < 0.1
+
+
+def test_the_contact_rows_differ_only_in_the_threshold_and_the_yaw_bound() -> None:
+    from pushctl.evaluation.failure_study import CONTACT_SETTINGS, SEEK_SETTINGS
+
+    laws = CONTACT_SETTINGS[1:]
+    assert not CONTACT_SETTINGS[0].law
+    assert [(s.contact_force, s.angular_deg) for s in laws] == [
+        (0.01, 1.5),
+        (0.05, 1.5),
+        (0.01, 3.0),
+        (0.05, 3.0),
+        (0.05, 5.0),
+    ]
+    fifth = SEEK_SETTINGS[4]  # the fifth pass's law: seek 0.1 rad/s ramped over 0.2 s
+    keep = ("lateral_ratio", "seek_rate", "seek_ramp", "turn_ratio", "smoothing", "linear")
+    for setting in laws:
+        assert all(getattr(setting, name) == getattr(fifth, name) for name in keep)
+
+
+def test_on_the_proxy_a_50_mN_threshold_keeps_a_wedge_the_10_mN_one_lost() -> None:
+    """Tuning push 3119 (wedge, chirp) on the proxy: with the 10 mN threshold the noisy force
+    estimate keeps restarting the seek, the wedge turns away on one prong and the push fails;
+    at 50 mN it does not (docs/residual-and-feedback.md, "Sixth pass"). k = 0.35 /s,
+    k_i = 0, the gains the pass was measured with."""
+    from pushctl.control.feedback import FeedbackGains
+    from pushctl.evaluation.failure_study import CONTACT_SETTINGS, push_all
+    from pushctl.evaluation.tune_feedback import tuning_env
+    from pushctl.rl.env_config import EnvConfig
+
+    env = tuning_env(plant="proxy", config=EnvConfig())
+    env.reset(options={"object": "wedge", "profile": "chirp", "scenario_seed": 3119})
+    gains = FeedbackGains(k=0.35, k_i=0.0)
+    low, high = CONTACT_SETTINGS[1], CONTACT_SETTINGS[2]  # 10 and 50 mN, both at 1.5 deg
+    angle = [push_all([env], s, gains)["angle_pct"].item() for s in (low, high)]
+    assert angle[0] > 20.0
+    assert angle[1] < 5.0
