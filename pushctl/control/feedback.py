@@ -10,9 +10,9 @@ The integral is frozen while any prong's measured normal force is below ``contac
 would back the pusher away from it. The threshold sits above the noise of the proxy's force
 estimate (σ = 20 mN at no load, docs/design.md §9): at 10 mN an unloaded prong read as
 loaded on about a third of the steps, which restarted the contact seek's ramp and left the
-seek at a tenth of its rate (docs/residual-and-feedback.md, "Sixth pass"). With ``hold_off_contact`` (the default) the output is
-zero then too: on the ``reference`` path the output is the offset's rate, so its P term is an
-integrator as well.
+seek at a tenth of its rate (docs/residual-and-feedback.md, "Sixth pass"). With
+``hold_off_contact`` (the default) the output is zero then too: on the ``reference`` path the
+output is the offset's rate, so its P term is an integrator as well.
 
 The lateral part of the output (plan-frame y, across the push) is capped at ``lateral_ratio``
 times the plan's current speed: a pushed object is moved sideways only by the prongs'

@@ -145,10 +145,10 @@ def test_the_contact_rows_differ_only_in_the_threshold_and_the_yaw_bound() -> No
 
 
 def test_on_the_proxy_a_50_mN_threshold_keeps_a_wedge_the_10_mN_one_lost() -> None:
-    """Tuning push 3119 (wedge, chirp) on the proxy: with the 10 mN threshold the noisy force
-    estimate keeps restarting the seek, the wedge turns away on one prong and the push fails;
-    at 50 mN it does not (docs/residual-and-feedback.md, "Sixth pass"). k = 0.35 /s,
-    k_i = 0, the gains the pass was measured with."""
+    """Tuning push 3119 (wedge, chirp) on the proxy, under the 1.5° yaw bound: with the
+    10 mN threshold, which the proxy's noisy force estimate crosses on an unloaded prong, the
+    push fails (69 % angle error); at 50 mN it does not (1.2 %; docs/residual-and-feedback.md,
+    "Sixth pass"). k = 0.35 /s, k_i = 0, the gains the pass was measured with."""
     from pushctl.control.feedback import FeedbackGains
     from pushctl.evaluation.failure_study import CONTACT_SETTINGS, push_all
     from pushctl.evaluation.tune_feedback import tuning_env
