@@ -5,7 +5,10 @@ interval, and the ratio of the means.
 
 Run ``python -m pushctl.report.acceptance results/evaluation/trials.csv``: one Markdown table
 per plant. A cell *passes* on a metric when the paired difference's whole interval is below
-zero (RL lower on these trials beyond their noise).
+zero (RL lower on these trials beyond their noise). Beside it the table gives in how many of
+the cell's trials RL was lower: the interval is a mean's, so one trial where RL rescued a
+push PD-only failed (a difference of −100 % among differences of −2 %) can widen it past
+zero while RL is lower in nearly every trial (docs/results.md §0, the `sim` wedge constant).
 """
 
 from __future__ import annotations
@@ -25,8 +28,9 @@ KEYS = ["object", "profile", "plant", "trial"]
 
 def paired(trials: pd.DataFrame, plant: str, other: str = "pd") -> pd.DataFrame:
     """One row per (object, profile, policy seed) on ``plant``: for each metric of
-    :data:`METRICS`, RL's mean, ``other``'s mean, their ratio, and the paired difference
-    RL − other (mean and 95 % half-width over the trials both ran)."""
+    :data:`METRICS`, RL's mean, ``other``'s mean, their ratio, the paired difference
+    RL − other (mean and 95 % half-width over the trials both ran), and in how many of those
+    trials RL was lower (``_lower_in`` of ``_trials``)."""
     on_plant = trials[trials["plant"] == plant]
     base = on_plant[on_plant["controller"] == other].set_index(KEYS)
     rl = on_plant[on_plant["controller"] == "rl"]
@@ -54,6 +58,8 @@ def paired(trials: pd.DataFrame, plant: str, other: str = "pd") -> pd.DataFrame:
                     row[f"{metric}_ratio"] = row[f"{metric}_rl"] / row[f"{metric}_{other}"]
                     row[f"{metric}_diff"] = float(np.mean(diff))
                     row[f"{metric}_diff_ci95"] = ci95_halfwidth(diff)
+                    row[f"{metric}_lower_in"] = int(np.sum(diff < 0.0))
+                    row[f"{metric}_trials"] = int(diff.size)
                 rows.append(row)
     return pd.DataFrame(rows)
 
@@ -64,17 +70,19 @@ def passes(table: pd.DataFrame, metric: str) -> pd.Series:
 
 
 def markdown(table: pd.DataFrame, other: str) -> str:
-    """The rows as Markdown: ratios of the means, and whether RL is lower beyond the CI."""
+    """The rows as Markdown: ratios of the means, whether RL is lower beyond the CI, and in
+    how many trials it was lower."""
     lines = [
-        f"| object | profile | seed | translation RL/{other} | lower? | angle RL/{other} "
-        f"| lower? | force RL/{other} | lower? |",
+        f"| object | profile | seed | translation RL/{other} | lower?, in | angle RL/{other} "
+        f"| lower?, in | force RL/{other} | lower?, in |",
         "|---|---|---|---|---|---|---|---|---|",
     ]
     for _, row in table.iterrows():
         cells = [str(row["object"]), str(row["profile"]), str(row["policy_seed"])]
         for metric in METRICS:
             lower = row[f"{metric}_diff"] + row[f"{metric}_diff_ci95"] < 0.0
-            cells += [f"{row[f'{metric}_ratio']:.2f}", "yes" if lower else "no"]
+            count = f"{row[f'{metric}_lower_in']}/{row[f'{metric}_trials']}"
+            cells += [f"{row[f'{metric}_ratio']:.2f}", ("yes, " if lower else "no, ") + count]
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)
 

@@ -46,6 +46,25 @@ def test_the_command_prints_a_table_and_refuses_a_missing_file(tmp_path, capsys)
     path = tmp_path / "trials.csv"
     _trials().to_csv(path, index=False)
     assert main([str(path)]) == 0
-    assert "| cube | constant | 0 | 0.50 | yes |" in capsys.readouterr().out
+    assert "| cube | constant | 0 | 0.50 | yes, 10/10 |" in capsys.readouterr().out
     assert main([str(tmp_path / "none.csv")]) == 2
     assert "no file" in capsys.readouterr().err
+
+
+def test_a_rescued_failure_widens_the_interval_but_not_the_count() -> None:
+    """RL 2 points below PD-only in 19 trials of 20, and 100 points below in one (a push PD-only
+    failed): the mean's interval reaches past zero, the count says 20 of 20."""
+    rows = []
+    for trial in range(20):
+        pd_error = 5.0 + (0.5 if trial % 2 else -0.5) + (100.0 if trial == 0 else 0.0)
+        rl_error = pd_error - (100.0 if trial == 0 else 2.0)
+        for controller, seed, value in (("pd", None, pd_error), ("rl", 0, rl_error)):
+            rows.append(
+                {"object": "wedge", "profile": "constant", "plant": "sim",
+                 "controller": controller, "trial": trial, "policy_seed": seed,
+                 "translation_error_pct": value, "angle_error_pct": value, "force_error": value}
+            )  # fmt: skip
+    table = paired(pd.DataFrame(rows), "sim")
+    assert not passes(table, "angle_error_pct").item()
+    assert table["angle_error_pct_lower_in"].item() == 20
+    assert table["angle_error_pct_trials"].item() == 20
