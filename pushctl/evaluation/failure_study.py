@@ -18,6 +18,8 @@ seeds ``seed`` … ``seed + 6·per_case − 1``), never the evaluation's; the ga
   on ``PLANT`` (:data:`CONTACT_SETTINGS`, "Sixth pass");
 - ``ringing [SEED]``: what a command alternating every step does to each engine's contact
   (:func:`ringing`);
+- ``split PLANT OBJECT PROFILE SEED [SEED ...]``: where PD-only's and the law's force error
+  goes late in a push (:func:`force_split`, docs/plant-unknowns.md);
 - ``gains PLANT SEED PER_CASE K K_I [K K_I ...]``: today's law at several gains against
   PD-only per cell (:func:`gain_table`).
 """
@@ -123,18 +125,14 @@ SEEK_SETTINGS = (
 )
 """The rows of its "Fifth pass" seek table (``failure_study seek PLANT``)."""
 
-_FIFTH_PASS_LAW = {
-    "lateral_ratio": 0.05, "seek_rate": 0.1, "turn_ratio": 0.05, "smoothing": 0.1, "seek_ramp": 0.2
-}  # fmt: skip
 CONTACT_SETTINGS = (
     Setting("PD-only", law=False),
-    *(  # the fifth pass's law at each contact threshold [mN] and yaw bound [deg]
-        Setting(
-            f"{1e3 * force:g} mN, yaw bound {angular:g} deg",
-            linear=0.003,
+    *(  # the fifth pass's law (its ramped fast seek) at each contact threshold and yaw bound
+        replace(
+            SEEK_SETTINGS[4],
+            name=f"{1e3 * force:g} mN, yaw bound {angular:g} deg",
             angular_deg=angular,
             contact_force=force,
-            **_FIFTH_PASS_LAW,
         )
         for force, angular in ((0.01, 1.5), (0.05, 1.5), (0.01, 3.0), (0.05, 3.0), (0.05, 5.0))
     ),
@@ -225,15 +223,15 @@ def gain_table(
     bound = (env.config.offset_limit_linear, math.degrees(env.config.offset_limit_angular))
     law = Setting(
         "law",
-        True,
-        *bound,
-        base.lateral_ratio,
-        base.hold_off_contact,
-        base.seek_rate,
-        base.turn_ratio,
-        base.smoothing,
-        base.seek_ramp,
-        base.contact_force,
+        linear=bound[0],
+        angular_deg=bound[1],
+        lateral_ratio=base.lateral_ratio,
+        hold_off_contact=base.hold_off_contact,
+        seek_rate=base.seek_rate,
+        turn_ratio=base.turn_ratio,
+        smoothing=base.smoothing,
+        seek_ramp=base.seek_ramp,
+        contact_force=base.contact_force,
     )
     frames = [push_all(reset, Setting("PD-only", law=False), base).assign(controller="PD-only")]
     for k, k_i in gains:
@@ -242,6 +240,47 @@ def gain_table(
     columns = ["translation_pct", "angle_pct", "force_error", "contact_loss"]
     frame = pd.concat(frames)
     return frame.groupby(["controller", "object", "profile"], sort=False)[columns].mean()
+
+
+def force_split(
+    plant: str, object_name: str, profile: str, seeds: list[int], after: float = 4.0
+) -> pd.DataFrame:
+    """Where PD-only's and today's law's force error goes on the tuning pushes of ``seeds``
+    (``object_name``, ``profile``, ``plant``), from ``after`` [s] into the push to its end:
+    per push and controller, each prong's mean signed normal-force error (measured minus
+    the plant's needs) [mN], the total normal force's [mN] and the contact torque's
+    [mN·m] (docs/plant-unknowns.md: an equal and opposite split with the right total and
+    torque is what a contact spot across the face other than the reference's gives); and
+    before ``after``, the force error as the metric has it (mean over steps and prongs of
+    the force vector's error) [mN]."""
+    env = tuning_env(plant=plant, config=EnvConfig())
+    gains = load_feedback_gains()
+    rows = []
+    for seed in seeds:
+        env.reset(options={"object": object_name, "profile": profile, "scenario_seed": seed})
+        for controller in ("PD-only", "law"):
+            push = copy.deepcopy(env)
+            episode = push.episode
+            assert episode is not None
+            if controller == "law":
+                finish_with_policy(push, FeedbackActor(push, gains))
+                trace = episode.trace()
+            else:
+                trace = episode.finish()
+            t = np.asarray(trace.t)
+            late = t >= after
+            early = ~late & (t > 0.0)  # the metrics skip the first row too
+            error = np.asarray(trace.contact_forces) - np.asarray(trace.desired_forces)
+            normal = error[late, :, 0]
+            torque = np.asarray(trace.contact_torque) - np.asarray(trace.desired_torque)
+            row: dict[str, object] = {"seed": seed, "controller": controller}
+            for prong, mean in enumerate(normal.mean(axis=0), start=1):
+                row[f"normal_{prong}_mN"] = 1e3 * mean
+            row["total_normal_mN"] = 1e3 * normal.sum(axis=1).mean()
+            row["torque_mNm"] = 1e3 * torque[late].mean()
+            row["force_error_before_mN"] = 1e3 * np.linalg.norm(error[early], axis=-1).mean()
+            rows.append(row)
+    return pd.DataFrame(rows)
 
 
 SEEK_ACTION = np.array([0.07, 0.0, -0.2], dtype=np.float32)
@@ -287,6 +326,10 @@ def main(argv: list[str]) -> None:  # pragma: no cover - prints the table
         values = [float(v) for v in argv[4:]]
         pairs = list(zip(values[::2], values[1::2], strict=True))
         print(gain_table(plant, seed, per_case, pairs).round(3).to_string())
+        return
+    if argv and argv[0] == "split":  # split PLANT OBJECT PROFILE SEED [SEED ...]
+        seeds = [int(a) for a in argv[4:]]
+        print(force_split(argv[1], argv[2], argv[3], seeds).round(2).to_string(index=False))
         return
     if argv and argv[0] == "ringing":  # ringing [SEED]
         print(ringing(*(int(a) for a in argv[1:2])).round(4).to_string(index=False))

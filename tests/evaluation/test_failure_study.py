@@ -5,6 +5,18 @@ translation error."""
 from __future__ import annotations
 
 from pushctl.evaluation.failure_study import SETTINGS, study
+from pushctl.rl.env import PushEnv
+
+
+def _tuning_push(plant: str, object_name: str, profile: str, seed: int) -> PushEnv:
+    """The tuning-stream push ``seed`` on ``plant``, reset (approach run) with today's
+    environment defaults; the study's settings set their own offset bound."""
+    from pushctl.evaluation.tune_feedback import tuning_env
+    from pushctl.rl.env_config import EnvConfig
+
+    env = tuning_env(plant=plant, config=EnvConfig())
+    env.reset(options={"object": object_name, "profile": profile, "scenario_seed": seed})
+    return env
 
 
 def test_the_study_counts_per_object_and_the_default_law_beats_pd_on_the_cube() -> None:
@@ -114,11 +126,8 @@ def test_a_fast_seek_keeps_the_wedge_on_both_prongs_where_the_slow_one_lost_it()
     pass"). The fourth pass's k and k_i, whatever the gains file holds."""
     from pushctl.control.feedback import FeedbackGains
     from pushctl.evaluation.failure_study import SEEK_SETTINGS, push_all
-    from pushctl.evaluation.tune_feedback import tuning_env
-    from pushctl.rl.env_config import EnvConfig
 
-    env = tuning_env(plant="sim", config=EnvConfig())
-    env.reset(options={"object": "wedge", "profile": "trapezoid", "scenario_seed": 2180})
+    env = _tuning_push("sim", "wedge", "trapezoid", 2180)
     gains = FeedbackGains(k=0.35, k_i=0.014142135623730949)
     slow, fast = SEEK_SETTINGS[1], SEEK_SETTINGS[4]
     loss = [push_all([env], s, gains)["contact_loss"].item() for s in (slow, fast)]
@@ -151,13 +160,26 @@ def test_on_the_proxy_a_50_mN_threshold_keeps_a_wedge_the_10_mN_one_lost() -> No
     "Sixth pass"). k = 0.35 /s, k_i = 0, the gains the pass was measured with."""
     from pushctl.control.feedback import FeedbackGains
     from pushctl.evaluation.failure_study import CONTACT_SETTINGS, push_all
-    from pushctl.evaluation.tune_feedback import tuning_env
-    from pushctl.rl.env_config import EnvConfig
 
-    env = tuning_env(plant="proxy", config=EnvConfig())
-    env.reset(options={"object": "wedge", "profile": "chirp", "scenario_seed": 3119})
+    env = _tuning_push("proxy", "wedge", "chirp", 3119)
     gains = FeedbackGains(k=0.35, k_i=0.0)
     low, high = CONTACT_SETTINGS[1], CONTACT_SETTINGS[2]  # 10 and 50 mN, both at 1.5 deg
     angle = [push_all([env], s, gains)["angle_pct"].item() for s in (low, high)]
     assert angle[0] > 20.0
     assert angle[1] < 5.0
+
+
+def test_late_in_a_cube_push_the_force_error_is_an_equal_and_opposite_split() -> None:
+    """Tuning push 2000 (cube, constant, sim), from 4 s on: for PD-only and the law the
+    prongs' normal-force errors have opposite signs and nearly cancel, and the contact
+    torque matches the reference (docs/plant-unknowns.md)."""
+    from pushctl.evaluation.failure_study import force_split
+
+    table = force_split("sim", "cube", "constant", [2000])
+    assert list(table["controller"]) == ["PD-only", "law"]
+    for _, row in table.iterrows():
+        first, second = row["normal_1_mN"], row["normal_2_mN"]
+        assert first * second < 0.0 and min(abs(first), abs(second)) > 5.0
+        assert abs(row["total_normal_mN"]) < 0.2 * max(abs(first), abs(second))
+        assert abs(row["torque_mNm"]) < 0.1
+        assert row["force_error_before_mN"] > 0.0
