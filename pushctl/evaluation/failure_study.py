@@ -71,6 +71,18 @@ class Setting:
     contact_force: float = 0.01  # the first five passes' threshold
 
 
+LAW_FIELDS = (
+    "lateral_ratio",
+    "hold_off_contact",
+    "seek_rate",
+    "turn_ratio",
+    "smoothing",
+    "seek_ramp",
+    "contact_force",
+)
+"""The settings a :class:`Setting` and :class:`FeedbackGains` share (the rest of a row's law
+is the gains' k and k_i)."""
+
 SETTINGS = (
     Setting("PD-only", law=False),
     Setting("law, offset unbounded"),
@@ -144,16 +156,7 @@ def push_all(reset: list[PushEnv], setting: Setting, gains: FeedbackGains) -> pd
     """Every push of ``reset`` (a copy of it) under ``setting``: object, translation and
     angle error [%], and whether it failed."""
     limit = (setting.linear, math.radians(setting.angular_deg))
-    law = replace(
-        gains,
-        lateral_ratio=setting.lateral_ratio,
-        hold_off_contact=setting.hold_off_contact,
-        seek_rate=setting.seek_rate,
-        turn_ratio=setting.turn_ratio,
-        smoothing=setting.smoothing,
-        seek_ramp=setting.seek_ramp,
-        contact_force=setting.contact_force,
-    )
+    law = replace(gains, **{name: getattr(setting, name) for name in LAW_FIELDS})
     rows = []
     for member in reset:
         env = copy.deepcopy(member)
@@ -221,18 +224,8 @@ def gain_table(
     reset = reset_pushes(env, seed, OBJECT_NAMES, PROFILE_NAMES, per_case)
     base = load_feedback_gains()
     bound = (env.config.offset_limit_linear, math.degrees(env.config.offset_limit_angular))
-    law = Setting(
-        "law",
-        linear=bound[0],
-        angular_deg=bound[1],
-        lateral_ratio=base.lateral_ratio,
-        hold_off_contact=base.hold_off_contact,
-        seek_rate=base.seek_rate,
-        turn_ratio=base.turn_ratio,
-        smoothing=base.smoothing,
-        seek_ramp=base.seek_ramp,
-        contact_force=base.contact_force,
-    )
+    fields = {name: getattr(base, name) for name in LAW_FIELDS}
+    law = Setting("law", linear=bound[0], angular_deg=bound[1], **fields)
     frames = [push_all(reset, Setting("PD-only", law=False), base).assign(controller="PD-only")]
     for k, k_i in gains:
         frame = push_all(reset, law, replace(base, k=k, k_i=k_i))
