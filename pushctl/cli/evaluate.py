@@ -3,6 +3,7 @@ steps are in :mod:`pushctl.cli.evaluate_steps`."""
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Annotated
 
@@ -104,10 +105,15 @@ def evaluate(
             from pushctl.control.feedback import DEFAULT_FEEDBACK_FILE, load_feedback_gains
 
             law = load_feedback_gains()
+            guard = (
+                f", slide guard {1e3 * law.slide_limit:g} mm over {law.slide_filter:g} s"
+                if math.isfinite(law.slide_limit)
+                else ""
+            )
             extra += (
                 f"; feedback k {law.k:g} /s, k_i {law.k_i:g} /s², lateral_ratio "
                 f"{law.lateral_ratio:g}, seek {law.seek_rate:g} rad/s over {law.seek_ramp:g} s, "
-                f"turn_ratio {law.turn_ratio:g}, smoothing {law.smoothing:g} s "
+                f"turn_ratio {law.turn_ratio:g}, smoothing {law.smoothing:g} s{guard} "
                 f"({DEFAULT_FEEDBACK_FILE.name})"
             )
         # --workers changes no byte of the results, so the files do not record it either

@@ -45,6 +45,22 @@ threshold for a step at a time, a seek at full rate from the first step lost con
 15 % of the wedge's steps and failed 4 of 30 tuning pushes; ramped, 5 % and 1 (the slow
 seek's 6 % and 1).
 
+An optional slide guard (``slide_limit``, off by default) stops the sideways output where
+it would slide the prongs along the face: with both prongs sticking, a sideways correction
+carries the object with the plate, but on the wedge's slanted face the prongs sit on the
+friction cone's edge, and a correction the object does not follow slides them instead. The
+law reads where the prongs sit across the push, relative to the plan's spot, from the
+observation (the offset plus the pose error carried to the pusher, :meth:`FeedbackLaw.slide`),
+through a lag of ``slide_filter`` (1 s); once that has moved ``slide_limit`` from where it
+was two lags after the prongs landed, the law no longer pushes sideways that way, and the
+sideways error's integral stops growing. Unguarded, on sim tuning push 20412 (wedge, chirp)
+the sideways integral held the output at its cap for 7 s while the object's sideways error
+stayed at 0.1 mm; the prongs slid 0.9 mm along the face, one came off at its edge and the
+wedge spun away (27 % angle error; PD-only 3.2 %). At 0.5 mm the guard keeps that push
+(0.3 %), but on MuJoCo, whose soft contact creeps along the face, it blocks the sideways
+corrections and costs 46-50 % of the law's translation error, so it is off
+(docs/residual-and-feedback.md, "Seventh pass").
+
 The output is a residual twist like a policy's: it goes through the same residual path
 (:mod:`pushctl.control.residual`). On the ``reference`` path it is the rate of the reference
 offset, so the offset is k ∫ e + k_i ∬ e: integral and double-integral action on the pose.
@@ -79,7 +95,11 @@ class FeedbackGains:
     others carry load (0: hold still then too), reached ``seek_ramp`` [s] after a prong
     came off (0: at once). ``turn_ratio`` [-]: the object turn's cap, as the speed it gives
     the farthest prong about the object's centre over the plan's speed (``inf``: no cap).
-    ``smoothing`` [s]: the time constant of a first-order lag on the output (0: none)."""
+    ``smoothing`` [s]: the time constant of a first-order lag on the output (0: none).
+    ``slide_limit`` [m]: how far the prongs may have moved across the push from where they
+    landed before the law stops pushing sideways that way (``inf``, the default: never
+    stops), as read through a first-order lag of ``slide_filter`` [s] (0: none; the
+    proxy's camera has σ = 1 mm)."""
 
     k: float = 0.5
     k_i: float = 0.0
@@ -90,18 +110,28 @@ class FeedbackGains:
     seek_ramp: float = 0.2
     turn_ratio: float = 0.05
     smoothing: float = 0.1
+    slide_limit: float = math.inf
+    slide_filter: float = 1.0
 
     def __post_init__(self) -> None:
         if not isinstance(self.hold_off_contact, bool):
             raise ConfigError(
                 f"feedback hold_off_contact must be true or false, got {self.hold_off_contact!r}"
             )
-        for name in ("k", "k_i", "contact_force", "seek_rate", "seek_ramp", "smoothing"):
+        for name in (
+            "k",
+            "k_i",
+            "contact_force",
+            "seek_rate",
+            "seek_ramp",
+            "smoothing",
+            "slide_filter",
+        ):
             value = getattr(self, name)
             ok = isinstance(value, int | float) and not isinstance(value, bool)
             if not ok or not math.isfinite(value) or value < 0.0:
                 raise ConfigError(f"feedback {name} must be a finite number >= 0, got {value!r}")
-        for name in ("lateral_ratio", "turn_ratio"):
+        for name in ("lateral_ratio", "turn_ratio", "slide_limit"):
             ratio = getattr(self, name)
             if isinstance(ratio, bool) or not isinstance(ratio, int | float) or not ratio >= 0.0:
                 raise ConfigError(
@@ -127,6 +157,8 @@ def load_feedback_gains(path: str | Path | None = None) -> FeedbackGains:
         "seek_ramp",
         "turn_ratio",
         "smoothing",
+        "slide_limit",
+        "slide_filter",
     ]
     check_keys(table, names, f"{path} [feedback]", all_required=False)
     return FeedbackGains(**table)
@@ -155,24 +187,47 @@ class FeedbackLaw:
         self.integral = np.zeros(3)
         self.output = np.zeros(3)
         self.seeking_for = 0.0  # [s] since the law last saw every prong loaded or none
+        self.landed: float | None = None  # [m] :meth:`slide` when every prong first carried load
+        self.slide_now: float | None = None  # [m] :meth:`slide` through the guard's lag
+        self.since_landing = 0.0  # [s]
 
     def twist(
-        self, error: np.ndarray, normal_forces: np.ndarray, speed: float | None = None
+        self,
+        error: np.ndarray,
+        normal_forces: np.ndarray,
+        speed: float | None = None,
+        offset: np.ndarray | None = None,
     ) -> np.ndarray:
         """The pusher twist (3,) [m/s, m/s, rad/s], plan frame, for the pose ``error`` (3,)
         [m, m, rad] (planned minus actual) and the prongs' measured ``normal_forces`` (k,) [N];
         integrates the error unless a prong is below the contact threshold. ``speed`` [m/s]:
-        the plan's object speed now, which caps the sideways rate (None: no cap). With
-        ``smoothing`` τ > 0 the output follows the law through a first-order lag of τ."""
-        raw = self._law(error, normal_forces, speed)
+        the plan's object speed now, which caps the sideways rate (None: no cap). ``offset``
+        (3,) [m, m, rad]: the pusher reference's offset built so far (the ``reference`` path),
+        which the slide guard needs (None: no guard). With ``smoothing`` τ > 0 the output
+        follows the law through a first-order lag of τ."""
+        raw = self._law(error, normal_forces, speed, offset)
         tau = self.gains.smoothing
         if tau <= 0.0:
             return raw
         self.output = self.output + (self.dt / (tau + self.dt)) * (raw - self.output)
         return self.output.copy()
 
+    def slide(self, error: np.ndarray, offset: np.ndarray) -> float:
+        """Where the pusher sits across the push on the object, relative to the plan's spot
+        [m], from the pose ``error`` (3,) and the reference ``offset`` (3,): the pusher is
+        at the plan's pusher position plus the offset and the object at the plan's pose
+        minus the error, so in the object's frame the pusher origin is the plan's lever plus
+        offset + error + e_θ ẑ × lever (first order in e_θ); this is its y. Off the true spot
+        by the PD's own tracking error (0.2 mm on push 20412), which changes slowly: the guard
+        reads how this moves, not its value."""
+        return float(offset[1] + error[1] + error[2] * self.lever[0])
+
     def _law(
-        self, error: np.ndarray, normal_forces: np.ndarray, speed: float | None = None
+        self,
+        error: np.ndarray,
+        normal_forces: np.ndarray,
+        speed: float | None = None,
+        offset: np.ndarray | None = None,
     ) -> np.ndarray:
         """The law's twist before the lag (:meth:`twist`)."""
         gains = self.gains
@@ -181,8 +236,29 @@ class FeedbackLaw:
         all_loaded = bool(loaded.all())
         seeking = not all_loaded and bool(loaded.any())  # some prongs carry load, not all
         self.seeking_for = self.seeking_for + self.dt if seeking else 0.0
+        # how far the prongs have moved across the push since they landed [m] (0: no guard)
+        slid = 0.0
+        if offset is not None and math.isfinite(gains.slide_limit):
+            now = self.slide(error, np.asarray(offset, dtype=float))
+            if self.slide_now is None:
+                if all_loaded:  # the lag starts where the prongs landed
+                    self.slide_now = now
+                    self.since_landing = 0.0
+            else:
+                tau = gains.slide_filter
+                self.slide_now += (self.dt / (tau + self.dt)) * (now - self.slide_now)
+                self.since_landing += self.dt
+                if self.landed is None and self.since_landing >= 2.0 * tau:
+                    self.landed = self.slide_now
+            if self.landed is not None:
+                slid = self.slide_now - self.landed
+        guarded = abs(slid) >= gains.slide_limit  # a push sideways the way they slid is barred
         if all_loaded:
-            self.integral = self.integral + self.dt * error
+            step = self.dt * error
+            if guarded and step[1] * slid > 0.0:
+                # an e_y of the sign they slid asks for more output that way: hold it there
+                step[1] = 0.0
+            self.integral = self.integral + step
         elif gains.hold_off_contact:
             if seeking and self.prongs is not None and gains.seek_rate > 0.0:
                 return self._seek(loaded)
@@ -196,6 +272,8 @@ class FeedbackLaw:
         if speed is not None and math.isfinite(gains.lateral_ratio):
             cap = gains.lateral_ratio * abs(speed)
             lateral = min(max(lateral, -cap), cap)
+        if guarded and lateral * slid > 0.0:
+            lateral = 0.0
         return np.array([u[0] - u[2] * r_y, lateral, u[2]])
 
     def _seek(self, loaded: np.ndarray) -> np.ndarray:

@@ -16,6 +16,8 @@ seeds ``seed`` … ``seed + 6·per_case − 1``), never the evaluation's; the ga
   (:data:`SEEK_SETTINGS`, docs/residual-and-feedback.md "Fifth pass");
 - ``contact PLANT [SEED PER_CASE K K_I]``: the contact threshold and the offset's yaw bound
   on ``PLANT`` (:data:`CONTACT_SETTINGS`, "Sixth pass");
+- ``slide PLANT [SEED PER_CASE K K_I]``: the slide guard's limit and lag on ``PLANT``
+  (:data:`SLIDE_SETTINGS`, "Seventh pass");
 - ``ringing [SEED]``: what a command alternating every step does to each engine's contact
   (:func:`ringing`);
 - ``split PLANT OBJECT PROFILE SEED [SEED ...]``: where PD-only's and the law's force error
@@ -55,8 +57,9 @@ FAILED_TRANSLATION_PCT = 3.0
 @dataclass(frozen=True)
 class Setting:
     """One row of the study: the law with ``lateral_ratio``, ``hold_off_contact``,
-    ``seek_rate``, ``turn_ratio``, ``smoothing``, ``seek_ramp`` and ``contact_force`` [N]
-    under the offset bound (``linear`` [m], ``angular`` [deg]); ``law`` False: PD-only."""
+    ``seek_rate``, ``turn_ratio``, ``smoothing``, ``seek_ramp``, ``contact_force`` [N],
+    ``slide_limit`` [m] and ``slide_filter`` [s] under the offset bound (``linear`` [m],
+    ``angular`` [deg]); ``law`` False: PD-only."""
 
     name: str
     law: bool = True
@@ -69,6 +72,8 @@ class Setting:
     smoothing: float = 0.0
     seek_ramp: float = 0.0
     contact_force: float = 0.01  # the first five passes' threshold
+    slide_limit: float = math.inf  # the first six passes had no slide guard
+    slide_filter: float = 1.0
 
 
 LAW_FIELDS = (
@@ -79,6 +84,8 @@ LAW_FIELDS = (
     "smoothing",
     "seek_ramp",
     "contact_force",
+    "slide_limit",
+    "slide_filter",
 )
 """The settings a :class:`Setting` and :class:`FeedbackGains` share (the rest of a row's law
 is the gains' k and k_i)."""
@@ -150,6 +157,21 @@ CONTACT_SETTINGS = (
     ),
 )
 """The rows of its "Sixth pass" table (``failure_study contact PLANT``)."""
+
+SLIDE_SETTINGS = (
+    Setting("PD-only", law=False),
+    replace(CONTACT_SETTINGS[4], name="sixth-pass law, no slide guard"),
+    *(  # the sixth pass's law (50 mN, 3 deg) with the guard at each limit and lag
+        replace(
+            CONTACT_SETTINGS[4],
+            name=f"slide guard {1e3 * limit:g} mm, lag {lag:g} s",
+            slide_limit=limit,
+            slide_filter=lag,
+        )
+        for limit, lag in ((0.0005, 0.0), (0.0005, 1.0), (0.0005, 2.0), (0.001, 1.0))
+    ),
+)
+"""The rows of its "Seventh pass" table (``failure_study slide PLANT``)."""
 
 
 def push_all(reset: list[PushEnv], setting: Setting, gains: FeedbackGains) -> pd.DataFrame:
@@ -336,6 +358,8 @@ def main(argv: list[str]) -> None:  # pragma: no cover - prints the table
         settings, plant, argv = SEEK_SETTINGS, argv[1], argv[2:]
     elif argv and argv[0] == "contact":  # contact PLANT [SEED PER_CASE K K_I]
         settings, plant, argv = CONTACT_SETTINGS, argv[1], argv[2:]
+    elif argv and argv[0] == "slide":  # slide PLANT [SEED PER_CASE K K_I]
+        settings, plant, argv = SLIDE_SETTINGS, argv[1], argv[2:]
     seed = int(argv[0]) if argv else 1000
     per_case = int(argv[1]) if len(argv) > 1 else 20
     gains = None

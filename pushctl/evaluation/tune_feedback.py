@@ -187,7 +187,9 @@ def feedback_toml(
     lines += [f"seek_rate = {_toml(float(base.seek_rate))}"]
     lines += [f"seek_ramp = {_toml(float(base.seek_ramp))}"]
     lines += [f"turn_ratio = {_toml(float(base.turn_ratio))}"]
-    lines += [f"smoothing = {_toml(float(base.smoothing))}", "", "[search]"]
+    lines += [f"smoothing = {_toml(float(base.smoothing))}"]
+    lines += [f"slide_limit = {_toml(float(base.slide_limit))}"]
+    lines += [f"slide_filter = {_toml(float(base.slide_filter))}", "", "[search]"]
     lines += [f"{key} = {_toml(value)}" for key, value in record.items()]
     return "\n".join(lines) + "\n"
 

@@ -51,6 +51,12 @@ class FeedbackActor:
         )
         self._error = [where["error_x"], where["error_y"], where["error_theta"]]
         self._normal = [where[f"force_n_{i + 1}"] for i in range(plan.pusher.n_prongs)]
+        # the reference offset, when the observation has it (the slide guard reads it)
+        self._offset = (
+            [where["offset_x"], where["offset_y"], where["offset_theta"]]
+            if "offset_x" in where
+            else None
+        )
         config = env.config
         velocity = plan.trajectory.velocity
         self._speed = np.hypot(velocity[:, 0], velocity[:, 1])  # (N + 1,) [m/s]
@@ -63,7 +69,8 @@ class FeedbackActor:
         episode = self._env.episode
         assert episode is not None
         speed = self._speed[min(episode.step_index, self._speed.size - 1)]
-        return self.law.twist(obs[self._error], obs[self._normal], float(speed))
+        offset = None if self._offset is None else obs[self._offset]
+        return self.law.twist(obs[self._error], obs[self._normal], float(speed), offset)
 
     def __call__(self, observation: np.ndarray) -> np.ndarray:
         return np.clip(self.twist(observation) / self._scale, -1.0, 1.0)

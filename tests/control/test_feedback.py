@@ -158,12 +158,72 @@ def test_with_one_prong_off_the_plate_turns_about_the_loaded_one_ramping_up() ->
         FeedbackGains(seek_ramp=-1.0)
 
 
+def test_slide_reads_where_the_pusher_sits_across_the_push() -> None:
+    """offset_y + e_y + e_θ · lever_x: a 2 mm offset, 0.5 mm of sideways error and 0.01 rad
+    of heading error with the pusher 30 mm behind the centre put it 2.2 mm across."""
+    law = FeedbackLaw(FeedbackGains(), LEVER, dt=0.01)
+    error = np.array([1e-3, 0.5e-3, 0.01])
+    offset = np.array([0.3e-3, 2e-3, 0.0])
+    assert law.slide(error, offset) == pytest.approx(2e-3 + 0.5e-3 - 0.01 * 0.03)
+
+
+def _object_stays(law: FeedbackLaw, error: np.ndarray, seconds: float) -> np.ndarray:
+    """Run ``law`` for ``seconds`` on the reference path while the object does not follow
+    the pusher (the error stays ``error``): the offset integrates the output, so the
+    prongs slide along the face. Returns the offset (3,) [m, m, rad]."""
+    offset = np.zeros(3)
+    for _ in range(round(seconds / law.dt)):
+        offset += law.dt * law.twist(error, TOUCHING, offset=offset)
+    return offset
+
+
+def test_the_slide_guard_stops_pushing_sideways_the_way_the_prongs_slid() -> None:
+    """An object 1 mm to the side that does not follow the plate: the law pushes sideways
+    at 1 mm/s until the prongs have slid 0.5 mm from where they landed, then stops pushing
+    that way and stops integrating that error. Unguarded it slides on; without the offset
+    in the observation the law has no guard."""
+    gains = FeedbackGains(k=1.0, k_i=0.5, smoothing=0.0, lateral_ratio=math.inf)
+    guarded = FeedbackLaw(replace(gains, slide_limit=0.5e-3, slide_filter=0.0), LEVER, 0.01)
+    error = np.array([0.0, -1e-3, 0.0])
+    offset = _object_stays(guarded, error, 2.0)
+    assert -0.6e-3 < offset[1] < -0.5e-3  # stopped within a step or two of the limit
+    integral = guarded.integral.copy()
+    assert guarded.twist(error, TOUCHING, offset=offset)[1] == 0.0
+    assert guarded.integral[1] == integral[1] and guarded.integral[0] == integral[0]
+    free = FeedbackLaw(replace(gains, slide_limit=math.inf), LEVER, 0.01)
+    assert _object_stays(free, error, 2.0)[1] < -3e-3  # unguarded, it slides on
+    unseen = FeedbackLaw(replace(gains, slide_limit=0.5e-3, slide_filter=0.0), LEVER, 0.01)
+    for _ in range(200):  # without the offset in the observation there is no guard
+        twist = unseen.twist(error, TOUCHING)
+    assert twist[1] < -1e-3
+
+
+def test_the_slide_guard_reads_the_slide_through_its_lag_from_two_lags_after_landing() -> None:
+    """With a 1 s lag the landing spot is taken 2 s after the prongs first both carry load
+    (the proxy's camera has σ = 1 mm); until then the law pushes sideways unguarded, and
+    it stops once the lagged slide has moved 0.5 mm on from there."""
+    gains = FeedbackGains(k=1.0, k_i=0.0, smoothing=0.0, lateral_ratio=math.inf)
+    law = FeedbackLaw(replace(gains, slide_limit=0.5e-3, slide_filter=1.0), LEVER, 0.01)
+    error = np.array([0.0, 1e-3, 0.0])
+    offset = _object_stays(law, error, 1.9)
+    assert law.landed is None and offset[1] == pytest.approx(1.9e-3, rel=1e-6)
+    offset = _object_stays(law, error, 6.0)
+    assert law.landed is not None
+    assert law.twist(error, TOUCHING, offset=offset)[1] == 0.0
+    assert law.slide_now - law.landed >= 0.5e-3
+
+
 def test_gains_file_round_trip_and_bad_values(tmp_path: Path) -> None:
     path = tmp_path / "gains.toml"
     path.write_text("[feedback]\nk = 0.7\nk_i = 0.1\ncontact_force = 0.01\n")
     assert load_feedback_gains(path) == FeedbackGains(0.7, 0.1, 0.01, hold_off_contact=True)
     path.write_text("[feedback]\nk = 0.7\nlateral_ratio = inf\n")
     assert load_feedback_gains(path).lateral_ratio == math.inf
+    path.write_text("[feedback]\nslide_limit = inf\nslide_filter = 0.5\n")
+    assert load_feedback_gains(path).slide_limit == math.inf
+    path.write_text("[feedback]\nslide_limit = -1.0\n")
+    with pytest.raises(ConfigError, match="slide_limit must be a number >= 0"):
+        load_feedback_gains(path)
     path.write_text("[feedback]\nk = -1.0\n")
     with pytest.raises(ConfigError, match="feedback k must be a finite number >= 0"):
         load_feedback_gains(path)

@@ -4,6 +4,9 @@ translation error."""
 
 from __future__ import annotations
 
+import math
+from dataclasses import replace
+
 from pushctl.evaluation.failure_study import SETTINGS, study
 from pushctl.rl.env import PushEnv
 
@@ -83,7 +86,6 @@ def test_mujocos_contact_rings_under_a_command_alternating_each_step() -> None:
 
 def test_the_lagged_law_keeps_contact_on_mujoco() -> None:
     import copy
-    from dataclasses import replace
 
     from pushctl.control.feedback import load_feedback_gains
     from pushctl.episode.metrics import compute_metrics
@@ -183,3 +185,38 @@ def test_late_in_a_cube_push_the_force_error_is_an_equal_and_opposite_split() ->
         assert abs(row["total_normal_mN"]) < 0.2 * max(abs(first), abs(second))
         assert abs(row["torque_mNm"]) < 0.1
         assert row["force_error_before_mN"] > 0.0
+
+
+def test_the_slide_rows_differ_only_in_the_guard() -> None:
+    from pushctl.evaluation.failure_study import CONTACT_SETTINGS, SLIDE_SETTINGS
+
+    laws = SLIDE_SETTINGS[1:]
+    assert not SLIDE_SETTINGS[0].law
+    assert [(s.slide_limit, s.slide_filter) for s in laws[1:]] == [
+        (0.0005, 0.0),
+        (0.0005, 1.0),
+        (0.0005, 2.0),
+        (0.001, 1.0),
+    ]
+    assert laws[0].slide_limit == math.inf
+    sixth = CONTACT_SETTINGS[4]  # the sixth pass's law: 50 mN, 3 deg
+    for setting in laws:
+        assert replace(setting, name="", slide_limit=0.0, slide_filter=0.0) == replace(
+            sixth, name="", slide_limit=0.0, slide_filter=0.0
+        )
+
+
+def test_the_slide_guard_keeps_a_wedge_whose_prongs_the_law_slid_off() -> None:
+    """Tuning push 20412 (wedge, chirp, sim): unguarded, the law's sideways integral slides
+    the prongs 0.9 mm along the face in 7 s, one comes off and the wedge spins away (27 %
+    angle error); with the guard (0.5 mm, lag 1 s) the push ends at 0.3 %
+    (docs/residual-and-feedback.md, "Seventh pass"). k = 1.0 /s, k_i = 0.1 /s²."""
+    from pushctl.control.feedback import FeedbackGains
+    from pushctl.evaluation.failure_study import SLIDE_SETTINGS, push_all
+
+    env = _tuning_push("sim", "wedge", "chirp", 20412)
+    gains = FeedbackGains(k=1.0, k_i=0.1)
+    unguarded, guarded = SLIDE_SETTINGS[1], SLIDE_SETTINGS[3]
+    angle = [push_all([env], s, gains)["angle_pct"].item() for s in (unguarded, guarded)]
+    assert angle[0] > 20.0
+    assert angle[1] < 2.0
