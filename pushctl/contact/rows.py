@@ -17,7 +17,7 @@ import numpy as np
 from pushctl.contact.step_end import prong_geometry
 from pushctl.objects.geometry import ConvexPolygon
 
-__all__ = ["edge_array", "mask_indices", "prong_contacts", "prong_geometry"]
+__all__ = ["PRONG_ROWS", "edge_array", "mask_indices", "prong_contacts", "prong_geometry"]
 
 
 def edge_array(polygon: ConvexPolygon) -> np.ndarray:
@@ -60,3 +60,7 @@ def _indices(mask: int) -> tuple[int, ...]:
 _MASKS = {mask: _indices(mask) for mask in range(1, 16)}
 """Prong index tuples of the contact masks of up to four prongs (no contact: the empty
 tuple, which ``or`` sends to :func:`_indices`)."""
+
+PRONG_ROWS = {prongs: np.array(prongs, dtype=np.intp) for prongs in ((), *_MASKS.values())}
+"""The rows (index arrays) of each set of up to four prongs in contact (none included),
+kept: ``take`` with one is faster than indexing with a fresh list (World._step_inputs)."""
