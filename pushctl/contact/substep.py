@@ -243,7 +243,7 @@ class SubstepSolver:
             if status == SLIP_UNSETTLED:  # the step keeps its first solution and its boxes
                 self._start_slip_state()
                 self.stats.slip_unsettled += 1
-            _, _, residual, v_arm, v_obj, contact_forces = solved
+            residual, v_arm, v_obj, contact_forces = solved
             converged, n_iterations = True, 0
             self.object_velocity, self.object_pose = v_obj, pose
         else:
@@ -332,8 +332,18 @@ class SubstepSolver:
         self._last_prongs, self._last_p = prongs, result.p
 
 
+class WarmSolve(NamedTuple):
+    """What the step reads of a verified compiled warm solve it may keep (its impulses are
+    not returned by :func:`warm_slip_step`): the fields of an :class:`MLCPResult` that
+    :meth:`SubstepSolver._substep` reads."""
+
+    residual: float
+    converged: bool = True
+    iterations: int = 0
+
+
 def _warm_solution(solved: tuple) -> tuple:
-    """(MLCPResult, v_arm, v_obj, forces) of a verified compiled warm solve's
-    ``(p, w, residual, v_arm, v_obj, forces)``."""
-    p, w, residual, v_arm, v_obj, forces = solved
-    return MLCPResult(p, w, residual, 0, True, "warm-start"), v_arm, v_obj, forces
+    """(WarmSolve, v_arm, v_obj, forces) of a verified compiled warm solve's
+    ``(residual, v_arm, v_obj, forces)``."""
+    residual, v_arm, v_obj, forces = solved
+    return WarmSolve(residual), v_arm, v_obj, forces
