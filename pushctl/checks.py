@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from pushctl.errors import StateError
@@ -23,7 +25,10 @@ def finite_vector(name: str, value, n: int) -> np.ndarray:
             raise StateError(f"{accepted}, got {type(value).__name__} {value!r:.40}") from None
         if array.shape != (n,):
             raise StateError(f"{accepted}, got shape {array.shape}")
-    if not np.isfinite(array).all():
+    # A finite sum of the entries means none is NaN or ±inf (0.2 µs for these short
+    # vectors, where isfinite(...).all() takes 1.5); otherwise the full check decides (the
+    # sum may also have overflowed).
+    if not math.isfinite(sum(array.tolist())) and not np.isfinite(array).all():
         bad = int(np.flatnonzero(~np.isfinite(array))[0])
         raise StateError(
             f"{name} must be a finite vector of length {n}, got {array[bad]} at index {bad}"

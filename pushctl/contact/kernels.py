@@ -309,6 +309,13 @@ def warm_contact_step(
     return verified, p, w, residual, v_arm_new, v_obj, forces
 
 
+@njit(cache=True)
+def _kept(solve):
+    """What the world reads of a kept :func:`warm_contact_step` solve ``(p, w, residual,
+    v_arm, v_obj, forces)``: ``(residual, v_arm, v_obj, forces)``."""
+    return solve[2], solve[3], solve[4], solve[5]
+
+
 SLIP_SETTLED, SLIP_UNSETTLED, SLIP_WARM_FAILED = 1, 2, 3
 """Outcomes of :func:`warm_slip_step` (0: its first warm solve failed, nothing changed)."""
 
@@ -328,11 +335,12 @@ def warm_slip_step(
     compiled call fewer per step than calling it from Python).
 
     Returns ``(status, solves, solution, last_p, attempt, iterations, worst, next_pose)``:
-    ``solution`` is ``(p, w, residual, v_arm, v_obj, forces)`` of the solve the step keeps
-    (see ``status``), ``last_p`` the impulses of the latest verified solve (the next warm
-    start), ``solves`` how many verified solves ran, ``iterations`` the re-solves for the
-    slip directions, ``worst`` the largest residual of the verified solves, ``next_pose``
-    (3,) the object's pose after the step, ``pose + h v_obj`` with ``solution``'s velocity
+    ``solution`` is ``(residual, v_arm, v_obj, forces)`` of the solve the step keeps
+    (see ``status``; its p and w are not returned: nothing reads them), ``last_p`` the
+    impulses of the latest verified solve (the next warm start), ``solves`` how many
+    verified solves ran, ``iterations`` the re-solves for the slip directions, ``worst``
+    the largest residual of the verified solves, ``next_pose`` (3,) the object's pose
+    after the step, ``pose + h v_obj`` with ``solution``'s velocity
     (the semi-implicit Euler of ``World._advance_object``; ``pose`` itself when the caller
     goes on in Python). ``status`` 0: the first warm solve failed (the boxes are as
     :func:`slip_state` set them; ``solution`` is that failed solve); ``SLIP_SETTLED``:
@@ -341,7 +349,8 @@ def warm_slip_step(
     ``SLIP_WARM_FAILED``: the boxes were refined at loop index ``attempt`` (< max) and the
     warm re-solve from ``last_p`` failed: the caller continues the loop from there, with
     ``solution`` (the first solve) as the one to keep if it does not settle. Each array
-    returned costs about 0.26 µs of boxing, so only these are.
+    returned costs about 0.4 µs of boxing, so only these are (five, where returning the
+    kept solve's p and w as well took seven: 0.8 µs more per step, measured).
     """
     slip_state(pose, velocity, support_points, slip_directions, sliding)
     inputs_velocity = velocity
@@ -352,13 +361,13 @@ def warm_slip_step(
     )  # fmt: skip
     first = (p, w, res, va, vo, f)
     if not ok:
-        return 0, 0, first, p, 0, 0, 0.0, pose
+        return 0, 0, _kept(first), p, 0, 0, 0.0, pose
     last = first
     solves, iterations, worst = 1, 0, res
     for attempt in range(max_iterations + 1):
         if not refine_slip(pose, last[4], support_points, slip_directions, sliding, cos_tolerance):
             next_pose = pose + h * last[4]
-            return SLIP_SETTLED, solves, last, last[0], attempt, iterations, worst, next_pose
+            return SLIP_SETTLED, solves, _kept(last), last[0], attempt, iterations, worst, next_pose
         if attempt == max_iterations:
             break
         iterations += 1
@@ -368,10 +377,11 @@ def warm_slip_step(
             stabilisation, tie_break, mu_contact, last[0], tol,
         )  # fmt: skip
         if not ok:
-            last_p = last[0]
-            return SLIP_WARM_FAILED, solves, first, last_p, attempt, iterations - 1, worst, pose
+            kept, last_p = _kept(first), last[0]
+            return SLIP_WARM_FAILED, solves, kept, last_p, attempt, iterations - 1, worst, pose
         last = (p, w, res, va, vo, f)
         solves += 1
         worst = max(worst, res)
     next_pose = pose + h * first[4]  # the step keeps its first solution
-    return SLIP_UNSETTLED, solves, first, last[0], max_iterations, iterations, worst, next_pose
+    kept, last_p = _kept(first), last[0]
+    return SLIP_UNSETTLED, solves, kept, last_p, max_iterations, iterations, worst, next_pose

@@ -17,7 +17,7 @@ import numpy as np
 from pushctl.contact.step_end import prong_geometry
 from pushctl.objects.geometry import ConvexPolygon
 
-__all__ = ["edge_array", "mask_indices", "prong_contacts", "prong_geometry"]
+__all__ = ["PRONG_ROWS", "edge_array", "mask_indices", "prong_contacts", "prong_geometry"]
 
 
 def edge_array(polygon: ConvexPolygon) -> np.ndarray:
@@ -49,7 +49,8 @@ def prong_contacts(
 
 def mask_indices(mask: int) -> tuple[int, ...]:
     """The prongs (indices, lowest first) of a contact bit mask of :func:`prong_geometry`."""
-    return _MASKS.get(mask) or _indices(mask)
+    indices = _MASKS.get(mask)
+    return _indices(mask) if indices is None else indices
 
 
 def _indices(mask: int) -> tuple[int, ...]:
@@ -57,6 +58,10 @@ def _indices(mask: int) -> tuple[int, ...]:
     return tuple(i for i in range(mask.bit_length()) if mask >> i & 1)
 
 
-_MASKS = {mask: _indices(mask) for mask in range(1, 16)}
-"""Prong index tuples of the contact masks of up to four prongs (no contact: the empty
-tuple, which ``or`` sends to :func:`_indices`)."""
+_MASKS = {mask: _indices(mask) for mask in range(16)}
+"""Prong index tuples of the contact masks of up to four prongs (no contact, mask 0, too:
+every step of an approach)."""
+
+PRONG_ROWS = {prongs: np.array(prongs, dtype=np.intp) for prongs in _MASKS.values()}
+"""The rows (index arrays) of each set of up to four prongs in contact (or none), kept:
+``take`` with one is faster than indexing with a fresh list (World._step_inputs)."""

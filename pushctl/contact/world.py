@@ -305,9 +305,11 @@ class World(SubstepSolver):
         # Fast path for the usual float64 vector: the sum of its entries is finite unless an
         # entry is NaN or ±inf (or the sum overflows: the full check then decides), 0.2 µs
         # where a dot product with zeros took 0.6 and isfinite(...).all() 1.5 (measured).
+        # The dtype is compared with ==, not `is`: an array made by a compiled kernel loaded
+        # from numba's disk cache (the PD law's torque) has a float64 dtype of its own.
         if not (
             type(tau) is np.ndarray
-            and tau.dtype is _FLOAT64
+            and tau.dtype == _FLOAT64
             and tau.shape == self._kv_zero.shape
             and math.isfinite(sum(tau.tolist()))
         ):
