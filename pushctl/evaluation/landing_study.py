@@ -1,0 +1,132 @@
+"""Why the feedback law's force error exceeds PD-only's (docs/plant-unknowns.md): the force
+error of each controller against where the prongs landed on the face.
+
+The approach aims at the object's *believed* pose, so a placement error across the face
+lands the prongs that far from the plan's spot; no controller moves them back without
+sliding. ``force_error``'s reference is the plant's needs with the prongs at the plan's
+spot, so a push whose prongs landed d off it carries a force error that grows with |d|.
+This study fits, per controller and cell, force error ≈ a + b·|d| over the tuning pushes
+that did not fail, and reports the median force error of the pushes that landed within
+0.5 mm of the spot.
+
+All on the *tuning* stream (:func:`~pushctl.evaluation.tune_feedback.reset_pushes`).
+``python -m pushctl.evaluation.landing_study PLANT SEED PER_CASE`` prints the fit.
+"""
+
+from __future__ import annotations
+
+import copy
+import sys
+
+import numpy as np
+import pandas as pd
+
+from pushctl.control.feedback import load_feedback_gains
+from pushctl.episode.metrics import compute_metrics
+from pushctl.episode.trace import Trace
+from pushctl.evaluation.controllers import FeedbackActor
+from pushctl.evaluation.failure_study import FAILED_ANGLE_PCT, FAILED_TRANSLATION_PCT
+from pushctl.evaluation.tune_feedback import reset_pushes, tuning_env
+from pushctl.objects import OBJECT_NAMES
+from pushctl.planning import PROFILE_NAMES
+from pushctl.rl.env_config import EnvConfig
+from pushctl.rl.policy import finish_with_policy
+
+LANDED_AT = 0.5
+"""[s] into the push: where the prongs sit then is where they landed (both carry load)."""
+
+NEAR_SPOT = 0.5e-3
+"""[m]: a push whose prongs landed within this of the plan's spot is "on the spot"."""
+
+
+def spot_offset(trace: Trace, row: int) -> float:
+    """How far across the push [m] the pusher origin sits on the object at trace ``row``,
+    against where the plan puts it: the object-frame y of (pusher − object) minus the
+    plan's (desired pusher − desired pose)."""
+
+    def across(pusher: np.ndarray, pose: np.ndarray) -> float:
+        dx, dy = pusher[0] - pose[0], pusher[1] - pose[1]
+        return float(-np.sin(pose[2]) * dx + np.cos(pose[2]) * dy)
+
+    actual = across(np.asarray(trace.pusher_position[row]), np.asarray(trace.object_pose[row]))
+    planned = across(
+        np.asarray(trace.pusher_position_des[row]), np.asarray(trace.desired_pose[row])
+    )
+    return actual - planned
+
+
+def landing_pushes(plant: str, seed: int, per_case: int) -> pd.DataFrame:
+    """Every tuning push of ``plant`` (seeds ``seed`` … ``seed + 6·per_case − 1``) under
+    PD-only and the feedback law (the gains file's): controller, object, profile, the spot
+    offset at :data:`LANDED_AT` [mm], force error [mN], and whether the push failed."""
+    env = tuning_env(plant=plant, config=EnvConfig())
+    reset = reset_pushes(env, seed, OBJECT_NAMES, PROFILE_NAMES, per_case)
+    gains = load_feedback_gains()
+    rows = []
+    for member in reset:
+        for controller in ("PD-only", "law"):
+            push = copy.deepcopy(member)
+            episode = push.episode
+            assert episode is not None
+            if controller == "law":
+                finish_with_policy(push, FeedbackActor(push, gains))
+                trace = episode.trace()
+            else:
+                trace = episode.finish()
+            metrics = compute_metrics(trace)
+            landed = int(np.searchsorted(np.asarray(trace.t), LANDED_AT))
+            failed = (
+                metrics.angle_error_pct > FAILED_ANGLE_PCT
+                or metrics.translation_error_pct > FAILED_TRANSLATION_PCT
+            )
+            rows.append(
+                {
+                    "controller": controller,
+                    "object": push.scenario.object,
+                    "profile": push.scenario.profile,
+                    "landed_mm": 1e3 * spot_offset(trace, landed),
+                    "force_mN": 1e3 * metrics.force_error,
+                    "failed": failed,
+                }
+            )
+    return pd.DataFrame(rows)
+
+
+def landing_fit(pushes: pd.DataFrame) -> pd.DataFrame:
+    """Per controller and cell, over the pushes of :func:`landing_pushes` that did not fail:
+    the fit force ≈ a + b·|landed| (``a_mN``, ``b_mN_per_mm``), its correlation, and the
+    median force error of the pushes landed within :data:`NEAR_SPOT` (and how many)."""
+    rows = []
+    kept = pushes[~pushes["failed"]]
+    for (controller, obj, profile), group in kept.groupby(
+        ["controller", "object", "profile"], sort=False
+    ):
+        distance = group["landed_mm"].abs().to_numpy()
+        force = group["force_mN"].to_numpy()
+        slope, intercept = np.polyfit(distance, force, 1)
+        near = force[distance < 1e3 * NEAR_SPOT]
+        rows.append(
+            {
+                "controller": controller,
+                "object": obj,
+                "profile": profile,
+                "pushes": len(group),
+                "a_mN": intercept,
+                "b_mN_per_mm": slope,
+                "correlation": float(np.corrcoef(distance, force)[0, 1]),
+                "on_spot": len(near),
+                "on_spot_median_mN": float(np.median(near)) if len(near) else np.nan,
+            }
+        )
+    return pd.DataFrame(rows)
+
+
+def main(argv: list[str]) -> None:  # pragma: no cover - prints the table
+    plant, seed, per_case = argv[0], int(argv[1]), int(argv[2])
+    pd.set_option("display.width", 200)
+    fit = landing_fit(landing_pushes(plant, seed, per_case))
+    print(fit.round(2).to_string(index=False))
+
+
+if __name__ == "__main__":  # pragma: no cover
+    main(sys.argv[1:])

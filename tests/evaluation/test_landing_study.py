@@ -1,0 +1,45 @@
+"""The landing study (pushctl.evaluation.landing_study): where the prongs landed on the face,
+read from a trace, and the fit of force error against it."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from pushctl.evaluation.landing_study import landing_fit, spot_offset
+
+
+def test_a_pd_push_lands_off_the_plans_spot_and_stays_there() -> None:
+    """Tuning push 20013 (cube, constant, sim): the object sits about 1 mm across from where
+    the plan believes, so the prongs land 1.6 mm across the face from the plan's spot; both
+    stick, and the spot is the same at the end of the push."""
+    from pushctl.evaluation.tune_feedback import tuning_env
+
+    env = tuning_env()
+    env.reset(options={"object": "cube", "profile": "constant", "scenario_seed": 20013})
+    assert env.episode is not None
+    trace = env.episode.finish()
+    landed = spot_offset(trace, 50)
+    assert 1.4e-3 < landed < 1.8e-3
+    assert spot_offset(trace, trace.n_steps) == pytest.approx(landed, abs=5e-5)
+
+
+def test_the_fit_leaves_out_failed_pushes_and_counts_those_on_the_spot() -> None:
+    landed = np.array([0.1, -0.3, 1.0, -2.0, 3.0])
+    pushes = pd.DataFrame(
+        {
+            "controller": "law",
+            "object": "cube",
+            "profile": "constant",
+            "landed_mm": landed,
+            "force_mN": 5.0 + 10.0 * np.abs(landed),
+            "failed": [False, False, False, False, True],
+        }
+    )
+    pushes.loc[4, "force_mN"] = 500.0  # a failed push: not in the fit
+    row = landing_fit(pushes).iloc[0]
+    assert row["pushes"] == 4 and row["on_spot"] == 2
+    assert row["a_mN"] == pytest.approx(5.0) and row["b_mN_per_mm"] == pytest.approx(10.0)
+    assert row["correlation"] == pytest.approx(1.0)
+    assert row["on_spot_median_mN"] == pytest.approx(5.0 + 10.0 * 0.2)
