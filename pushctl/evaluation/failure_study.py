@@ -40,6 +40,7 @@ import pandas as pd
 
 from pushctl.control.feedback import FeedbackGains, load_feedback_gains
 from pushctl.episode.metrics import compute_metrics
+from pushctl.episode.trace import Trace
 from pushctl.evaluation.controllers import FeedbackActor
 from pushctl.evaluation.tune_feedback import reset_pushes, tuning_env
 from pushctl.objects import OBJECT_NAMES
@@ -257,6 +258,18 @@ def gain_table(
     return frame.groupby(["controller", "object", "profile"], sort=False)[columns].mean()
 
 
+def finish_copy(reset: PushEnv, law: FeedbackGains | None) -> Trace:
+    """The trace of a copy of the ``reset`` push run to its end under PD-only (``law``
+    None) or the feedback law with ``law``'s gains (``reset`` itself is not advanced)."""
+    push = copy.deepcopy(reset)
+    episode = push.episode
+    assert episode is not None
+    if law is None:
+        return episode.finish()
+    finish_with_policy(push, FeedbackActor(push, law))
+    return episode.trace()
+
+
 def force_split(
     plant: str, object_name: str, profile: str, seeds: list[int], after: float = 4.0
 ) -> pd.DataFrame:
@@ -274,14 +287,7 @@ def force_split(
     for seed in seeds:
         env.reset(options={"object": object_name, "profile": profile, "scenario_seed": seed})
         for controller in ("PD-only", "law"):
-            push = copy.deepcopy(env)
-            episode = push.episode
-            assert episode is not None
-            if controller == "law":
-                finish_with_policy(push, FeedbackActor(push, gains))
-                trace = episode.trace()
-            else:
-                trace = episode.finish()
+            trace = finish_copy(env, gains if controller == "law" else None)
             t = np.asarray(trace.t)
             late = t >= after
             early = ~late & (t > 0.0)  # the metrics skip the first row too

@@ -15,7 +15,6 @@ All on the *tuning* stream (:func:`~pushctl.evaluation.tune_feedback.reset_pushe
 
 from __future__ import annotations
 
-import copy
 import sys
 
 import numpy as np
@@ -24,13 +23,15 @@ import pandas as pd
 from pushctl.control.feedback import load_feedback_gains
 from pushctl.episode.metrics import compute_metrics
 from pushctl.episode.trace import Trace
-from pushctl.evaluation.controllers import FeedbackActor
-from pushctl.evaluation.failure_study import FAILED_ANGLE_PCT, FAILED_TRANSLATION_PCT
+from pushctl.evaluation.failure_study import (
+    FAILED_ANGLE_PCT,
+    FAILED_TRANSLATION_PCT,
+    finish_copy,
+)
 from pushctl.evaluation.tune_feedback import reset_pushes, tuning_env
 from pushctl.objects import OBJECT_NAMES
 from pushctl.planning import PROFILE_NAMES
 from pushctl.rl.env_config import EnvConfig
-from pushctl.rl.policy import finish_with_policy
 
 LANDED_AT = 0.5
 """[s] into the push: where the prongs sit then is where they landed (both carry load)."""
@@ -65,14 +66,7 @@ def landing_pushes(plant: str, seed: int, per_case: int) -> pd.DataFrame:
     rows = []
     for member in reset:
         for controller in ("PD-only", "law"):
-            push = copy.deepcopy(member)
-            episode = push.episode
-            assert episode is not None
-            if controller == "law":
-                finish_with_policy(push, FeedbackActor(push, gains))
-                trace = episode.trace()
-            else:
-                trace = episode.finish()
+            trace = finish_copy(member, gains if controller == "law" else None)
             metrics = compute_metrics(trace)
             landed = int(np.searchsorted(np.asarray(trace.t), LANDED_AT))
             failed = (
@@ -82,8 +76,8 @@ def landing_pushes(plant: str, seed: int, per_case: int) -> pd.DataFrame:
             rows.append(
                 {
                     "controller": controller,
-                    "object": push.scenario.object,
-                    "profile": push.scenario.profile,
+                    "object": member.scenario.object,
+                    "profile": member.scenario.profile,
                     "landed_mm": 1e3 * spot_offset(trace, landed),
                     "force_mN": 1e3 * metrics.force_error,
                     "failed": failed,
