@@ -187,9 +187,12 @@ class FeedbackLaw:
         self.integral = np.zeros(3)
         self.output = np.zeros(3)
         self.seeking_for = 0.0  # [s] since the law last saw every prong loaded or none
-        self.landed: float | None = None  # [m] :meth:`slide` when every prong first carried load
-        self.slide_now: float | None = None  # [m] :meth:`slide` through the guard's lag
-        self.since_landing = 0.0  # [s]
+        # the slide guard's state: :meth:`slide` through its lag [m], started when every
+        # prong first carried load; the time since then [s]; the landing spot it measures
+        # from [m], taken two lags after that (None: not yet)
+        self.slide_now: float | None = None
+        self.since_landing = 0.0
+        self.landed: float | None = None
 
     def twist(
         self,
