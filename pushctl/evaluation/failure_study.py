@@ -178,24 +178,14 @@ SLIDE_SETTINGS = (
 def push_all(reset: list[PushEnv], setting: Setting, gains: FeedbackGains) -> pd.DataFrame:
     """Every push of ``reset`` (a copy of it) under ``setting``: object, translation and
     angle error [%], and whether it failed."""
-    limit = (setting.linear, math.radians(setting.angular_deg))
-    law = replace(gains, **{name: getattr(setting, name) for name in LAW_FIELDS})
     rows = []
     for member in reset:
-        env = copy.deepcopy(member)
-        episode = env.episode
-        assert episode is not None
-        if setting.law:
-            episode.set_offset_limit(limit)
-            finish_with_policy(env, FeedbackActor(env, law))
-            trace = episode.trace()
-        else:
-            trace = episode.finish()
+        trace = finish_setting(member, setting, gains)
         metrics = compute_metrics(trace)
         rows.append(
             {
-                "object": env.scenario.object,
-                "profile": env.scenario.profile,
+                "object": member.scenario.object,
+                "profile": member.scenario.profile,
                 "translation_pct": metrics.translation_error_pct,
                 "angle_pct": metrics.angle_error_pct,
                 "force_error": metrics.force_error,
@@ -258,16 +248,55 @@ def gain_table(
     return frame.groupby(["controller", "object", "profile"], sort=False)[columns].mean()
 
 
-def finish_copy(reset: PushEnv, law: FeedbackGains | None) -> Trace:
+def finish_copy(
+    reset: PushEnv, law: FeedbackGains | None, offset_limit: tuple[float, float] | None = None
+) -> Trace:
     """The trace of a copy of the ``reset`` push run to its end under PD-only (``law``
-    None) or the feedback law with ``law``'s gains (``reset`` itself is not advanced)."""
+    None) or the feedback law with ``law``'s gains, under ``offset_limit`` (linear [m],
+    angular [rad]; None: the environment's) (``reset`` itself is not advanced)."""
     push = copy.deepcopy(reset)
     episode = push.episode
     assert episode is not None
     if law is None:
         return episode.finish()
+    if offset_limit is not None:
+        episode.set_offset_limit(offset_limit)
     finish_with_policy(push, FeedbackActor(push, law))
     return episode.trace()
+
+
+def finish_setting(reset: PushEnv, setting: Setting, gains: FeedbackGains) -> Trace:
+    """:func:`finish_copy` under ``setting``: PD-only, or the law with ``gains``' k and k_i
+    and the setting's other fields, under its offset bound."""
+    if not setting.law:
+        return finish_copy(reset, None)
+    law = replace(gains, **{name: getattr(setting, name) for name in LAW_FIELDS})
+    return finish_copy(reset, law, (setting.linear, math.radians(setting.angular_deg)))
+
+
+LANDED_AT = 0.5
+"""[s] into the push: where the prongs sit then is where they landed (both carry load)."""
+
+
+def spot_offset(trace: Trace, row: int) -> float:
+    """How far across the push [m] the pusher origin sits on the object at trace ``row``,
+    against where the plan puts it: the object-frame y of (pusher − object) minus the
+    plan's (desired pusher − desired pose)."""
+
+    def across(pusher: np.ndarray, pose: np.ndarray) -> float:
+        dx, dy = pusher[0] - pose[0], pusher[1] - pose[1]
+        return float(-np.sin(pose[2]) * dx + np.cos(pose[2]) * dy)
+
+    actual = across(np.asarray(trace.pusher_position[row]), np.asarray(trace.object_pose[row]))
+    planned = across(
+        np.asarray(trace.pusher_position_des[row]), np.asarray(trace.desired_pose[row])
+    )
+    return actual - planned
+
+
+def landed(trace: Trace) -> float:
+    """Where the prongs landed across the face [m]: :func:`spot_offset` at :data:`LANDED_AT`."""
+    return spot_offset(trace, int(np.searchsorted(np.asarray(trace.t), LANDED_AT)))
 
 
 def force_split(
@@ -280,7 +309,8 @@ def force_split(
     [mN·m] (docs/plant-unknowns.md: an equal and opposite split with the right total and
     torque is what a contact spot across the face other than the reference's gives); and
     before ``after``, the force error as the metric has it (mean over steps and prongs of
-    the force vector's error) [mN]."""
+    the force vector's error) [mN]; and where the prongs landed across the face
+    (:func:`landed`) [mm]."""
     env = tuning_env(plant=plant, config=EnvConfig())
     gains = load_feedback_gains()
     rows = []
@@ -295,6 +325,7 @@ def force_split(
             normal = error[late, :, 0]
             torque = np.asarray(trace.contact_torque) - np.asarray(trace.desired_torque)
             row: dict[str, object] = {"seed": seed, "controller": controller}
+            row["landed_mm"] = 1e3 * landed(trace)
             for prong, mean in enumerate(normal.mean(axis=0), start=1):
                 row[f"normal_{prong}_mN"] = 1e3 * mean
             row["total_normal_mN"] = 1e3 * normal.sum(axis=1).mean()

@@ -10,7 +10,8 @@ that did not fail, and reports the median force error of the pushes that landed 
 0.5 mm of the spot.
 
 All on the *tuning* stream (:func:`~pushctl.evaluation.tune_feedback.reset_pushes`).
-``python -m pushctl.evaluation.landing_study PLANT SEED PER_CASE`` prints the fit.
+``python -m pushctl.evaluation.landing_study PLANT SEED PER_CASE`` prints the fit, then the
+failed pushes with where they landed.
 """
 
 from __future__ import annotations
@@ -22,44 +23,26 @@ import pandas as pd
 
 from pushctl.control.feedback import load_feedback_gains
 from pushctl.episode.metrics import compute_metrics
-from pushctl.episode.trace import Trace
 from pushctl.evaluation.failure_study import (
     FAILED_ANGLE_PCT,
     FAILED_TRANSLATION_PCT,
     finish_copy,
+    landed,
 )
 from pushctl.evaluation.tune_feedback import reset_pushes, tuning_env
 from pushctl.objects import OBJECT_NAMES
 from pushctl.planning import PROFILE_NAMES
 from pushctl.rl.env_config import EnvConfig
 
-LANDED_AT = 0.5
-"""[s] into the push: where the prongs sit then is where they landed (both carry load)."""
-
 NEAR_SPOT = 0.5e-3
 """[m]: a push whose prongs landed within this of the plan's spot is "on the spot"."""
 
 
-def spot_offset(trace: Trace, row: int) -> float:
-    """How far across the push [m] the pusher origin sits on the object at trace ``row``,
-    against where the plan puts it: the object-frame y of (pusher − object) minus the
-    plan's (desired pusher − desired pose)."""
-
-    def across(pusher: np.ndarray, pose: np.ndarray) -> float:
-        dx, dy = pusher[0] - pose[0], pusher[1] - pose[1]
-        return float(-np.sin(pose[2]) * dx + np.cos(pose[2]) * dy)
-
-    actual = across(np.asarray(trace.pusher_position[row]), np.asarray(trace.object_pose[row]))
-    planned = across(
-        np.asarray(trace.pusher_position_des[row]), np.asarray(trace.desired_pose[row])
-    )
-    return actual - planned
-
-
 def landing_pushes(plant: str, seed: int, per_case: int) -> pd.DataFrame:
     """Every tuning push of ``plant`` (seeds ``seed`` … ``seed + 6·per_case − 1``) under
-    PD-only and the feedback law (the gains file's): controller, object, profile, the spot
-    offset at :data:`LANDED_AT` [mm], force error [mN], and whether the push failed."""
+    PD-only and the feedback law (the gains file's): controller, scenario seed, object,
+    profile, where the prongs landed (:func:`~pushctl.evaluation.failure_study.landed`) [mm],
+    force error [mN], and whether the push failed."""
     env = tuning_env(plant=plant, config=EnvConfig())
     reset = reset_pushes(env, seed, OBJECT_NAMES, PROFILE_NAMES, per_case)
     gains = load_feedback_gains()
@@ -68,7 +51,6 @@ def landing_pushes(plant: str, seed: int, per_case: int) -> pd.DataFrame:
         for controller in ("PD-only", "law"):
             trace = finish_copy(member, gains if controller == "law" else None)
             metrics = compute_metrics(trace)
-            landed = int(np.searchsorted(np.asarray(trace.t), LANDED_AT))
             failed = (
                 metrics.angle_error_pct > FAILED_ANGLE_PCT
                 or metrics.translation_error_pct > FAILED_TRANSLATION_PCT
@@ -76,9 +58,10 @@ def landing_pushes(plant: str, seed: int, per_case: int) -> pd.DataFrame:
             rows.append(
                 {
                     "controller": controller,
+                    "seed": member.scenario.seed,
                     "object": member.scenario.object,
                     "profile": member.scenario.profile,
-                    "landed_mm": 1e3 * spot_offset(trace, landed),
+                    "landed_mm": 1e3 * landed(trace),
                     "force_mN": 1e3 * metrics.force_error,
                     "failed": failed,
                 }
@@ -118,8 +101,10 @@ def landing_fit(pushes: pd.DataFrame) -> pd.DataFrame:
 def main(argv: list[str]) -> None:  # pragma: no cover - prints the table
     plant, seed, per_case = argv[0], int(argv[1]), int(argv[2])
     pd.set_option("display.width", 200)
-    fit = landing_fit(landing_pushes(plant, seed, per_case))
-    print(fit.round(2).to_string(index=False))
+    pushes = landing_pushes(plant, seed, per_case)
+    print(landing_fit(pushes).round(2).to_string(index=False))
+    print("\nfailed pushes:")
+    print(pushes[pushes["failed"]].round(2).to_string(index=False))
 
 
 if __name__ == "__main__":  # pragma: no cover

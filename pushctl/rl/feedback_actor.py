@@ -51,11 +51,11 @@ class FeedbackActor:
         )
         self._error = [where["error_x"], where["error_y"], where["error_theta"]]
         self._normal = [where[f"force_n_{i + 1}"] for i in range(plan.pusher.n_prongs)]
-        # the reference offset, when the observation has it (the slide guard reads it)
+        # the reference offset, for the slide guard only (off by default: then the step
+        # does not gather it), when the observation has it
+        guarded = math.isfinite(gains.slide_limit) and "offset_x" in where
         self._offset = (
-            [where["offset_x"], where["offset_y"], where["offset_theta"]]
-            if "offset_x" in where
-            else None
+            [where["offset_x"], where["offset_y"], where["offset_theta"]] if guarded else None
         )
         config = env.config
         velocity = plan.trajectory.velocity

@@ -208,15 +208,22 @@ def test_the_slide_rows_differ_only_in_the_guard() -> None:
 
 def test_the_slide_guard_keeps_a_wedge_whose_prongs_the_law_slid_off() -> None:
     """Tuning push 20412 (wedge, chirp, sim): unguarded, the law's sideways integral slides
-    the prongs 0.9 mm along the face in 7 s, one comes off and the wedge spins away (27 %
-    angle error); with the guard (0.5 mm, lag 1 s) the push ends at 0.3 %
-    (docs/residual-and-feedback.md, "Seventh pass"). k = 1.0 /s, k_i = 0.1 /s²."""
+    the prongs 0.9 mm along the face in 7 s (from where they landed to 7.0 s), one comes
+    off and the wedge spins away (27 % angle error); with the guard (0.5 mm, lag 1 s) the
+    push ends at 0.3 % (docs/residual-and-feedback.md, "Seventh pass"). k = 1.0 /s,
+    k_i = 0.1 /s²."""
     from pushctl.control.feedback import FeedbackGains
-    from pushctl.evaluation.failure_study import SLIDE_SETTINGS, push_all
+    from pushctl.episode.metrics import compute_metrics
+    from pushctl.evaluation.failure_study import (
+        SLIDE_SETTINGS,
+        finish_setting,
+        landed,
+        spot_offset,
+    )
 
     env = _tuning_push("sim", "wedge", "chirp", 20412)
     gains = FeedbackGains(k=1.0, k_i=0.1)
-    unguarded, guarded = SLIDE_SETTINGS[1], SLIDE_SETTINGS[3]
-    angle = [push_all([env], s, gains)["angle_pct"].item() for s in (unguarded, guarded)]
-    assert angle[0] > 20.0
-    assert angle[1] < 2.0
+    unguarded, guarded = (finish_setting(env, SLIDE_SETTINGS[i], gains) for i in (1, 3))
+    assert -1.1e-3 < spot_offset(unguarded, 700) - landed(unguarded) < -0.7e-3
+    assert compute_metrics(unguarded).angle_error_pct > 20.0
+    assert compute_metrics(guarded).angle_error_pct < 2.0

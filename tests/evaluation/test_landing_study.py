@@ -7,7 +7,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from pushctl.evaluation.landing_study import landing_fit, spot_offset
+from pushctl.evaluation.failure_study import spot_offset
+from pushctl.evaluation.landing_study import landing_fit
 
 
 def test_a_pd_push_lands_off_the_plans_spot_and_stays_there() -> None:
