@@ -34,7 +34,7 @@ _TINY_PRESET = """
 episodes = {episodes}
 checkpoint_every = 2
 pd_every = {pd_every}
-workers = 0
+workers = {workers}
 validate_every = {validate_every}
 validation_per_cell = 1
 
@@ -58,12 +58,12 @@ reward_scale = 100.0
 def write_tiny_preset(tmp_path):
     """A writer of a training preset of a few 1 s cube pushes and an 8×8 network, for the
     tests that train through Ray: ``write_tiny_preset(episodes=…, pd_every=…,
-    validate_every=…)`` returns the path of ``tmp_path/tiny.toml``."""
+    validate_every=…, workers=…)`` returns the path of ``tmp_path/tiny.toml``."""
 
-    def write(episodes: int, pd_every: int, validate_every: int):
+    def write(episodes: int, pd_every: int, validate_every: int, workers: int = 0):
         path = tmp_path / "tiny.toml"
         text = _TINY_PRESET.format(
-            episodes=episodes, pd_every=pd_every, validate_every=validate_every
+            episodes=episodes, pd_every=pd_every, validate_every=validate_every, workers=workers
         )
         path.write_text(text)
         return path

@@ -6,9 +6,14 @@ there is one, else from the job's preset. So a task that Ray retries after its w
 pure function of (seed, episode, actor weights) (:mod:`pushctl.rl.collect`), it ends with
 the files of a run that was never interrupted.
 
-Inside a task the episodes run in the task's own process (``collectors`` 0): the seeds are
-the parallel work, one core each, and a task never waits for cores held by its siblings.
-The collectors' number changes no result (:class:`~pushctl.rl.presets.TrainConfig`).
+How the cores are shared (:func:`core_plan`): the seeds are the parallel work. While there
+are at least two cores for each unfinished seed, each seed's learner runs the preset's
+collectors on them, as a one-seed ``pushctl train`` does; with fewer, every seed runs its
+episodes in its task's own process (``collectors`` 0), all at once on an equal share of the
+cores when there are at most twice as many seeds as cores (3 seeds on 2 cores do not leave
+a core idle while the third trains alone), else one core each in turn. A task never waits
+for cores held by its siblings. The collectors' number changes no result
+(:class:`~pushctl.rl.presets.TrainConfig`).
 """
 
 from __future__ import annotations
@@ -24,7 +29,7 @@ from typing import Any
 import ray
 
 from pushctl.control.gains import PDGains
-from pushctl.distributed.engine import new_board, session
+from pushctl.distributed.engine import cluster_cpus, new_board, session
 from pushctl.errors import ConfigError, PushctlError
 from pushctl.provenance import write_atomic
 from pushctl.rl.presets import Preset
@@ -130,17 +135,47 @@ def open_trainer(job: TrainJob) -> Trainer:
     return trainer
 
 
+@dataclass(frozen=True)
+class CorePlan:
+    """What each seed's task asks of Ray: ``cpus`` for its own process (0 when its
+    ``collectors`` hold the cores, as a one-seed run's learner holds none)."""
+
+    cpus: float
+    collectors: int
+
+
+def core_plan(cores: float, unfinished: int, workers: int) -> CorePlan:
+    """How ``unfinished`` seeds share ``cores``, each preset allowing ``workers``
+    collectors: a seed with at least two cores runs ``min(workers, its cores)`` collectors;
+    else each runs alone in its process, on an equal share of the cores while that share is
+    at least half a core (all seeds at once), else on one core (in turn)."""
+    share = cores / max(1, unfinished)
+    collectors = min(workers, int(share))
+    if collectors >= 2:
+        return CorePlan(cpus=0.0, collectors=collectors)
+    return CorePlan(cpus=min(1.0, share) if share >= 0.5 else 1.0, collectors=0)
+
+
+def unfinished(job: TrainJob) -> bool:
+    """False if ``job``'s :data:`TIMING` says its run reached its episodes (a run killed
+    before its end has none, or an older one)."""
+    timing = read_timing(job.out / TIMING)
+    total = job.episodes if job.episodes is not None else job.preset.train.episodes
+    return timing is None or int(timing.get("episodes", 0)) < total
+
+
 def run_job(
     job: TrainJob,
     report: Callable[[str, SeedStatus], None] | None = None,
     finish: Callable[[Trainer], Any] | None = None,
+    collectors: int = 0,
 ) -> tuple[JobResult, Any]:
-    """Train ``job`` in this process (its collectors too), reporting each episode to
-    ``report``; then ``finish(trainer)`` (e.g. a validation score) is returned beside the
-    result."""
+    """Train ``job`` in this process with ``collectors`` collector processes (0: its
+    episodes in this process too), reporting each episode to ``report``; then
+    ``finish(trainer)`` (e.g. a validation score) is returned beside the result."""
     clock = time.perf_counter()
     trainer = open_trainer(job)
-    trainer.collectors = 0
+    trainer.collectors = collectors
     total = job.episodes if job.episodes is not None else trainer.preset.train.episodes
 
     def show(update: Progress) -> None:
@@ -191,10 +226,11 @@ def read_timing(path: Path) -> dict[str, Any] | None:
 
 @ray.remote(num_cpus=1, max_retries=RETRIES, retry_exceptions=False)
 def _task(
-    job: TrainJob, board: Any, finish: Callable[[Trainer], Any] | None
+    job: TrainJob, board: Any, finish: Callable[[Trainer], Any] | None, collectors: int
 ) -> tuple[JobResult, Any]:
     # plain tuples on the board: its process then needs none of this module's imports
-    return run_job(job, lambda key, status: board.post.remote(key, astuple(status)), finish)
+    post = lambda key, status: board.post.remote(key, astuple(status))  # noqa: E731
+    return run_job(job, post, finish, collectors)
 
 
 def run_jobs(
@@ -203,13 +239,17 @@ def run_jobs(
     on_progress: Callable[[dict[str, SeedStatus]], None] | None = None,
     finish: Callable[[Trainer], Any] | None = None,
 ) -> list[tuple[JobResult, Any]]:
-    """Run every job as a Ray task (see :func:`run_job`), calling ``on_progress`` with
+    """Run every job as a Ray task (see :func:`run_job`), the cores shared as
+    :func:`core_plan` says for the jobs not yet finished, calling ``on_progress`` with
     every job's last status (by :attr:`TrainJob.name`) every :data:`POLL` s; results in the
     jobs' order. A job that fails raises its error (a PushctlError keeps its one line,
     prefixed by the job's name)."""
     with session(address):
         board = new_board()
-        refs = {_task.remote(job, board, finish): job.name for job in jobs}
+        workers = min(job.preset.train.workers for job in jobs) if jobs else 0
+        plan = core_plan(cluster_cpus(), sum(unfinished(job) for job in jobs), workers)
+        task = _task.options(num_cpus=plan.cpus)
+        refs = {task.remote(job, board, finish, plan.collectors): job.name for job in jobs}
         waiting = list(refs)
         try:
             while waiting:

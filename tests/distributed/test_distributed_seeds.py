@@ -9,6 +9,7 @@ import signal
 import subprocess
 import sys
 import time
+from functools import partial
 from pathlib import Path
 
 import pandas as pd
@@ -18,7 +19,15 @@ from typer.testing import CliRunner
 
 from pushctl.cli import app
 from pushctl.control.gains import load_gains
-from pushctl.distributed.seeds import TIMING, TrainJob, parse_seeds, run_job
+from pushctl.distributed.seeds import (
+    TIMING,
+    CorePlan,
+    TrainJob,
+    core_plan,
+    parse_seeds,
+    run_job,
+    unfinished,
+)
 from pushctl.errors import ConfigError
 from pushctl.rl.presets import load_preset
 from pushctl.rl.train import CHECKPOINT, CURVE, POLICY, Trainer, read_checkpoint
@@ -92,6 +101,44 @@ def test_each_seed_runs_as_a_single_seed_run_would(
         expected = straight.agent.state_dict()["actor"]
         for key, value in _actor(run).items():
             assert torch.equal(value, expected[key]), (seed, key)
+
+
+@pytest.mark.parametrize(
+    ("cores", "seeds", "plan"),
+    [
+        (2, 1, CorePlan(cpus=0.0, collectors=2)),  # one seed: its collectors on both cores
+        (8, 2, CorePlan(cpus=0.0, collectors=2)),  # no more collectors than the preset's
+        (4, 2, CorePlan(cpus=0.0, collectors=2)),
+        (2, 2, CorePlan(cpus=1.0, collectors=0)),  # a core each
+        (2, 3, CorePlan(cpus=2 / 3, collectors=0)),  # all three at once, no core left idle
+        (2, 4, CorePlan(cpus=0.5, collectors=0)),
+        (2, 5, CorePlan(cpus=1.0, collectors=0)),  # more: one core each, in turn
+        (2, 0, CorePlan(cpus=0.0, collectors=2)),
+    ],
+)
+def test_the_cores_are_shared_among_the_unfinished_seeds(
+    cores: float, seeds: int, plan: CorePlan
+) -> None:
+    assert core_plan(cores, seeds, workers=2) == plan
+
+
+def test_a_seed_alone_runs_its_collectors_to_the_same_run(
+    write_tiny_preset, tmp_path: Path, ray_local: None
+) -> None:
+    """One seed on two cores: its task's learner runs the preset's two collectors as Ray
+    actors (a task holding a core would leave them one), to the bytes of a run without
+    them; a finished seed then counts for none of the cores."""
+    preset = str(write_tiny_preset(episodes=3, pd_every=2, validate_every=2, workers=2))
+    out = tmp_path / "runs"
+    result = runner.invoke(app, ["train", "--preset", preset, "--out", str(out), "--seeds", "0"])
+    assert result.exit_code == 0, result.output
+    alone = Trainer.start(load_preset(preset), 0, tmp_path / "alone")
+    alone.collectors = 0
+    alone.run(3, made_by="# made by: test")
+    assert _body(out / "seed-0" / CURVE) == _body(alone.out / CURVE)
+    job = partial(TrainJob, load_preset(preset), episodes=None, made_by="", gains=load_gains())
+    assert not unfinished(job(seed=0, out=out / "seed-0"))
+    assert unfinished(job(seed=1, out=out / "seed-1"))
 
 
 def test_run_job_resumes_the_checkpoint_it_finds(tiny: str, tmp_path: Path) -> None:
