@@ -33,7 +33,7 @@ from pushctl.distributed.engine import cluster_cpus, new_board, session
 from pushctl.errors import ConfigError, PushctlError
 from pushctl.provenance import write_atomic
 from pushctl.rl.presets import Preset
-from pushctl.rl.train import CHECKPOINT, Progress, Trainer
+from pushctl.rl.train import CHECKPOINT, POLICY, Progress, Trainer
 
 SEED_DIR = "seed-{seed}"
 """A seed's run directory inside the runs' directory."""
@@ -43,10 +43,11 @@ POLL = 0.5
 """Seconds between progress reports to the caller."""
 MAX_SEEDS = 1000
 TIMING = "timing.json"
-"""A seed's training wall time, beside its run's files: ``seconds`` summed over the
-sessions that trained it to the end (a session killed before that is not counted),
-``sessions``, ``episodes`` and ``env_steps``. A record of this machine's speed, so not part
-of the run's byte-for-byte results (``make reproduce-tables`` reads it for its budgets)."""
+"""A seed's training wall time, beside its run's files: ``seconds`` summed over every
+session that trained it (a stopped one up to its last finished episode: the file is
+rewritten after each), ``sessions``, ``episodes`` and ``env_steps``. A record of this
+machine's speed, so not part of the run's byte-for-byte results (``make reproduce-tables``
+reads it for its budgets)."""
 
 
 def parse_seeds(text: str) -> tuple[int, ...]:
@@ -157,11 +158,12 @@ def core_plan(cores: float, unfinished: int, workers: int) -> CorePlan:
 
 
 def unfinished(job: TrainJob) -> bool:
-    """False if ``job``'s :data:`TIMING` says its run reached its episodes (a run killed
-    before its end has none, or an older one)."""
+    """False if ``job``'s run has written its policy and its :data:`TIMING` says it reached
+    its episodes."""
     timing = read_timing(job.out / TIMING)
     total = job.episodes if job.episodes is not None else job.preset.train.episodes
-    return timing is None or int(timing.get("episodes", 0)) < total
+    done = (job.out / POLICY).is_file() and timing is not None
+    return not done or int(timing.get("episodes", 0)) < total
 
 
 def run_job(
@@ -177,8 +179,10 @@ def run_job(
     trainer = open_trainer(job)
     trainer.collectors = collectors
     total = job.episodes if job.episodes is not None else trainer.preset.train.episodes
+    before = read_timing(job.out / TIMING) or {"seconds": 0.0, "sessions": 0}
 
     def show(update: Progress) -> None:
+        write_timing(job.out, before, time.perf_counter() - clock, trainer)
         if report is not None:
             rates = f"{update.env_steps_per_s:,.0f} steps/s {update.updates_per_s:,.1f} upd/s"
             report(job.name, SeedStatus(update.episodes_done, total, rates))
@@ -187,7 +191,7 @@ def run_job(
         report(job.name, SeedStatus(min(trainer.next_episode, total), total))
     if trainer.next_episode < total:
         trainer.run(total, on_episode=show, made_by=job.made_by)
-        add_timing(job.out, time.perf_counter() - clock, trainer)
+        write_timing(job.out, before, time.perf_counter() - clock, trainer)
     extra = finish(trainer) if finish is not None else None
     result = JobResult(
         seed=job.seed,
@@ -200,17 +204,16 @@ def run_job(
     return result, extra
 
 
-def add_timing(out: Path, seconds: float, trainer: Trainer) -> None:
-    """Add a session's ``seconds`` to ``out``'s :data:`TIMING` (atomic; a missing or
-    unreadable one starts from zero)."""
-    path = Path(out) / TIMING
-    before = read_timing(path) or {"seconds": 0.0, "sessions": 0}
+def write_timing(out: Path, before: dict[str, Any], seconds: float, trainer: Trainer) -> None:
+    """Write ``out``'s :data:`TIMING` (atomic): ``before`` (the file as this session found
+    it) plus this session's ``seconds`` so far and the trainer's progress."""
     timing = {
         "seconds": float(before["seconds"]) + seconds,
         "sessions": int(before["sessions"]) + 1,
         "episodes": trainer.next_episode,
         "env_steps": trainer.agent.env_steps,
     }
+    path = Path(out) / TIMING
     write_atomic(path, lambda tmp: tmp.write_text(json.dumps(timing, indent=1) + "\n"))
 
 

@@ -162,7 +162,10 @@ def test_the_manifest_sets_each_stage_beside_its_budget(tmp_path: Path) -> None:
     assert "2 of 4 budgets met; missed: training, seed 1, evaluation" in manifest
     assert "| training, seed 0 | 15 min 00.0 s | 20 min 00.0 s | yes |" in manifest
     one = replace(setup, seeds=(0,))
-    assert reproduce.budgets(one, records)[-1].budget == 45 * 60.0
+    assert reproduce.budgets(one, records)[-1].budget == 30 * 60.0
+    resumed = [replace(records[0], command="pushctl train --resume"), *records[1:]]
+    assert "this invocation only" in reproduce.budgets(setup, resumed)[-1].basis
+    assert "this invocation only" not in rows["whole run"].basis
 
 
 @pytest.mark.slow

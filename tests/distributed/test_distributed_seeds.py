@@ -22,6 +22,7 @@ from pushctl.control.gains import load_gains
 from pushctl.distributed.seeds import (
     TIMING,
     CorePlan,
+    SeedStatus,
     TrainJob,
     core_plan,
     parse_seeds,
@@ -152,6 +153,28 @@ def test_run_job_resumes_the_checkpoint_it_finds(tiny: str, tmp_path: Path) -> N
     other = TrainJob(job.preset, 6, job.out, 4, job.made_by, job.gains)
     with pytest.raises(ConfigError, match="seed 5"):
         run_job(other)
+
+
+def test_a_stopped_session_counts_in_the_seed_training_time(tiny: str, tmp_path: Path) -> None:
+    """timing.json is rewritten after every episode, so a session stopped mid-run (here by
+    its progress callback raising after the first episode) still counts; the session that
+    finishes the run adds its own."""
+    job = TrainJob(load_preset(tiny), 5, tmp_path / "run", 3, "# made by: test", load_gains())
+
+    def stop(name: str, status: SeedStatus) -> None:
+        if status.done >= 1 and status.rates:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_job(job, report=stop)
+    stopped = json.loads((job.out / TIMING).read_text())
+    assert stopped["sessions"] == 1 and stopped["episodes"] == 1 and stopped["seconds"] > 0
+    assert unfinished(job)
+    run_job(job)
+    finished = json.loads((job.out / TIMING).read_text())
+    assert finished["sessions"] == 2 and finished["episodes"] == 3
+    assert finished["seconds"] > stopped["seconds"]
+    assert not unfinished(job)
 
 
 def _one_line_error(result, *fragments: str) -> None:
