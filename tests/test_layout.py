@@ -26,6 +26,7 @@ TOP_LEVEL = {
     "provenance.py",
     "output_guard.py",
     "toml_files.py",
+    "proxqp_build.py",  # ProxQP from its portable build, for planning and contact alike
 }
 
 # Layer of each subpackage (and of the few modules that sit above their package's layer):
@@ -57,6 +58,7 @@ LAYERS = {
     "pushctl.provenance": 0,
     "pushctl.output_guard": 0,
     "pushctl.toml_files": 0,
+    "pushctl.proxqp_build": 0,
 }
 
 

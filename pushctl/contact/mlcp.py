@@ -38,7 +38,6 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
-from proxsuite import proxqp
 
 from pushctl.contact.active_set import (
     BoxProblem,
@@ -51,6 +50,7 @@ from pushctl.contact.kernels import active_set_step
 from pushctl.contact.mlcp_checks import validated_arrays, warm_vector
 from pushctl.contact.pivot_kernels import cold_pivot
 from pushctl.errors import MLCPInputError
+from pushctl.proxqp_build import proxqp
 
 DEFAULT_TOL = 1e-9
 """Natural-map residual accepted by default, relative to max(1, ‖b‖∞)."""

@@ -162,8 +162,9 @@ def unfinished(job: TrainJob) -> bool:
     its episodes."""
     timing = read_timing(job.out / TIMING)
     total = job.episodes if job.episodes is not None else job.preset.train.episodes
-    done = (job.out / POLICY).is_file() and timing is not None
-    return not done or int(timing.get("episodes", 0)) < total
+    if timing is None or not (job.out / POLICY).is_file():
+        return True
+    return int(timing.get("episodes", 0)) < total
 
 
 def run_job(

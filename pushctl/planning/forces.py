@@ -30,7 +30,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import proxsuite
 from scipy.optimize import minimize_scalar
 
 from pushctl.errors import ConfigError
@@ -38,6 +37,7 @@ from pushctl.objects import ObjectSpec
 from pushctl.planning.ground import sliding_friction
 from pushctl.planning.infeasible import explain
 from pushctl.planning.trajectory import Trajectory
+from pushctl.proxqp_build import proxqp
 
 # Weight of the worst residual [N] against the prong-share term [-] in the offset search.
 _RESIDUAL_WEIGHT = 1e3
@@ -45,8 +45,8 @@ _NO_BOUND = 1e20
 # ProxQP's absolute tolerance on the scaled problem [-] and its iteration cap.
 _QP_TOLERANCE = 1e-12
 _QP_MAX_ITER = 1000
-_SOLVED = proxsuite.proxqp.QPSolverOutput.PROXQP_SOLVED
-_WARM = proxsuite.proxqp.InitialGuess.WARM_START_WITH_PREVIOUS_RESULT
+_SOLVED = proxqp.QPSolverOutput.PROXQP_SOLVED
+_WARM = proxqp.InitialGuess.WARM_START_WITH_PREVIOUS_RESULT
 
 
 @dataclass(frozen=True)
@@ -168,7 +168,7 @@ class _StepQP:
         self._lower = np.full(2 * k, -_NO_BOUND)
         self._upper = np.zeros(2 * k)
         self._gradient_map = -(weighted.T * self.weights)  # g = −Gᵀ S² w
-        self._qp = proxsuite.proxqp.dense.QP(2 * k, 0, 2 * k)
+        self._qp = proxqp.dense.QP(2 * k, 0, 2 * k)
         self._qp.settings.eps_abs = _QP_TOLERANCE
         self._qp.settings.eps_rel = 0.0
         self._qp.settings.max_iter = _QP_MAX_ITER
@@ -185,7 +185,7 @@ class _StepQP:
         qp.solve()
         if qp.results.info.status == _SOLVED:
             return qp.results.x.copy()
-        cold = proxsuite.proxqp.dense.solve(
+        cold = proxqp.dense.solve(
             self._hessian, gradient, None, None, self._cone, self._lower, self._upper,
             eps_abs=_QP_TOLERANCE, eps_rel=0.0, max_iter=_QP_MAX_ITER,
         )  # fmt: skip

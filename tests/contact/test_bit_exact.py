@@ -12,7 +12,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from proxsuite import proxqp
 from test_contact_kernels import random_mlcp
 
 import pushctl.contact.substep as substep_module  # where the step calls cold_contact_step
@@ -21,6 +20,7 @@ from pushctl.contact.cold_step import HELD
 from pushctl.contact.mlcp import _box_problem, _fixed_point
 from pushctl.contact.mlcp_checks import validated_arrays
 from pushctl.contact.pivot_kernels import _solve_labels, pivot_solve
+from pushctl.proxqp_build import PORTABLE_MODULE, proxqp, proxsuite
 from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
 
@@ -81,6 +81,44 @@ def test_the_proxqp_fallback_does_not_depend_on_the_heap() -> None:
             seen[k].add(b"".join(iterates))
             held += _junk(rng)
     assert all(len(answers) == 1 for answers in seen)
+
+
+def test_proxqp_is_the_portable_build() -> None:
+    assert proxsuite._submodule.__name__ == PORTABLE_MODULE
+
+
+def test_fresh_qps_answer_to_the_bit_wherever_their_memory_lies() -> None:
+    """A fresh ProxQP problem per solve, with allocations between, gives one answer per
+    problem. (With ProxSuite's AVX-512 build on this machine every one of these 20 problems
+    had two or more answers among its 30 solves.)"""
+    rng = np.random.default_rng(2)
+    held = []
+    for _ in range(20):
+        D, b, lo, hi, _, _ = validated_arrays(*random_mlcp(rng, 3, 6, singular=True), 1e-9)
+        answers = set()
+        for _ in range(30):
+            held.append(np.empty(int(rng.integers(1, 400))))
+            qp = proxqp.dense.QP(len(b), 0, 0, True)
+            qp.settings.eps_abs, qp.settings.eps_rel = 1e-11, 0.0
+            qp.init(D, b, None, None, None, None, None, lo, hi)
+            qp.solve()
+            answers.add(np.array(qp.results.x).tobytes())
+            held.append(qp)
+        assert len(answers) == 1
+
+
+def test_proxsuite_imported_before_pushctl_is_refused_in_one_line() -> None:
+    probe = "import proxsuite; print(proxsuite._submodule.__name__)"
+    alone = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True)
+    if alone.stdout.strip() == PORTABLE_MODULE:
+        pytest.skip("this CPU has neither AVX2 nor AVX-512: proxsuite loads its portable build")
+    code = "import proxsuite, pushctl.contact.mlcp"
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert done.returncode != 0
+    assert "ImportError: proxsuite was imported with its proxsuite.proxsuite_pywrap_" in (
+        done.stderr
+    )
+    assert "import pushctl first" in done.stderr
 
 
 def _slipping_push(steps: int) -> tuple[str, int]:
