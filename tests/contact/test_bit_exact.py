@@ -107,7 +107,7 @@ def test_fresh_qps_answer_to_the_bit_wherever_their_memory_lies() -> None:
         assert len(answers) == 1
 
 
-def test_proxsuite_imported_before_pushctl_is_refused_in_one_line() -> None:
+def test_proxsuite_imported_before_pushctl_is_refused_saying_what_to_do() -> None:
     probe = "import proxsuite; print(proxsuite._submodule.__name__)"
     alone = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True)
     if alone.stdout.strip() == PORTABLE_MODULE:
