@@ -19,6 +19,7 @@ import proxqp``), never from ``proxsuite`` directly, so that this import comes f
 
 from __future__ import annotations
 
+import importlib
 import sys
 import types
 
@@ -35,11 +36,10 @@ def _import_portable() -> types.ModuleType:
         stand_in.has_AVX2 = lambda: False  # type: ignore[attr-defined]
         sys.modules[stand_in.__name__] = stand_in
         try:
-            import proxsuite
+            importlib.import_module("proxsuite")
         finally:
             del sys.modules[stand_in.__name__]
-    import proxsuite
-
+    proxsuite = sys.modules["proxsuite"]
     loaded = getattr(proxsuite, "_submodule", None)
     name = getattr(loaded, "__name__", "?")
     if name != PORTABLE_MODULE:

@@ -314,8 +314,10 @@ def _fixed_point(
 
 
 _QPS: dict[int, proxqp.dense.QP] = {}
-"""One ProxQP problem per size, reused: a fresh one's answers differ in the last bit with
-where its workspace lands in the heap, a reused one's do not (docs/reproducibility.md)."""
+"""One ProxQP problem per size, reused. It was the in-process fix for ProxSuite's vectorised
+builds, whose answers move with where a fresh problem's workspace lands; with the portable
+build (:mod:`pushctl.proxqp_build`) placement no longer matters, and the reuse stays because
+its answers are the ones the shipped results were made with and it saves an allocation."""
 
 
 def _reused_qp(n: int) -> proxqp.dense.QP:

@@ -65,7 +65,8 @@ def _junk(rng: np.random.Generator) -> list:
 
 def test_the_proxqp_fallback_does_not_depend_on_the_heap() -> None:
     """The ProxQP fixed point (the cold path's fallback) gives the same iterates, to the
-    bit, with unrelated allocations between (with a fresh QP per solve it did not)."""
+    bit, with unrelated allocations between (with a fresh QP per solve and ProxSuite's AVX-512
+    build it did not)."""
     rng = np.random.default_rng(2)
     instances = []
     for _ in range(10):
@@ -109,11 +110,12 @@ def test_fresh_qps_answer_to_the_bit_wherever_their_memory_lies() -> None:
 
 def test_proxsuite_imported_before_pushctl_is_refused_saying_what_to_do() -> None:
     probe = "import proxsuite; print(proxsuite._submodule.__name__)"
-    alone = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True)
+    run = dict(capture_output=True, text=True, timeout=120)
+    alone = subprocess.run([sys.executable, "-c", probe], **run)
     if alone.stdout.strip() == PORTABLE_MODULE:
         pytest.skip("this CPU has neither AVX2 nor AVX-512: proxsuite loads its portable build")
     code = "import proxsuite, pushctl.contact.mlcp"
-    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    done = subprocess.run([sys.executable, "-c", code], **run)
     assert done.returncode != 0
     assert "ImportError: proxsuite was imported with its proxsuite.proxsuite_pywrap_" in (
         done.stderr
