@@ -66,7 +66,8 @@ class EpisodeRecord:
     """What episode ``episode`` left: its scenario's description, transitions (T rows:
     ``obs`` (T, d), ``action`` (T, 3) the residual actually applied (0 while the gate was
     shut), ``reward`` (T,), ``next_obs`` (T, d), ``done`` (T,)), its RL errors and, where
-    the learner ran it, PD-only's (keys :data:`CURVE_METRICS`), and the seconds it took."""
+    PD-only was pushed too (``collect_episodes``' ``pd_only``), PD-only's (keys
+    :data:`CURVE_METRICS`), and the seconds its RL push took (with its reset)."""
 
     episode: int
     scenario: dict[str, Any]
@@ -91,22 +92,33 @@ def collect_episode(
     episode: int,
     behaviour: Behaviour,
     env: PushEnv | None = None,
+    pd_only: bool = False,
 ) -> EpisodeRecord:
     """Run episode ``episode`` of the run with ``seed`` (see the module docstring); its
-    record's ``pd`` is None (PD-only is :func:`pd_only_metrics`, run by the learner).
-    ``env``: one to reuse (its config must be ``env_config``). The same record as that
-    episode's in any :func:`collect_episodes` batch."""
+    record's ``pd`` is None unless ``pd_only`` (then PD-only's errors on the same scenario,
+    :func:`collect_episodes`). ``env``: one to reuse (its config must be ``env_config``).
+    The same record as that episode's in any :func:`collect_episodes` batch."""
     vector = PushVectorEnv.of([env if env is not None else PushEnv(env_config, gains)])
-    return collect_episodes(vector, seed, [episode], behaviour)[0]
+    return collect_episodes(vector, seed, [episode], behaviour, [episode] if pd_only else [])[0]
 
 
 def collect_episodes(
-    vector: PushVectorEnv, seed: int, episodes: Sequence[int], behaviour: Behaviour
+    vector: PushVectorEnv,
+    seed: int,
+    episodes: Sequence[int],
+    behaviour: Behaviour,
+    pd_only: Sequence[int] = (),
 ) -> list[EpisodeRecord]:
     """Run the ``episodes`` of the run with ``seed`` together in ``vector`` (one
     sub-environment each: ``vector.num_envs == len(episodes)``), one batched actor forward
     per step for all of them; their records, in order, each the same bit for bit as when
-    the episode runs alone (:meth:`ActorPolicy.batch`, one noise generator per episode)."""
+    the episode runs alone (:meth:`ActorPolicy.batch`, one noise generator per episode).
+
+    The records of the episodes in ``pd_only`` also hold PD-only's errors on their scenario
+    (the training curves' comparison, Fig. 5): a copy of the episode as its reset left it,
+    pushed by the PD alone after the RL episode, bit for bit :func:`pd_only_metrics`
+    without its second reset (draw, plan, plant force plan, approach: about half a
+    PD-only push's time)."""
     started = time.perf_counter()
     if vector.num_envs != len(episodes):
         raise ConfigError(
@@ -114,6 +126,9 @@ def collect_episodes(
         )
     draws = [episode_rngs(seed, e) for e in episodes]
     obs, _ = vector.reset(seed=[reset_seed for reset_seed, _ in draws])
+    pd_pushes = {
+        i: pd_only_episode(env) for i, env in enumerate(vector.envs) if episodes[i] in pd_only
+    }
     act = _acting(behaviour, [rng for _, rng in draws], vector.envs)
     lengths = {env.episode.n_steps for env in vector.envs if env.episode is not None}
     if len(lengths) != 1:  # a round's pushes share EnvConfig.duration and dt
@@ -134,6 +149,7 @@ def collect_episodes(
         obs = next_obs
     assert all(env.episode is not None and env.episode.done for env in vector.envs)
     seconds = (time.perf_counter() - started) / len(episodes)
+    pd_metrics = {i: _curve_metrics(push.finish()) for i, push in pd_pushes.items()}
     records = []
     for i, (episode, env) in enumerate(zip(episodes, vector.envs, strict=True)):
         assert env.episode is not None
@@ -144,7 +160,7 @@ def collect_episodes(
                 scenario=_describe(env),
                 transitions=transitions,
                 rl=_curve_metrics(env.episode.trace()),
-                pd=None,
+                pd=pd_metrics.get(i),
                 gate_open_fraction=float(gate_open[i]) / max(decisions, 1),
                 episode_return=float(transitions["reward"].sum()),
                 seconds=seconds,
@@ -157,7 +173,8 @@ def pd_only_metrics(env: PushEnv, seed: int, episode: int) -> dict[str, float]:
     """PD-only on the scenario and plan episode ``episode`` of the run with ``seed`` draws
     (``env`` draws, plans and approaches it: the same draw as :func:`collect_episode`'s,
     on the same plant, :func:`~pushctl.rl.policy.pd_only_episode`), as
-    :data:`CURVE_METRICS`. The learner runs it while the collector runs the RL episode."""
+    :data:`CURVE_METRICS`. A training run has the collector push it from the RL episode's
+    reset (:func:`collect_episodes`' ``pd_only``); this is that push on its own."""
     reset_seed, _ = episode_rngs(seed, episode)
     env.reset(seed=reset_seed)
     return _curve_metrics(pd_only_episode(env).finish())

@@ -17,7 +17,7 @@ from pushctl.control.gains import PDGains
 from pushctl.rl.collect import Behaviour, EpisodeRecord, collect_episodes, tensors
 from pushctl.rl.env import PushEnv
 from pushctl.rl.presets import Preset
-from pushctl.rl.validate import Metrics, validation_env, validation_metrics
+from pushctl.rl.validate import Metrics, ValidationPushes
 from pushctl.rl.vector_env import PushVectorEnv
 
 
@@ -28,21 +28,24 @@ class CollectorWorker:
     def __init__(self, preset: Preset, gains: PDGains) -> None:
         self.env = PushEnv(preset.env, gains)
         self._vectors: dict[int, PushVectorEnv] = {}
-        self._validation_env: PushEnv | None = None
+        self._validation: ValidationPushes | None = None
 
-    def collect(self, seed: int, episodes: list[int], behaviour: Behaviour) -> list[EpisodeRecord]:
-        """The records of ``episodes``, stepped together in a vector env of their number."""
+    def collect(
+        self, seed: int, episodes: list[int], behaviour: Behaviour, pd_only: list[int]
+    ) -> list[EpisodeRecord]:
+        """The records of ``episodes``, stepped together in a vector env of their number;
+        those in ``pd_only`` with PD-only's errors too."""
         vector = self._vectors.get(len(episodes))
         if vector is None:
             env = self.env
             more = [PushEnv(env.config, env.gains) for _ in range(len(episodes) - 1)]
             vector = self._vectors[len(episodes)] = PushVectorEnv.of([env, *more])
-        return collect_episodes(vector, seed, episodes, behaviour)
+        return collect_episodes(vector, seed, episodes, behaviour, pd_only)
 
     def validate(self, actor_state: dict[str, Any], options: list[dict[str, Any]]) -> list[Metrics]:
-        if self._validation_env is None:
-            self._validation_env = validation_env(self.env.config, self.env.gains)
-        return validation_metrics(self._validation_env, tensors(actor_state), options)
+        if self._validation is None:
+            self._validation = ValidationPushes(self.env.config, self.env.gains)
+        return self._validation.metrics(tensors(actor_state), options)
 
 
 class Collector:
@@ -71,19 +74,25 @@ class Collector:
     def __exit__(self, *exc: object) -> None:
         self._stack.close()
 
-    def submit(self, episodes: range, behaviour: Behaviour) -> list[Future[list[EpisodeRecord]]]:
-        """Run ``episodes`` with ``behaviour``: split into one contiguous share per collector,
+    def submit(
+        self, episodes: range, behaviour: Behaviour, pd_only: list[int]
+    ) -> list[Future[list[EpisodeRecord]]]:
+        """Run ``episodes`` with ``behaviour``, and PD-only on the scenarios of those in
+        ``pd_only`` (the training curves'): split into one contiguous share per collector,
         each stepping its share together (results in episode order; no record depends on
         the split, :func:`~pushctl.rl.collect.collect_episodes`)."""
         if self._pool is None:
             assert self._local is not None
-            return [_done(self._local.collect(self.seed, list(episodes), behaviour))]
+            return [_done(self._local.collect(self.seed, list(episodes), behaviour, pd_only))]
         shares = min(self.workers, len(episodes))
         bounds = [episodes.start + len(episodes) * i // shares for i in range(shares + 1)]
-        return [
-            self._pool.submit("collect", self.seed, list(range(a, b)), behaviour)
-            for a, b in zip(bounds, bounds[1:], strict=False)
-        ]
+        futures = []
+        for a, b in zip(bounds, bounds[1:], strict=False):
+            share_pd = [e for e in pd_only if a <= e < b]
+            futures.append(
+                self._pool.submit("collect", self.seed, list(range(a, b)), behaviour, share_pd)
+            )
+        return futures
 
     def validate(
         self, actor_state: dict[str, Any], options: list[dict[str, Any]]

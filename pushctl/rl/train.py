@@ -40,12 +40,10 @@ from pushctl.rl.collect import (
     CURVE_METRICS,
     Behaviour,
     EpisodeRecord,
-    pd_only_metrics,
     portable,
 )
 from pushctl.rl.collectors import Collector
 from pushctl.rl.ddpg import DDPGAgent, configure_torch
-from pushctl.rl.env import PushEnv
 from pushctl.rl.networks import ActorPolicy
 from pushctl.rl.policy import save_atomic, write_policy
 from pushctl.rl.presets import Preset
@@ -97,7 +95,6 @@ class Trainer:
         self.collectors = preset.train.workers
         """Collector processes this session (no result depends on it; see TrainConfig)."""
         self._validator: Validator | None = None
-        self._pd_env: PushEnv | None = None
 
     @classmethod
     def start(cls, preset: Preset, seed: int, out: Path, gains: PDGains | None = None) -> Trainer:
@@ -154,10 +151,8 @@ class Trainer:
                 self._do_pending_updates()
                 following = self._submit_round(collector, flight.episodes.stop, episodes)
                 episodes_ = flight.episodes
-                pd_metrics = [self._pd_metrics(e) if self._run_pd(e) else None for e in episodes_]
                 records = [record for future in flight.futures for record in future.result()]
-                for record, metrics in zip(records, pd_metrics, strict=True):
-                    record = replace(record, pd=metrics)
+                for record in records:
                     self._absorb(record)
                     if on_episode is not None:
                         on_episode(clock.progress(record, self.next_episode, episodes))
@@ -263,7 +258,7 @@ class Trainer:
             return None
         round_ = range(first, min(first + self.preset.train.episodes_per_round, episodes))
         behaviour = self._behaviour(first)
-        futures = collector.submit(round_, behaviour)
+        futures = collector.submit(round_, behaviour, [e for e in round_ if self._run_pd(e)])
         due = [e for e in round_ if self._validate_due(e)]
         validation = self._submit_validation(collector, due[0]) if due else None
         return _RoundInFlight(round_, futures, validation)
@@ -311,11 +306,6 @@ class Trainer:
                 "kept": kept,
             }
         )
-
-    def _pd_metrics(self, episode: int) -> dict[str, float]:
-        if self._pd_env is None:
-            self._pd_env = PushEnv(self.preset.env, self.gains)
-        return pd_only_metrics(self._pd_env, self.seed, episode)
 
     def _run_pd(self, episode: int) -> bool:
         return episode % self.preset.train.pd_every == 0

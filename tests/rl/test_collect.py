@@ -1,6 +1,7 @@
 """Batched collection: episodes stepped together in a vector env (one batched actor forward
 per step) leave the same records, bit for bit, as each episode run alone; the training
-curve's PD-only push runs on the episode's plant."""
+curve's PD-only push runs on the episode's plant, and pushed from the RL episode's reset it
+is bit for bit the push after a reset of its own."""
 
 from __future__ import annotations
 
@@ -73,6 +74,22 @@ def test_the_pd_only_curve_push_runs_on_the_episodes_plant() -> None:
     env.step(np.zeros(3))
     with pytest.raises(StateError):
         pd_only_episode(env)  # only from an episode just reset
+
+
+@pytest.mark.parametrize("plant", ["sim", "proxy"])
+def test_the_pd_only_push_from_the_rl_episodes_reset_is_the_learners(plant: str) -> None:
+    config = replace(SHORT, plant=plant)
+    gains = load_gains()
+    records = collect_episodes(PushVectorEnv(3, config, gains), 7, [4, 5, 6], _acting(), [4, 6])
+    assert [record.pd is not None for record in records] == [True, False, True]
+    alone = PushEnv(config, gains)
+    for record in (records[0], records[2]):
+        assert record.pd == pd_only_metrics(alone, 7, record.episode)
+        assert record.pd != record.rl  # the actor acted; PD-only did not
+    # and the RL episode is the same whether PD-only is pushed beside it or not
+    without = collect_episodes(PushVectorEnv(3, config, gains), 7, [4, 5, 6], _acting())
+    for a, b in zip(records, without, strict=True):
+        assert a.rl == b.rl and a.episode_return == b.episode_return
 
 
 @pytest.mark.parametrize("demonstrated", [False, True])

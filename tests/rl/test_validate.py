@@ -1,14 +1,16 @@
-"""The validation set's PD-only baseline is the same push as the policy's, on either plant."""
+"""The validation set's PD-only baseline is the same push as the policy's, on either plant;
+a collector's pushes from its kept resets are those after a fresh reset, bit for bit."""
 
 from __future__ import annotations
 
 import pytest
+import torch
 
 from pushctl.control.gains import load_gains
 from pushctl.episode.ranges import PLANTS
 from pushctl.rl.env_config import EnvConfig
-from pushctl.rl.networks import Actor, ActorPolicy
-from pushctl.rl.validate import Validator
+from pushctl.rl.networks import Actor, ActorPolicy, initialise
+from pushctl.rl.validate import ValidationPushes, Validator, validation_env, validation_metrics
 
 
 @pytest.mark.parametrize("plant", PLANTS)
@@ -48,3 +50,23 @@ def test_the_tracking_rule_keeps_an_actor_that_tracks_better_whatever_its_force(
     assert not ValidationScore(**values).beats_pd  # the force error is above PD-only's
     worse_angle = ValidationScore(**{**values, "angle_error_pct": 2.5}, rule="tracking")
     assert not worse_angle.beats_pd
+
+
+@pytest.mark.parametrize("plant", ["sim", "proxy"])
+def test_pushes_from_kept_resets_equal_pushes_after_a_fresh_reset(plant: str) -> None:
+    config = EnvConfig(objects=("cube", "wedge"), profiles=("chirp",), duration=1.0, plant=plant)
+    gains = load_gains()
+    options = Validator(config, gains, per_cell=2).options
+    pushes = ValidationPushes(config, gains)
+    n_obs = pushes.env.observation_space.shape[0]
+    actors = []
+    for seed in (1, 2):
+        actor = Actor(n_obs, 3, [8])
+        initialise(actor, torch.Generator().manual_seed(seed), final_bound=0.5)
+        actors.append(ActorPolicy(actor.eval()).state())
+    for actor_state in actors:  # the second actor's pushes start from the kept resets
+        fresh = validation_metrics(validation_env(config, gains), actor_state, options)
+        assert pushes.metrics(actor_state, options) == fresh
+        assert pushes.metrics(actor_state, options[::-1]) == fresh[::-1]
+    assert len(pushes._reset) == len(options)  # one reset per scenario, kept
+    assert fresh != validation_metrics(validation_env(config, gains), actors[0], options)
