@@ -25,6 +25,7 @@ from pushctl.errors import ConfigError
 from pushctl.provenance import provenance_line
 from pushctl.rl.presets import load_preset
 from pushctl.rl.train import CHECKPOINT, CURVE, LAST_POLICY, POLICY, VALIDATION, Trainer
+from pushctl.rl.warm_up import compile_kernels
 
 LOG_EVERY = 25
 """Episodes between a seed's plain progress lines when the output is not a terminal."""
@@ -105,7 +106,8 @@ def run_jobs_with_progress(
     console: Console,
     finish: Callable[[Trainer], Any] | None = None,
 ) -> list[tuple[JobResult, Any]]:
-    """:func:`~pushctl.distributed.seeds.run_jobs` with one progress bar per job."""
+    """:func:`~pushctl.distributed.seeds.run_jobs` with one progress bar per job, after
+    numba's kernels are compiled in this process (:mod:`pushctl.rl.warm_up`)."""
     columns = (
         TextColumn("[bold]{task.fields[label]}"),
         MofNCompleteColumn(),
@@ -114,6 +116,10 @@ def run_jobs_with_progress(
         TimeElapsedColumn(),
     )
     logged: dict[str, int] = {}
+    if len(jobs) > 1:  # the seeds' processes would each compile the kernels, all at once
+        first = jobs[0]
+        console.print("compiling the kernels once (about 50 s in a fresh clone) ...")
+        compile_kernels(first.preset.env, first.gains, first.preset.ddpg.hidden)
     # Ray first: a cluster that does not answer is a one-line error, with no display drawn
     with session(address), Progress(*columns, console=console) as progress:
         bars = {
