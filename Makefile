@@ -28,12 +28,14 @@ lint: $(STAMP)
 # bench.compare: this tree against 551bcac side by side (git archive, interleaved children),
 # then against ac82d3c (before the step with the plant unknowns got cheaper:
 # docs/reproducibility-and-speed.md); bench.evaluation: a short `pushctl evaluate` against
-# 998b653, timed and compared byte for byte (docs/evaluation-speed.md).
+# 998b653, timed and compared byte for byte (docs/evaluation-speed.md); bench.training: a
+# short paper-shaped `pushctl train` against aee9d1d, likewise (docs/training-speed.md).
 bench: $(STAMP)
 	$(PY) -m pushctl.bench --profile --out results/bench.csv --force
 	$(PY) -m pushctl.bench.compare --against 551bcac --out results/bench_compare.csv --force
 	$(PY) -m pushctl.bench.compare --against ac82d3c --out results/bench_compare_unknowns.csv --force
 	$(PY) -m pushctl.bench.evaluation --against 998b653 --out results/bench_evaluation.csv --force
+	$(PY) -m pushctl.bench.training --against aee9d1d --out results/bench_training.csv --force
 
 # Train (paper preset, seeds $(SEEDS) on Ray), evaluate (50 trials x 2 objects x 3 profiles x
 # 2 controllers x 2 plants), report, bench; QUICK=1: quick preset, 4 trials, into results-quick/;

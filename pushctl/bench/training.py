@@ -1,0 +1,138 @@
+"""``make bench``'s training timing: ``pushctl train`` of this tree against a reference
+commit, side by side, and the two trees' outputs compared byte for byte.
+
+Run as ``python -m pushctl.bench.training [--against aee9d1d] [--repeats 3] [--out FILE]
+[--force]``. The run is the ``paper`` preset shortened (:data:`OVERRIDES`: 40 episodes, a
+10-episode warm-up, validation every 20 episodes on 12 pushes), so it holds every part of a
+``paper`` episode's cost in about the same shares: the warm-up's law and the actor's
+episodes in two collector processes, the DDPG updates, the PD-only curve pushes and the
+validations. The reference commit's ``pushctl/`` and ``experiments/`` are unpacked with
+``git archive``; both trees read one preset file written from this tree's
+``experiments/train_paper.toml``. Each tree first runs once untimed (numba's cache of a
+fresh tree), then ``repeats`` timed runs per tree alternate which tree goes first; a run is
+the whole command in a fresh process on every core (Ray's start included).
+
+The table gives the median wall time of each tree [s], the ratio this / reference, and
+whether every run's ``curve.csv`` and ``validation.csv`` equal the reference's first run's to
+the byte after their ``# made by:`` line.
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+import statistics
+import sys
+import tempfile
+from pathlib import Path
+
+import pandas as pd
+
+import pushctl
+from pushctl.bench.compare import unpack
+from pushctl.bench.evaluation import run
+from pushctl.errors import ConfigError
+from pushctl.output_guard import refuse_existing_files
+from pushctl.provenance import git_commit, provenance_line, write_csv
+
+REFERENCE = "aee9d1d"
+"""The commit before the training's repeated resets were removed (docs/training-speed.md)."""
+OVERRIDES = {
+    "episodes": "40",
+    "checkpoint_every": "20",
+    "validate_every": "20",
+    "validation_per_cell": "2",
+    "warmup_steps": "2000",
+    "critic_burn_in": "200",
+}
+"""The ``paper`` preset's values replaced for the timed run (key = value, one line each)."""
+OUTPUTS = ("curve.csv", "validation.csv")
+
+
+def bench_preset(paper: str) -> str:
+    """The text of the ``paper`` preset file ``paper`` with :data:`OVERRIDES` (comments
+    after a replaced value dropped); ConfigError unless each key is on exactly one line."""
+    for key, value in OVERRIDES.items():
+        paper, found = re.subn(rf"(?m)^{key} = .*$", f"{key} = {value}", paper)
+        if found != 1:
+            raise ConfigError(f"the paper preset has {found} lines setting {key!r}, not one")
+    return paper
+
+
+def command(preset: Path, out: Path) -> list[str]:
+    """The ``pushctl train`` command line timed (without the interpreter)."""
+    return ["-m", "pushctl.cli", "train", "--preset", str(preset), "--seed", "0", "--out", str(out)]
+
+
+def body(directory: Path) -> tuple[bytes, ...]:
+    """The outputs' bytes after their first (``# made by:``) line."""
+    return tuple((directory / name).read_bytes().split(b"\n", 1)[1] for name in OUTPUTS)
+
+
+def compare(against: str, repeats: int) -> pd.DataFrame:
+    """One row per tree: median, min and max wall time [s] over ``repeats`` interleaved
+    runs, and whether all its outputs equal the reference's to the byte."""
+    this_tree = Path(pushctl.__file__).resolve().parent.parent
+    with tempfile.TemporaryDirectory(prefix="pushctl-bench-train-") as scratch:
+        scratch_dir = Path(scratch)
+        preset = scratch_dir / "bench_paper.toml"
+        paper = (this_tree / "experiments" / "train_paper.toml").read_text()
+        preset.write_text(bench_preset(paper))
+        trees = {"this": this_tree, "reference": unpack(against, scratch_dir)}
+        times: dict[str, list[float]] = {"this": [], "reference": []}
+        outputs: dict[str, list[tuple[bytes, ...]]] = {"this": [], "reference": []}
+        for name, tree in trees.items():  # untimed: numba's cache of a fresh tree
+            run(tree, command(preset, scratch_dir / f"warm-{name}"), workers=2)
+        for k in range(repeats):
+            order = ("reference", "this") if k % 2 == 0 else ("this", "reference")
+            for name in order:
+                out = scratch_dir / f"{name}-{k}"
+                times[name].append(run(trees[name], command(preset, out), workers=2))
+                outputs[name].append(body(out))
+    expected = outputs["reference"][0]
+    note = f"{repeats} interleaved runs; paper preset with {OVERRIDES}"
+    return pd.DataFrame(
+        [
+            {
+                "tree": name if name == "this" else f"reference {against}",
+                "median_s": statistics.median(times[name]),
+                "min_s": min(times[name]),
+                "max_s": max(times[name]),
+                "ratio": statistics.median(times[name]) / statistics.median(times["reference"]),
+                "identical": all(result == expected for result in outputs[name]),
+                "note": note,
+            }
+            for name in ("this", "reference")
+        ]
+    )
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(
+        prog="python -m pushctl.bench.training", description=__doc__.splitlines()[0]
+    )
+    parser.add_argument("--against", default=REFERENCE, help="reference commit (git)")
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--out", type=Path, default=None, help="also write the table as CSV")
+    parser.add_argument("--force", action="store_true", help="overwrite an existing --out file")
+    args = parser.parse_args(argv)
+    try:
+        refuse_existing_files("--out", (args.out,), args.force)
+        if args.repeats < 1:
+            raise ConfigError(f"--repeats must be an integer >= 1, got {args.repeats}")
+        frame = compare(args.against, args.repeats)
+    except ConfigError as error:
+        print(f"error: {error}", file=sys.stderr)
+        return 2
+    print(f"pushctl train, this tree ({git_commit()}) against {args.against}:")
+    print(frame.to_string(index=False, float_format=lambda v: f"{v:.2f}"))
+    if args.out is not None:
+        args.out.parent.mkdir(parents=True, exist_ok=True)
+        write_csv(args.out, frame, provenance_line(extra=f"against {args.against}"))
+    if not frame["identical"].all():  # a timing, not a check: other commits may train otherwise
+        print(f"the outputs differ from {args.against}'s (curve.csv or validation.csv)")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
