@@ -5,12 +5,15 @@ Run as ``python -m pushctl.bench.training [--against aee9d1d] [--repeats 3] [--o
 [--force]``. The run is the ``paper`` preset shortened (:data:`OVERRIDES`: 40 episodes, a
 10-episode warm-up, validation every 20 episodes on 12 pushes), so it holds every part of a
 ``paper`` episode's cost in about the same shares: the warm-up's law and the actor's
-episodes in two collector processes, the DDPG updates, the PD-only curve pushes and the
-validations. The reference commit's ``pushctl/`` and ``experiments/`` are unpacked with
-``git archive``; both trees read one preset file written from this tree's
-``experiments/train_paper.toml``. Each tree first runs once untimed (numba's cache of a
-fresh tree), then ``repeats`` timed runs per tree alternate which tree goes first; a run is
-the whole command in a fresh process on every core (Ray's start included).
+episodes, the DDPG updates, the PD-only curve pushes and the validations. It runs in one
+process pinned to one core (``workers`` 0), as each seed of ``make reproduce-tables``
+trains on this 2-core machine (three seeds, one process each:
+:func:`~pushctl.distributed.seeds.core_plan`), so its time is the core time a seed needs
+and does not swing with the other core's load. The reference commit's ``pushctl/`` and
+``experiments/`` are unpacked with ``git archive``; both trees read one preset file written
+from this tree's ``experiments/train_paper.toml``. Each tree first runs once untimed
+(numba's cache of a fresh tree), then ``repeats`` timed runs per tree alternate which tree
+goes first; a run is the whole command in a fresh process.
 
 The table gives the median wall time of each tree [s], the ratio this / reference, and
 whether every run's ``curve.csv`` and ``validation.csv`` equal the reference's first run's to
@@ -44,6 +47,7 @@ OVERRIDES = {
     "validation_per_cell": "2",
     "warmup_steps": "2000",
     "critic_burn_in": "200",
+    "workers": "0",
 }
 """The ``paper`` preset's values replaced for the timed run (key = value, one line each)."""
 OUTPUTS = ("curve.csv", "validation.csv")
@@ -82,15 +86,15 @@ def compare(against: str, repeats: int) -> pd.DataFrame:
         times: dict[str, list[float]] = {"this": [], "reference": []}
         outputs: dict[str, list[tuple[bytes, ...]]] = {"this": [], "reference": []}
         for name, tree in trees.items():  # untimed: numba's cache of a fresh tree
-            run(tree, command(preset, scratch_dir / f"warm-{name}"), workers=2)
+            run(tree, command(preset, scratch_dir / f"warm-{name}"), workers=1)
         for k in range(repeats):
             order = ("reference", "this") if k % 2 == 0 else ("this", "reference")
             for name in order:
                 out = scratch_dir / f"{name}-{k}"
-                times[name].append(run(trees[name], command(preset, out), workers=2))
+                times[name].append(run(trees[name], command(preset, out), workers=1))
                 outputs[name].append(body(out))
     expected = outputs["reference"][0]
-    note = f"{repeats} interleaved runs; paper preset with {OVERRIDES}"
+    note = f"{repeats} interleaved runs, one core; paper preset with {OVERRIDES}"
     return pd.DataFrame(
         [
             {
