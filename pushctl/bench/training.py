@@ -15,25 +15,31 @@ from this tree's ``experiments/train_paper.toml``. Each tree first runs once unt
 (numba's cache of a fresh tree), then ``repeats`` timed runs per tree alternate which tree
 goes first; a run is the whole command in a fresh process.
 
-The table gives the median wall time of each tree [s], the ratio this / reference, and
-whether every run's ``curve.csv`` and ``validation.csv`` equal the reference's first run's to
-the byte after their ``# made by:`` line.
+The table gives each tree's CPU time [s] (median, min, max; the machine is shared, and a
+run's wall time holds the time it waited for its core while its CPU time does not), its
+median wall time, the CPU-time ratio this / reference, and whether every run's
+``curve.csv`` and ``validation.csv`` equal the reference's first run's to the byte after
+their ``# made by:`` line.
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import re
+import resource
+import shutil
 import statistics
+import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 import pandas as pd
 
 import pushctl
 from pushctl.bench.compare import unpack
-from pushctl.bench.evaluation import run
 from pushctl.errors import ConfigError
 from pushctl.output_guard import refuse_existing_files
 from pushctl.provenance import git_commit, provenance_line, write_csv
@@ -68,14 +74,35 @@ def command(preset: Path, out: Path) -> list[str]:
     return ["-m", "pushctl.cli", "train", "--preset", str(preset), "--seed", "0", "--out", str(out)]
 
 
+def run(tree: Path, args: list[str]) -> tuple[float, float]:
+    """Wall time and CPU time (user + system) [s] of ``python args`` with ``tree``'s
+    ``pushctl`` first on the path, pinned to core 0 (``taskset`` where it exists). With
+    ``workers`` 0 the run is that one process (no Ray), so its CPU time is the run's core
+    time even while other work shares the core."""
+    pin = ["taskset", "-c", "0"] if shutil.which("taskset") else []
+    env = {**os.environ, "PYTHONPATH": str(tree)}
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    start = time.perf_counter()
+    done = subprocess.run(
+        [*pin, sys.executable, *args], capture_output=True, text=True, env=env, cwd=tree
+    )
+    wall = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if done.returncode != 0:
+        raise RuntimeError(f"training in {tree} failed:\n{done.stderr[-2000:]}")
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return wall, cpu
+
+
 def body(directory: Path) -> tuple[bytes, ...]:
     """The outputs' bytes after their first (``# made by:``) line."""
     return tuple((directory / name).read_bytes().split(b"\n", 1)[1] for name in OUTPUTS)
 
 
 def compare(against: str, repeats: int) -> pd.DataFrame:
-    """One row per tree: median, min and max wall time [s] over ``repeats`` interleaved
-    runs, and whether all its outputs equal the reference's to the byte."""
+    """One row per tree: median, min and max CPU time [s] over ``repeats`` interleaved runs,
+    the median wall time [s], the CPU-time ratio this / reference, and whether all its
+    outputs equal the reference's to the byte."""
     this_tree = Path(pushctl.__file__).resolve().parent.parent
     with tempfile.TemporaryDirectory(prefix="pushctl-bench-train-") as scratch:
         scratch_dir = Path(scratch)
@@ -83,26 +110,28 @@ def compare(against: str, repeats: int) -> pd.DataFrame:
         paper = (this_tree / "experiments" / "train_paper.toml").read_text()
         preset.write_text(bench_preset(paper))
         trees = {"this": this_tree, "reference": unpack(against, scratch_dir)}
-        times: dict[str, list[float]] = {"this": [], "reference": []}
+        times: dict[str, list[tuple[float, float]]] = {"this": [], "reference": []}
         outputs: dict[str, list[tuple[bytes, ...]]] = {"this": [], "reference": []}
         for name, tree in trees.items():  # untimed: numba's cache of a fresh tree
-            run(tree, command(preset, scratch_dir / f"warm-{name}"), workers=1)
+            run(tree, command(preset, scratch_dir / f"warm-{name}"))
         for k in range(repeats):
             order = ("reference", "this") if k % 2 == 0 else ("this", "reference")
             for name in order:
                 out = scratch_dir / f"{name}-{k}"
-                times[name].append(run(trees[name], command(preset, out), workers=1))
+                times[name].append(run(trees[name], command(preset, out)))
                 outputs[name].append(body(out))
     expected = outputs["reference"][0]
+    cpu = {name: [c for _, c in runs] for name, runs in times.items()}
     note = f"{repeats} interleaved runs, one core; paper preset with {OVERRIDES}"
     return pd.DataFrame(
         [
             {
                 "tree": name if name == "this" else f"reference {against}",
-                "median_s": statistics.median(times[name]),
-                "min_s": min(times[name]),
-                "max_s": max(times[name]),
-                "ratio": statistics.median(times[name]) / statistics.median(times["reference"]),
+                "cpu_median_s": statistics.median(cpu[name]),
+                "cpu_min_s": min(cpu[name]),
+                "cpu_max_s": max(cpu[name]),
+                "wall_median_s": statistics.median(wall for wall, _ in times[name]),
+                "ratio": statistics.median(cpu[name]) / statistics.median(cpu["reference"]),
                 "identical": all(result == expected for result in outputs[name]),
                 "note": note,
             }
