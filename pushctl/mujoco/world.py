@@ -45,6 +45,7 @@ from pushctl.objects import ObjectSpec
 from pushctl.types import StepResult, WorldStats
 
 _BAD_QACC = int(mujoco.mjtWarning.mjWARN_BADQACC)
+_mj_step, _mj_kinematics = mujoco.mj_step, mujoco.mj_kinematics
 _warnings: list[str] = []
 
 
@@ -123,8 +124,11 @@ class MujocoWorld:
         self._prong_geoms = {model.geom(prong_geom_name(i)).id: i for i in range(self._n_prongs)}
         self._prong_sites = [model.site(prong_site_name(i)).id for i in range(self._n_prongs)]
         self._damping = np.zeros(self._nv) if arm is None else np.asarray(arm.damping, float)
+        self._elliptic = model.opt.cone == mujoco.mjtCone.mjCONE_ELLIPTIC
+        self._substeps = config.mujoco.substeps
+        self._no_forces = [0.0] * (2 * self._n_prongs)
         self._wrench = np.zeros(6)
-        self._normals = np.zeros((self._n_prongs, 2))
+        self._normals = [(0.0, 0.0)] * self._n_prongs  # (e_n x, e_n y) per prong
         self._rest_height = self._settle_height()
         self.reset()
 
@@ -244,26 +248,31 @@ class MujocoWorld:
         model, data = self.model, self.data
         if self.arm is not None:
             tau, kv = self._check_command(tau, implicit_kv)
-            model.dof_damping[: self._nv] = self._damping + kv
+            np.add(self._damping, kv, out=model.dof_damping[: self._nv])
             data.qfrc_applied[: self._nv] = tau
-        forces = np.zeros((self._n_prongs, 2))
+        # The views are taken again every step, never kept on the world: a deep copy of the
+        # world copies its MjData, and kept views would still read the original's.
+        niter, warning = data.solver_niter, data.warning.number
+        n_sub, forces = self._substeps, self._no_forces
         iterations = 0
-        n_sub = self.config.mujoco.substeps
         previous = _yaw(data.xquat[self._body])
         for _ in range(n_sub):
-            mujoco.mj_step(model, data)
-            iterations += int(data.solver_niter[0])
-            if data.warning[_BAD_QACC].number:
+            _mj_step(model, data)
+            iterations += int(niter[0])
+            if warning[_BAD_QACC]:
                 self._diverged()
             if self._n_prongs:
-                forces += self._prong_forces()
-        mujoco.mj_kinematics(model, data)  # positions of the new state (gaps, yaw)
+                # forces += each substep's: the same additions, in the same order, as the
+                # arrays' (k, 2) sum, each entry starting from 0.0
+                forces = [f + g for f, g in zip(forces, self._prong_forces(), strict=True)]
+        _mj_kinematics(model, data)  # positions of the new state (gaps, yaw)
         yaw = _yaw(data.xquat[self._body])
         self._theta += math.remainder(yaw - previous, 2.0 * math.pi)
         self._terms = None
         self.stats.steps += 1
         self.stats.solves += n_sub
-        return self._result(forces / n_sub, iterations)
+        mean = np.array([f / n_sub for f in forces]).reshape(self._n_prongs, 2)
+        return self._result(mean, iterations)
 
     def _diverged(self) -> None:
         """MuJoCo found a NaN or huge acceleration (and reset its state): stop, saying so."""
@@ -273,73 +282,100 @@ class MujocoWorld:
             f"({_warnings.pop() if _warnings else 'bad acceleration'}); check the torques and gains"
         )
 
-    def _prong_forces(self) -> np.ndarray:
-        """(k, 2) [N] each prong's force on the object from the contacts of the step just
-        taken, along the inward normal e_n of the footprint face nearest the prong point at
-        the control step's start (:meth:`_geometry`) and e_t = e_z × e_n."""
-        data, forces = self.data, np.zeros((self._n_prongs, 2))
+    def _prong_forces(self) -> list[float]:
+        """Each prong's force [N] on the object from the contacts of the step just taken,
+        along the inward normal e_n of the footprint face nearest the prong point at the
+        control step's start (:meth:`_geometry`) and e_t = e_z × e_n: (2k,) as a list,
+        prong i's (normal, tangential) at 2i, 2i + 1.
+
+        Python floats throughout (numpy's scalars cost ~0.1 µs per operation): the same
+        IEEE operations in the same order as on float64, so the same bits. The contact
+        frame's rotation stays numpy's ``local @ frame`` (BLAS's own summation)."""
+        forces = [0.0] * (2 * self._n_prongs)
+        data, obj = self.data, self._object_geom
         contacts = data.contact
-        geom1, geom2 = contacts.geom1, contacts.geom2
-        touching = np.flatnonzero((geom1 == self._object_geom) | (geom2 == self._object_geom))
-        wrench, frames = self._wrench, contacts.frame
-        elliptic = self.model.opt.cone == mujoco.mjtCone.mjCONE_ELLIPTIC
-        for n in touching.tolist():
-            g1, g2 = int(geom1[n]), int(geom2[n])
-            prong = self._prong_geoms.get(g1 if g2 == self._object_geom else g2)
+        geom1, geom2 = contacts.geom1.tolist(), contacts.geom2.tolist()
+        frames = None
+        for n, (g1, g2) in enumerate(zip(geom1, geom2, strict=True)):
+            if g1 != obj and g2 != obj:
+                continue
+            prong = self._prong_geoms.get(g1 if g2 == obj else g2)
             if prong is None:  # the floor
                 continue
-            if elliptic:  # the constraint force is the contact-frame force itself
-                address = int(contacts.efc_address[n])
-                local = data.efc_force[address : address + 3]
+            if frames is None:  # once per call: each of MuJoCo's views costs ~0.2 µs
+                # (ncon, 3, 3): a view, each frames[n] the very (3, 3) block, strides and
+                # all, that contacts.frame[n].reshape(3, 3) is
+                frames = contacts.frame.reshape(-1, 3, 3)
+                addresses, efc_force = contacts.efc_address.tolist(), data.efc_force
+            if self._elliptic:  # the constraint force is the contact-frame force itself
+                address = addresses[n]
+                local = efc_force[address : address + 3]
             else:
-                mujoco.mj_contactForce(self.model, data, n, wrench)
-                local = wrench[:3]
-            force = local @ frames[n].reshape(3, 3)  # rows n, t1, t2: on geom2, world axes
-            if g1 == self._object_geom:
-                force = -force
+                mujoco.mj_contactForce(self.model, data, n, self._wrench)
+                local = self._wrench[:3]
+            # rows n, t1, t2: the force on geom2, world axes
+            fx, fy, _ = (local @ frames[n]).tolist()
+            if g1 == obj:
+                fx, fy = -fx, -fy
             en_x, en_y = self._normals[prong]
-            forces[prong, 0] += force[0] * en_x + force[1] * en_y
-            forces[prong, 1] += -force[0] * en_y + force[1] * en_x
+            forces[2 * prong] += fx * en_x + fy * en_y
+            forces[2 * prong + 1] += -fx * en_y + fy * en_x
         return forces
 
-    def _geometry(self) -> np.ndarray:
-        """The prong points against the footprint at the current state: their planar signed
-        distances (k,) [m] (returned) and the inward normals of the nearest faces, world
-        axes (kept for the next step's forces)."""
-        pose = self.object_pose
-        c, s = math.cos(pose[2]), math.sin(pose[2])
-        gaps = np.zeros(self._n_prongs)
-        for i, site in enumerate(self._prong_sites):
-            px, py = self.data.site_xpos[site][:2] - pose[:2]
-            gap, nx, ny, _, _ = self.object.polygon.query(c * px + s * py, -s * px + c * py)
-            gaps[i] = gap
-            self._normals[i] = (-(c * nx - s * ny), -(s * nx + c * ny))
-        return gaps
+    def _geometry(self, x: float, y: float) -> np.ndarray:
+        """The prong points against the footprint with the object at (x, y) [m] and
+        heading θ: their planar signed distances (k,) [m] (returned) and the inward normals
+        of the nearest faces, world axes (kept for the next step's forces). Python floats,
+        as in :meth:`_prong_forces`."""
+        theta = self._theta
+        c, s = math.cos(theta), math.sin(theta)
+        gaps, normals, query = [], [], self.object.polygon.query
+        points = self.data.site_xpos
+        for site in self._prong_sites:
+            px, py, _ = points[site].tolist()
+            px, py = px - x, py - y
+            gap, nx, ny, _, _ = query(c * px + s * py, -s * px + c * py)
+            gaps.append(gap)
+            normals.append((-(c * nx - s * ny), -(s * nx + c * ny)))
+        self._normals = normals
+        return np.array(gaps, dtype=float)
 
-    def _check_command(self, tau, implicit_kv) -> tuple[np.ndarray, np.ndarray]:
-        """Validated (tau (nv,), kv (nv,)); StateError naming the argument otherwise."""
+    def _check_command(self, tau, implicit_kv) -> tuple[np.ndarray, float | np.ndarray]:
+        """Validated (tau (nv,), kv: a float for a scalar or None, else (nv,)); StateError
+        naming the argument otherwise. A scalar stays one: added to the (nv,) damping it
+        gives what the vector of it would."""
         tau = finite_vector("tau", tau, self._nv)
         if implicit_kv is None:
-            return tau, np.zeros(self._nv)
+            return tau, 0.0
         if isinstance(implicit_kv, (int, float)):
             if not (math.isfinite(implicit_kv) and implicit_kv >= 0.0):
                 raise StateError(
                     f"implicit_kv must be finite and >= 0 N·m·s/rad, got {implicit_kv!r}"
                 )
-            return tau, np.full(self._nv, float(implicit_kv))
+            return tau, float(implicit_kv)
         kv = finite_vector("implicit_kv", implicit_kv, self._nv)
         if kv.min() < 0.0:
             raise StateError(f"implicit_kv must be >= 0 N·m·s/rad, got {kv.tolist()}")
         return tau, kv
 
     def _result(self, forces: np.ndarray, iterations: int) -> StepResult:
-        return StepResult(
-            object_pose=self.object_pose,
-            object_velocity=self.object_velocity,
+        """The state after a step or reset, every array new (a StepResult's are never
+        written into)."""
+        data, i, j = self.data, self._obj_q, self._obj_v
+        x, y = data.qpos[i : i + 2].tolist()
+        qvel = data.qvel
+        # Free joint: angular velocity in the body's axes; the world's ω_z as
+        # :attr:`object_velocity` computes it (the same product, so the same bits).
+        omega_world = data.xmat[self._body].reshape(3, 3) @ (qvel[j + 3 : j + 6])
+        vx, vy = qvel[j : j + 2].tolist()
+        nv = self._nv
+        return StepResult.sharing(
+            object_pose=np.array([x, y, self._theta]),
+            object_velocity=np.array([vx, vy, omega_world[2]]),
             contact_forces=forces,
-            prong_gaps=self._geometry(),
-            arm_q=self.q,
-            arm_v=self.v,
+            prong_gaps=self._geometry(x, y),
+            arm_q=data.qpos[:nv].copy(),
+            arm_v=qvel[:nv].copy(),
             mlcp_residual=0.0,
             mlcp_converged=True,
             mlcp_iterations=iterations,
