@@ -19,23 +19,19 @@ the byte (after their ``# made by:`` line, which names the tree's commit).
 
 from __future__ import annotations
 
-import argparse
-import os
-import shutil
 import statistics
-import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import pandas as pd
 
 import pushctl
+from pushctl.bench import trees
 from pushctl.bench.compare import unpack
+from pushctl.bench.trees import run_in_tree, show_and_write, side_by_side_parser
 from pushctl.errors import ConfigError
 from pushctl.output_guard import refuse_existing_files
-from pushctl.provenance import git_commit, provenance_line, write_csv
 
 REFERENCE = "998b653"
 """The commit before the evaluation was made faster (docs/evaluation-speed.md)."""
@@ -54,23 +50,14 @@ def command(trials: int, workers: int, out: Path, policies: list[Path]) -> list[
 
 
 def run(tree: Path, args: list[str], workers: int) -> float:
-    """Wall time [s] of ``python args`` with ``tree``'s ``pushctl`` first on the path (the
-    Ray workers it starts inherit the path)."""
-    pin = ["taskset", "-c", "0"] if workers == 1 and shutil.which("taskset") else []
-    env = {**os.environ, "PYTHONPATH": str(tree)}
-    start = time.perf_counter()
-    done = subprocess.run(
-        [*pin, sys.executable, *args], capture_output=True, text=True, env=env, cwd=tree
-    )
-    took = time.perf_counter() - start
-    if done.returncode != 0:
-        raise RuntimeError(f"evaluation in {tree} failed:\n{done.stderr[-2000:]}")
-    return took
+    """Wall time [s] of ``python args`` in ``tree`` (:func:`run_in_tree`), pinned to one
+    core with one worker."""
+    return run_in_tree(tree, args, pin=workers == 1)[0]
 
 
 def body(directory: Path) -> tuple[bytes, ...]:
     """The outputs' bytes after their first (``# made by:``) line."""
-    return tuple((directory / name).read_bytes().split(b"\n", 1)[1] for name in OUTPUTS)
+    return trees.body(directory, OUTPUTS)
 
 
 def compare(against: str, repeats: int, trials: int, workers: int) -> pd.DataFrame:
@@ -114,15 +101,9 @@ def compare(against: str, repeats: int, trials: int, workers: int) -> pd.DataFra
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(
-        prog="python -m pushctl.bench.evaluation", description=__doc__.splitlines()[0]
-    )
-    parser.add_argument("--against", default=REFERENCE, help="reference commit (git)")
-    parser.add_argument("--repeats", type=int, default=3)
+    parser = side_by_side_parser("pushctl.bench.evaluation", __doc__, REFERENCE, repeats=3)
     parser.add_argument("--trials", type=int, default=1, help="trials per object × profile")
     parser.add_argument("--workers", type=int, default=2, help="pushctl evaluate --workers")
-    parser.add_argument("--out", type=Path, default=None, help="also write the table as CSV")
-    parser.add_argument("--force", action="store_true", help="overwrite an existing --out file")
     args = parser.parse_args(argv)
     try:
         refuse_existing_files("--out", (args.out,), args.force)
@@ -135,13 +116,7 @@ def main(argv: list[str] | None = None) -> int:
     except ConfigError as error:
         print(f"error: {error}", file=sys.stderr)
         return 2
-    print(f"pushctl evaluate, this tree ({git_commit()}) against {args.against}:")
-    print(frame.to_string(index=False, float_format=lambda v: f"{v:.2f}"))
-    if args.out is not None:
-        args.out.parent.mkdir(parents=True, exist_ok=True)
-        write_csv(args.out, frame, provenance_line(extra=f"against {args.against}"))
-    if not frame["identical"].all():  # a timing, not a check: other commits may push otherwise
-        print(f"the outputs differ from {args.against}'s (trials.csv or steps.csv)")
+    show_and_write(frame, "pushctl evaluate", args.against, args.out, OUTPUTS)
     return 0
 
 

@@ -24,25 +24,20 @@ their ``# made by:`` line.
 
 from __future__ import annotations
 
-import argparse
-import os
 import re
-import resource
-import shutil
 import statistics
-import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import pandas as pd
 
 import pushctl
+from pushctl.bench import trees
 from pushctl.bench.compare import unpack
+from pushctl.bench.trees import run_in_tree, show_and_write, side_by_side_parser
 from pushctl.errors import ConfigError
 from pushctl.output_guard import refuse_existing_files
-from pushctl.provenance import git_commit, provenance_line, write_csv
 
 REFERENCE = "aee9d1d"
 """The commit before the training's repeated resets were removed (docs/training-speed.md)."""
@@ -75,28 +70,16 @@ def command(preset: Path, out: Path) -> list[str]:
 
 
 def run(tree: Path, args: list[str]) -> tuple[float, float]:
-    """Wall time and CPU time (user + system) [s] of ``python args`` with ``tree``'s
-    ``pushctl`` first on the path, pinned to core 0 (``taskset`` where it exists). With
-    ``workers`` 0 the run is that one process (no Ray), so its CPU time is the run's core
-    time even while other work shares the core."""
-    pin = ["taskset", "-c", "0"] if shutil.which("taskset") else []
-    env = {**os.environ, "PYTHONPATH": str(tree)}
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    start = time.perf_counter()
-    done = subprocess.run(
-        [*pin, sys.executable, *args], capture_output=True, text=True, env=env, cwd=tree
-    )
-    wall = time.perf_counter() - start
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    if done.returncode != 0:
-        raise RuntimeError(f"training in {tree} failed:\n{done.stderr[-2000:]}")
-    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    return wall, cpu
+    """Wall time and CPU time [s] of ``python args`` in ``tree`` on core 0
+    (:func:`~pushctl.bench.trees.run_in_tree`). With ``workers`` 0 the run is that one
+    process (no Ray), so its CPU time is the run's core time even while other work shares
+    the core."""
+    return run_in_tree(tree, args, pin=True)
 
 
 def body(directory: Path) -> tuple[bytes, ...]:
     """The outputs' bytes after their first (``# made by:``) line."""
-    return tuple((directory / name).read_bytes().split(b"\n", 1)[1] for name in OUTPUTS)
+    return trees.body(directory, OUTPUTS)
 
 
 def compare(against: str, repeats: int) -> pd.DataFrame:
@@ -141,14 +124,9 @@ def compare(against: str, repeats: int) -> pd.DataFrame:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(
-        prog="python -m pushctl.bench.training", description=__doc__.splitlines()[0]
+    args = side_by_side_parser("pushctl.bench.training", __doc__, REFERENCE, repeats=3).parse_args(
+        argv
     )
-    parser.add_argument("--against", default=REFERENCE, help="reference commit (git)")
-    parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--out", type=Path, default=None, help="also write the table as CSV")
-    parser.add_argument("--force", action="store_true", help="overwrite an existing --out file")
-    args = parser.parse_args(argv)
     try:
         refuse_existing_files("--out", (args.out,), args.force)
         if args.repeats < 1:
@@ -157,13 +135,7 @@ def main(argv: list[str] | None = None) -> int:
     except ConfigError as error:
         print(f"error: {error}", file=sys.stderr)
         return 2
-    print(f"pushctl train, this tree ({git_commit()}) against {args.against}:")
-    print(frame.to_string(index=False, float_format=lambda v: f"{v:.2f}"))
-    if args.out is not None:
-        args.out.parent.mkdir(parents=True, exist_ok=True)
-        write_csv(args.out, frame, provenance_line(extra=f"against {args.against}"))
-    if not frame["identical"].all():  # a timing, not a check: other commits may train otherwise
-        print(f"the outputs differ from {args.against}'s (curve.csv or validation.csv)")
+    show_and_write(frame, "pushctl train", args.against, args.out, OUTPUTS)
     return 0
 
 
