@@ -27,6 +27,7 @@ import numpy as np
 
 from pushctl.control.gains import PDGains
 from pushctl.episode.metrics import compute_metrics
+from pushctl.episode.trace import Trace
 from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.networks import ActorPolicy
@@ -120,12 +121,12 @@ def validation_metrics(
 
 class ValidationPushes:
     """A collector's validation pushes: :func:`validation_metrics`, bit for bit, with each
-    scenario's reset (draw, plan, plant force plan, world, approach: about 0.13 s, as long
-    as the push after it) made once per process and every push of that scenario started
-    from a copy of it (2–3 ms), as the evaluation pushes each further policy
-    (:func:`~pushctl.evaluation.trials.run_trial`). A run scores its actor on the same set
-    every ``validate_every`` episodes. A copy holds the whole episode (a few MB), so a
-    collector keeps at most the 60 scenarios of the ``paper`` preset's set."""
+    scenario's reset (draw, plan, plant force plan, world, approach: about 0.13 s, nearly
+    as long as the push after it) made once per process and every push of that scenario
+    started from a copy of it (1.4 ms), as the evaluation pushes each further policy
+    (:func:`~pushctl.evaluation.trials.run_trial`): a run scores its actor on the same set
+    every ``validate_every`` episodes. A kept reset pickles to about 2 MB, so the 60
+    scenarios of the ``paper`` preset's set hold about 120 MB in each collector."""
 
     def __init__(self, env_config: EnvConfig, gains: PDGains) -> None:
         self.env = validation_env(env_config, gains)
@@ -136,7 +137,7 @@ class ValidationPushes:
         actor = ActorPolicy.from_state(actor_state)
         return [_metrics(self._push(actor, o)) for o in options]
 
-    def _push(self, actor: ActorPolicy, options: dict[str, Any]):
+    def _push(self, actor: ActorPolicy, options: dict[str, Any]) -> Trace:
         key = tuple(sorted(options.items()))
         start = self._reset.get(key)
         if start is None:

@@ -40,8 +40,9 @@ def compile_kernels(
     one: no result of a run depends on it."""
     config = replace(env_config, duration=WARM_UP_DURATION, gate_threshold=0.0)
     vector = PushVectorEnv.of([PushEnv(config, gains)])
-    obs_dim = vector.single_observation_space.shape[0]
-    actor = Actor(obs_dim, 3, hidden)
+    shape = vector.single_observation_space.shape
+    assert shape is not None  # a Box
+    actor = Actor(shape[0], 3, hidden)
     initialise(actor, torch.Generator().manual_seed(0), final_bound=1.0)
     behaviour = Behaviour(
         warmup=False,
