@@ -116,7 +116,8 @@ def run_jobs_with_progress(
         TimeElapsedColumn(),
     )
     logged: dict[str, int] = {}
-    if len(jobs) > 1:  # the seeds' processes would each compile the kernels, all at once
+    if jobs:  # the seeds' processes (one seed's learner and collectors too) would each
+        # compile the kernels, all at once; with the cache filled this takes a second
         first = jobs[0]
         console.print("compiling the kernels once (about 50 s in a fresh clone) ...")
         compile_kernels(first.preset.env, first.gains, first.preset.ddpg.hidden)

@@ -4,9 +4,9 @@ numba compiles pushctl's kernels (the world step, the MLCP's pivoting, the PD la
 friction field, the batched actor) at their first call and keeps them in its disk cache
 (``cache=True``), so a process finds them there afterwards. A fresh clone has no cache: the
 first push in it takes about 50 s of one core. ``pushctl train --seeds 0,1,2`` starts its
-seeds' processes at once (on this 2-core machine three, one per seed; with more cores also
-each seed's collectors), and each would compile the same kernels: 150 s of core time, 75 s
-on the two cores before any seed trains. :func:`compile_kernels` runs the code paths of a
+seeds' processes at once (on this 2-core machine three, one per seed; one seed alone runs
+its learner and two collectors), and each would compile the same kernels: 150 s of core
+time, 75 s on the two cores before any seed trains. :func:`compile_kernels` runs the code paths of a
 training run once, in the calling process, before those processes start (50 s, then each
 loads the kernels from the cache); with the cache already filled it takes about a second.
 """
