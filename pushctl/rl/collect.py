@@ -92,14 +92,13 @@ def collect_episode(
     episode: int,
     behaviour: Behaviour,
     env: PushEnv | None = None,
-    pd_only: bool = False,
 ) -> EpisodeRecord:
     """Run episode ``episode`` of the run with ``seed`` (see the module docstring); its
-    record's ``pd`` is None unless ``pd_only`` (then PD-only's errors on the same scenario,
-    :func:`collect_episodes`). ``env``: one to reuse (its config must be ``env_config``).
-    The same record as that episode's in any :func:`collect_episodes` batch."""
+    record's ``pd`` is None (PD-only beside it: :func:`collect_episodes`' ``pd_only``).
+    ``env``: one to reuse (its config must be ``env_config``). The same record as that
+    episode's in any :func:`collect_episodes` batch."""
     vector = PushVectorEnv.of([env if env is not None else PushEnv(env_config, gains)])
-    return collect_episodes(vector, seed, [episode], behaviour, [episode] if pd_only else [])[0]
+    return collect_episodes(vector, seed, [episode], behaviour)[0]
 
 
 def collect_episodes(
