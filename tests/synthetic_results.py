@@ -56,6 +56,7 @@ def trials_frame() -> pd.DataFrame:
                     "translation_error_pct": value,
                     "angle_error_pct": math.nan if straight else value / 10,
                     "force_error": value * 1e-3,
+                    "force_error_landed": value * 0.5e-3,
                     "torque_error": value * 1e-5,
                     "slip_fraction": value / 100,
                 }

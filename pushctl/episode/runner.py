@@ -156,7 +156,9 @@ class Episode:
                 mount_yaw=unknowns.mount_yaw,
                 prong_errors=unknowns.prong_errors_for(pusher.n_prongs),
             )
-        self.plant_forces: ForcePlan = self._plant_forces(pusher)
+        self._friction_limits = self._plant_friction_limits()
+        self._true_pusher = pusher
+        self.plant_forces: ForcePlan = self.plant_forces_at(0.0)
         self.world: World | MujocoWorld = make_world(
             self.object,
             arm=scenario.arm,
@@ -196,25 +198,32 @@ class Episode:
         self.gains = gains
         self.controller = self._controller(gains)
 
-    def _plant_forces(self, pusher: PusherConfig) -> ForcePlan:
+    def _plant_friction_limits(self) -> np.ndarray | None:
+        """Each support point's sliding friction at every sample of the plan (N, S) [N]
+        under the plant's friction field (None: uniform μ_g)."""
+        if self.friction_field is None:
+            return None
+        return friction_limits(
+            self.object, self.scenario.true_parameters.mu_ground, self.friction_field,
+            self.plan.trajectory.pose, self.scenario.gravity,
+        )  # fmt: skip
+
+    def plant_forces_at(self, shift: float) -> ForcePlan:
         """The prong forces the plant needs to follow the plan (docs/design.md §7's F_des): its
-        true parameters, support loads and friction field, at the plan's plate offset with
-        the prongs where they really are on the plate (along the face)."""
-        plant, trajectory = self.scenario.true_parameters, self.plan.trajectory
-        limits = None
-        if self.friction_field is not None:
-            limits = friction_limits(
-                self.object, plant.mu_ground, self.friction_field, trajectory.pose,
-                self.scenario.gravity,
-            )  # fmt: skip
+        true parameters, support loads and friction field, with the plate ``shift`` [m]
+        across the face from the plan's plate offset and the prongs where they really are on
+        the plate (along the face). ``shift`` = 0 gives :attr:`plant_forces`; the spot where
+        the prongs really landed gives the reference of ``force_error_landed``
+        (:mod:`pushctl.episode.landed`)."""
+        plant = self.scenario.true_parameters
         return distribute_forces(
-            trajectory,
+            self.plan.trajectory,
             self.object,
-            pusher.prong_points()[:, 1],
+            self._true_pusher.prong_points()[:, 1],
             ForceSettings(mu_contact=plant.mu_contact, mu_ground=plant.mu_ground),
             self.scenario.gravity,
-            offset=self.plan.forces.offset,
-            friction_limits=limits,
+            offset=self.plan.forces.offset + shift,
+            friction_limits=self._friction_limits,
         )
 
     def _controller(self, gains: PDGains) -> PDController:

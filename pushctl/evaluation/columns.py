@@ -39,8 +39,13 @@ TRIAL_COLUMNS = (
     "pusher_mass",
     *UNKNOWN_COLUMNS,
     "gate_open_fraction",
+    "landed_offset",
+    "force_error_landed",
 )
-"""The leading columns of ``trials.csv``; the :class:`EpisodeMetrics` fields follow."""
+"""The leading columns of ``trials.csv``; the :class:`EpisodeMetrics` fields follow.
+``landed_offset`` [m]: where the prongs landed across the face against the plan's spot;
+``force_error_landed`` [N]: the force error against the plant's needs with the prongs there
+(:mod:`pushctl.episode.landed`)."""
 
 STEP_COLUMNS = (
     "translation_des_mm",

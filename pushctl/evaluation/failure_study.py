@@ -39,6 +39,7 @@ import numpy as np
 import pandas as pd
 
 from pushctl.control.feedback import FeedbackGains, load_feedback_gains
+from pushctl.episode.landed import landed
 from pushctl.episode.metrics import compute_metrics
 from pushctl.episode.trace import Trace
 from pushctl.evaluation.controllers import FeedbackActor
@@ -272,31 +273,6 @@ def finish_setting(reset: PushEnv, setting: Setting, gains: FeedbackGains) -> Tr
         return finish_copy(reset, None)
     law = replace(gains, **{name: getattr(setting, name) for name in LAW_FIELDS})
     return finish_copy(reset, law, (setting.linear, math.radians(setting.angular_deg)))
-
-
-LANDED_AT = 0.5
-"""[s] into the push: where the prongs sit then is where they landed (both carry load)."""
-
-
-def spot_offset(trace: Trace, row: int) -> float:
-    """How far across the push [m] the pusher origin sits on the object at trace ``row``,
-    against where the plan puts it: the object-frame y of (pusher − object) minus the
-    plan's (desired pusher − desired pose)."""
-
-    def across(pusher: np.ndarray, pose: np.ndarray) -> float:
-        dx, dy = pusher[0] - pose[0], pusher[1] - pose[1]
-        return float(-np.sin(pose[2]) * dx + np.cos(pose[2]) * dy)
-
-    actual = across(np.asarray(trace.pusher_position[row]), np.asarray(trace.object_pose[row]))
-    planned = across(
-        np.asarray(trace.pusher_position_des[row]), np.asarray(trace.desired_pose[row])
-    )
-    return actual - planned
-
-
-def landed(trace: Trace) -> float:
-    """Where the prongs landed across the face [m]: :func:`spot_offset` at :data:`LANDED_AT`."""
-    return spot_offset(trace, int(np.searchsorted(np.asarray(trace.t), LANDED_AT)))
 
 
 def force_split(

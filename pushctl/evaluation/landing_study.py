@@ -22,13 +22,9 @@ import numpy as np
 import pandas as pd
 
 from pushctl.control.feedback import load_feedback_gains
+from pushctl.episode.landed import landed
 from pushctl.episode.metrics import compute_metrics
-from pushctl.evaluation.failure_study import (
-    FAILED_ANGLE_PCT,
-    FAILED_TRANSLATION_PCT,
-    finish_copy,
-    landed,
-)
+from pushctl.evaluation.failure_study import FAILED_ANGLE_PCT, FAILED_TRANSLATION_PCT, finish_copy
 from pushctl.evaluation.tune_feedback import reset_pushes, tuning_env
 from pushctl.objects import OBJECT_NAMES
 from pushctl.planning import PROFILE_NAMES
@@ -41,7 +37,7 @@ NEAR_SPOT = 0.5e-3
 def landing_pushes(plant: str, seed: int, per_case: int) -> pd.DataFrame:
     """Every tuning push of ``plant`` (seeds ``seed`` … ``seed + 6·per_case − 1``) under
     PD-only and the feedback law (the gains file's): controller, scenario seed, object,
-    profile, where the prongs landed (:func:`~pushctl.evaluation.failure_study.landed`) [mm],
+    profile, where the prongs landed (:func:`~pushctl.episode.landed.landed`) [mm],
     force error [mN], and whether the push failed."""
     env = tuning_env(plant=plant, config=EnvConfig())
     reset = reset_pushes(env, seed, OBJECT_NAMES, PROFILE_NAMES, per_case)

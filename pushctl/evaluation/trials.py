@@ -26,6 +26,7 @@ import numpy as np
 from pushctl.config import PusherConfig
 from pushctl.control.feedback import FeedbackGains
 from pushctl.episode.draw import draw_planned_scenario
+from pushctl.episode.landed import landed_force_error
 from pushctl.episode.metrics import compute_metrics
 from pushctl.episode.ranges import DEFAULT_PLANTS, PLANTS
 from pushctl.episode.trace import Trace
@@ -247,12 +248,15 @@ def _row(
 ) -> dict[str, Any]:
     """One ``trials.csv`` row: the job, the policy's training seed (``rl`` rows; empty
     elsewhere), the draw (goal relative to the start, world frame [m, m, rad]; the plant's
-    parameters [1, 1, kg, kg]; its unknowns, ``UNKNOWN_COLUMNS``), the gate's share and the
-    metrics."""
+    parameters [1, 1, kg, kg]; its unknowns, ``UNKNOWN_COLUMNS``), the gate's share, where
+    the prongs landed and the force error against the plant's needs there [m, N]
+    (:func:`~pushctl.episode.landed.landed_force_error`), and the metrics."""
     scenario = env.scenario
     start = scenario.start
     assert start is not None  # the draw always sets the default start
     plant = scenario.true_parameters
+    assert env.episode is not None
+    landed_offset, force_error_landed = landed_force_error(env.episode, trace)
     return {
         "object": job.object,
         "profile": job.profile,
@@ -271,6 +275,8 @@ def _row(
         "pusher_mass": plant.pusher_mass,
         **scenario.unknowns.as_dict(n_prongs=2),
         "gate_open_fraction": gate_share,
+        "landed_offset": landed_offset,
+        "force_error_landed": force_error_landed,
         **compute_metrics(trace).as_dict(),
     }
 

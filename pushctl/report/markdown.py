@@ -31,7 +31,10 @@ NOTES = (
     "parameters and plant unknowns (support loads, friction field). A controller that follows "
     "the plan cannot remove the part of `force_error_plan` that comes from parameters it does "
     "not know; `force_error` measures only what the controller could have done "
-    "(docs/plant-unknowns.md).",
+    "(docs/plant-unknowns.md). `force_error` puts the prongs at the plan's spot on the face; "
+    "`force_error_landed` puts them where they landed (0.5 s into the push), which a placement "
+    "error moves across the face and no controller moves back without sliding: the split of "
+    "the normal forces that spot needs is then the plant's, not the controller's.",
     "Definitions differ: our force error is the mean over steps and prongs of the Euclidean "
     "‖F_des,i − λ_i‖₂ and our torque error |Σ τ_des − Σ τ| of the totals about the centre of "
     "mass; the paper averages 'absolute force and torque deviations' (its eq. 17 weighs "
@@ -188,6 +191,22 @@ _T4_RATIOS = [
         "force_error_plan_rl_proxy",
         "force_error_plan_feedback_proxy",
     ),
+    ("force vs landed sim RL/PD", "force_error_landed_rl_sim", "force_error_landed_pd_sim"),
+    (
+        "force vs landed proxy RL/PD",
+        "force_error_landed_rl_proxy",
+        "force_error_landed_pd_proxy",
+    ),
+    (
+        "force vs landed sim RL/feedback",
+        "force_error_landed_rl_sim",
+        "force_error_landed_feedback_sim",
+    ),
+    (
+        "force vs landed proxy RL/feedback",
+        "force_error_landed_rl_proxy",
+        "force_error_landed_feedback_proxy",
+    ),
     ("force vs plant sim RL/PD", "force_error_rl_sim", "force_error_pd_sim"),
     ("force vs plant proxy RL/PD", "force_error_rl_proxy", "force_error_pd_proxy"),
     ("force vs plant sim RL/feedback", "force_error_rl_sim", "force_error_feedback_sim"),
@@ -251,6 +270,11 @@ def tables_markdown(
         "`force_error`; the paper has no such column):",
         "",
         *_value_table(table4, {}, _ours_only(_t4("force_error")), MILLI, ".0f"),
+        "",
+        "Force error against what the plant needed with the prongs where they landed [mN] "
+        "(`force_error_landed`; the paper has no such column):",
+        "",
+        *_value_table(table4, {}, _ours_only(_t4("force_error_landed")), MILLI, ".0f"),
         "",
         "Torque error [mN·m]:",
         "",

@@ -47,12 +47,13 @@ TABLE3_COLUMNS: dict[str, Source] = _tracking_columns("sim")
 
 TABLE4_COLUMNS: dict[str, Source] = {
     f"{metric}_{controller}_{plant}": (metric, plant, controller)
-    for metric in ("force_error", "force_error_plan", "torque_error")
+    for metric in ("force_error", "force_error_landed", "force_error_plan", "torque_error")
     for controller in CONTROLLER_ORDER
     for plant in ("sim", "proxy")
 }
-"""Columns of ``table4.csv`` (force against the plant's needs and against the nominal plan
-[N], torque [N·m]) and where each comes from."""
+"""Columns of ``table4.csv`` (force against the plant's needs with the prongs at the plan's
+spot and where they landed, and against the nominal plan [N]; torque [N·m]) and where each
+comes from."""
 
 TABLE3_PROXY_COLUMNS: dict[str, Source] = _tracking_columns("proxy")
 """Columns of ``table3_proxy.csv`` [%]: Table III on the reality proxy."""

@@ -213,13 +213,9 @@ def test_the_slide_guard_keeps_a_wedge_whose_prongs_the_law_slid_off() -> None:
     push ends at 0.3 % (docs/residual-and-feedback.md, "Seventh pass"). k = 1.0 /s,
     k_i = 0.1 /s²."""
     from pushctl.control.feedback import FeedbackGains
+    from pushctl.episode.landed import landed, spot_offset
     from pushctl.episode.metrics import compute_metrics
-    from pushctl.evaluation.failure_study import (
-        SLIDE_SETTINGS,
-        finish_setting,
-        landed,
-        spot_offset,
-    )
+    from pushctl.evaluation.failure_study import SLIDE_SETTINGS, finish_setting
 
     env = _tuning_push("sim", "wedge", "chirp", 20412)
     gains = FeedbackGains(k=1.0, k_i=0.1)

@@ -7,7 +7,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from pushctl.evaluation.failure_study import spot_offset
+from pushctl.episode.landed import spot_offset
 from pushctl.evaluation.landing_study import landing_fit
 
 

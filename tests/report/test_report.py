@@ -193,14 +193,19 @@ def test_table4_shows_force_error_against_the_plan_beside_the_paper_and_the_plan
     trials["force_error_plan"] = 3.0 * trials["force_error"]
     text = tables_markdown(table3(trials), table4(trials), "# made by: x", ["trials.csv"])
     plan_part = text.split("against the nominal plan [mN]")[1].split("against what the plant")[0]
-    plant_part = text.split("against what the plant needed [mN]")[1].split("Torque error")[0]
+    plant_part = text.split("against what the plant needed [mN]")[1].split("where they landed")[0]
+    landed_part = text.split("where they landed [mN]")[1].split("Torque error")[0]
     # cube chirp PD sim: plan 3 × 5 mN beside the paper's 205 mN; the plant's 5 mN alone
     assert "| cube | chirp | 4 | 15 ± " in plan_part and "| 205 |" in plan_part
     (row,) = [line for line in plant_part.splitlines() if line.startswith("| cube | chirp |")]
     assert row.startswith("| cube | chirp | 4 | 5 ± ") and row.count("|") == 10  # no paper
+    (row,) = [line for line in landed_part.splitlines() if line.startswith("| cube | chirp |")]
+    assert row.startswith("| cube | chirp | 4 | 2.5 ± ") and row.count("|") == 10
     assert "| force vs plan sim RL/PD (ours) | paper |" in text
+    assert "| force vs landed sim RL/PD (ours) | paper |" in text
     # an older trials.csv without the column still makes the table (NaN: "–")
-    older = table4(trials_frame())
+    older = table4(trials_frame().drop(columns="force_error_landed"))
+    assert np.isnan(older.values["force_error_landed_pd_sim"]).all()
     assert np.isnan(older.values["force_error_plan_pd_sim"]).all()
     assert (older.counts["force_error_plan_pd_sim"] == 0).all()
 
