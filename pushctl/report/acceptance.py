@@ -22,7 +22,14 @@ import pandas as pd
 
 from pushctl.report.tables import OBJECT_ORDER, PROFILE_ORDER, ci95_halfwidth
 
-METRICS = ("translation_error_pct", "angle_error_pct", "force_error")
+METRICS = ("translation_error_pct", "angle_error_pct", "force_error", "force_error_landed")
+"""The metrics compared (``force_error_landed`` only where the trials have it: 67e5cb7 on)."""
+HEADINGS = {
+    "translation_error_pct": "translation",
+    "angle_error_pct": "angle",
+    "force_error": "force",
+    "force_error_landed": "force vs landed",
+}
 KEYS = ["object", "profile", "plant", "trial"]
 
 
@@ -30,7 +37,7 @@ def paired(trials: pd.DataFrame, plant: str, other: str = "pd") -> pd.DataFrame:
     """One row per (object, profile, policy seed) on ``plant``: for each metric of
     :data:`METRICS`, RL's mean, ``other``'s mean, their ratio, the paired difference
     RL − other (mean and 95 % half-width over the trials both ran), and in how many of those
-    trials RL was lower (``_lower_in`` of ``_trials``)."""
+    trials RL was lower (``_lower_in`` of ``_trials``); metrics ``trials`` lacks are left out."""
     on_plant = trials[trials["plant"] == plant]
     base = on_plant[on_plant["controller"] == other].set_index(KEYS)
     rl = on_plant[on_plant["controller"] == "rl"]
@@ -48,7 +55,7 @@ def paired(trials: pd.DataFrame, plant: str, other: str = "pd") -> pd.DataFrame:
                     continue
                 row: dict[str, object] = {"object": obj, "profile": profile, "policy_seed": seed}
                 joined = mine.join(base, how="inner", suffixes=("_rl", "_other"))
-                for metric in METRICS:
+                for metric in _present(trials):
                     a = joined[f"{metric}_rl"].to_numpy(float)
                     b = joined[f"{metric}_other"].to_numpy(float)
                     keep = np.isfinite(a) & np.isfinite(b)
@@ -64,6 +71,12 @@ def paired(trials: pd.DataFrame, plant: str, other: str = "pd") -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
+def _present(frame: pd.DataFrame) -> list[str]:
+    """The metrics of :data:`METRICS` with a column in ``frame`` (as in trials.csv, or as
+    ``{metric}_ratio`` in a :func:`paired` table)."""
+    return [m for m in METRICS if m in frame.columns or f"{m}_ratio" in frame.columns]
+
+
 def passes(table: pd.DataFrame, metric: str) -> pd.Series:
     """Whether each row's paired difference on ``metric`` is below zero with its interval."""
     return (table[f"{metric}_diff"] + table[f"{metric}_diff_ci95"]) < 0.0
@@ -72,14 +85,15 @@ def passes(table: pd.DataFrame, metric: str) -> pd.Series:
 def markdown(table: pd.DataFrame, other: str) -> str:
     """The rows as Markdown: ratios of the means, whether RL is lower beyond the CI, and in
     how many trials it was lower."""
+    metrics = _present(table)
+    headings = "".join(f" {HEADINGS[m]} RL/{other} | lower?, in |" for m in metrics)
     lines = [
-        f"| object | profile | seed | translation RL/{other} | lower?, in | angle RL/{other} "
-        f"| lower?, in | force RL/{other} | lower?, in |",
-        "|---|---|---|---|---|---|---|---|---|",
+        f"| object | profile | seed |{headings}",
+        "|---|---|---|" + "---|---|" * len(metrics),
     ]
     for _, row in table.iterrows():
         cells = [str(row["object"]), str(row["profile"]), str(row["policy_seed"])]
-        for metric in METRICS:
+        for metric in metrics:
             lower = row[f"{metric}_diff"] + row[f"{metric}_diff_ci95"] < 0.0
             count = f"{row[f'{metric}_lower_in']}/{row[f'{metric}_trials']}"
             cells += [f"{row[f'{metric}_ratio']:.2f}", ("yes, " if lower else "no, ") + count]

@@ -51,6 +51,19 @@ def test_the_command_prints_a_table_and_refuses_a_missing_file(tmp_path, capsys)
     assert "no file" in capsys.readouterr().err
 
 
+def test_the_landed_force_error_is_compared_where_the_trials_have_it(tmp_path, capsys) -> None:
+    trials = _trials()
+    assert "force_error_landed_ratio" not in paired(trials, "sim").columns
+    trials["force_error_landed"] = trials["force_error"] * np.where(trials["trial"] < 3, 3.0, 1.0)
+    table = paired(trials, "sim")
+    np.testing.assert_allclose(table["force_error_landed_ratio"], table["force_error_ratio"])
+    assert list(table["force_error_landed_lower_in"]) == [10, 0]
+    path = tmp_path / "trials.csv"
+    trials.to_csv(path, index=False)
+    assert main([str(path)]) == 0
+    assert "| force vs landed RL/pd | lower?, in |" in capsys.readouterr().out
+
+
 def test_a_rescued_failure_widens_the_interval_but_not_the_count() -> None:
     """RL 2 points below PD-only in 19 trials of 20, and 100 points below in one (a push PD-only
     failed): the mean's interval reaches past zero, the count says 20 of 20."""
