@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from pushctl.bench.evaluation import body, command, main
+from pushctl.bench.evaluation import body, command, main, same_outputs
 
 
 def test_the_timed_command_is_the_reproduce_evaluation_with_fewer_trials(tmp_path: Path) -> None:
@@ -25,6 +25,14 @@ def test_the_outputs_compare_after_their_made_by_line(tmp_path: Path) -> None:
     assert body(tmp_path / "one") == body(tmp_path / "two")
     (tmp_path / "two" / "steps.csv").write_text("# made by: commit bbb\na,b\n1,3\n")
     assert body(tmp_path / "one") != body(tmp_path / "two")
+
+
+def test_a_column_this_tree_adds_is_left_out_and_every_other_value_compared() -> None:
+    reference = (b"a,b\n1,2.50\n", b"s\n7\n")
+    assert same_outputs((b"a,new,b\n1,9,2.50\n", b"s\n7\n"), reference)
+    assert not same_outputs((b"a,new,b\n1,9,2.5\n", b"s\n7\n"), reference)  # text differs
+    assert not same_outputs((b"a,new\n1,9\n", b"s\n7\n"), reference)  # b is missing
+    assert not same_outputs((b"a,b\n1,2.50\n", b"s\n8\n"), reference)
 
 
 def test_bad_arguments_are_one_line_errors(capsys) -> None:
