@@ -194,23 +194,29 @@ def run_trial(
     # as a fresh Episode's run(), tested).
     pd_episode = pd_only_episode(env) if "pd" in controllers else None
     rl_runs: list[tuple[int | None, tuple[Trace, float]]] = []
+    runs = (policies or ((actor, policy_seed),)) if "rl" in controllers else ()
+    # The feedback law takes the reset over (PushEnv.reset_from) where its environment
+    # builds episodes as the policy's does; else it resets to the same scenario itself.
+    hand_over = feedback is not None and feedback[0].episodes_differ(env) is None
+    # Each further policy, and the feedback law, push from a copy of the environment as the
+    # reset left it: the same episode, approach and generators as a second reset with the
+    # same options (tested to the byte), without drawing, planning and approaching again.
+    start = copy.deepcopy(env) if len(runs) > 1 or (runs and hand_over) else env
     if "rl" in controllers:
-        runs = policies or ((actor, policy_seed),)
-        # Each further policy pushes from a copy of the environment as the reset left it: the
-        # same episode, approach and generators as a second reset with the same options
-        # (tested to the byte), without drawing, planning and approaching again.
-        start = copy.deepcopy(env) if len(runs) > 1 else None
         for k, (one, seed) in enumerate(runs):
             if one is None:
                 raise ConfigError("RL-assisted trials need a policy")
-            pushing = env if start is None or k == 0 else copy.deepcopy(start)
+            pushing = env if start is env or k == 0 else copy.deepcopy(start)
             rl_runs.append((seed, _push_with(pushing, one)))
         traces["rl"] = rl_runs[0][1]
     if "feedback" in controllers:
         if feedback is None:
             raise ConfigError("feedback trials need the feedback law's gains")
         feedback_env, gains = feedback
-        feedback_env.reset(options=options)  # the same scenario: the options fix the draw
+        if hand_over:
+            feedback_env.reset_from(start, int(info["goals_redrawn"]))
+        else:
+            feedback_env.reset(options=options)  # the same scenario: the options fix the draw
         traces["feedback"] = _push_with(feedback_env, FeedbackActor(feedback_env, gains))
     if pd_episode is not None:
         traces["pd"] = (pd_episode.finish(), 0.0)

@@ -104,6 +104,7 @@ Version history
 
 from __future__ import annotations
 
+import copy
 import math
 from collections.abc import Callable
 from typing import Any
@@ -124,6 +125,11 @@ from pushctl.planning import Plan
 from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.feedback_actor import FeedbackActor
 from pushctl.rl.spaces import ACTION_ENTRIES, observation_entries
+from pushctl.types import StepResult
+
+_EPISODE_FIELDS = ("plant", "stream", "duration", "dt", "residual_path", "offset_limit")
+"""The configuration an environment's episodes are built from, after the draw
+(:meth:`PushEnv.reset_from` hands a reset over only between environments that agree on it)."""
 
 RESET_OPTIONS = ("object", "profile", "scenario_seed", "scenario")
 """Keys of ``reset(options=…)`` that fix a draw: the object, the profile, and the integer seed
@@ -179,7 +185,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
     ) -> tuple[np.ndarray, dict[str, Any]]:
         super().reset(seed=seed)
         scenario, redrawn, plan = self._draw(options or {})
-        self.episode = Episode(
+        episode = Episode(
             scenario,
             self.gains,
             plan=plan,
@@ -188,17 +194,61 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
             engine=self.engine,
             offset_limit=self.config.offset_limit,
         )
-        plan = self.episode.plan
+        last = episode.reset()
+        measured = episode.measured_forces(last.contact_forces)
+        return self._start(episode, last, measured, redrawn)
+
+    def reset_from(self, reset: PushEnv, redrawn: int = 0) -> tuple[np.ndarray, dict[str, Any]]:
+        """reset() to the episode ``reset`` (another environment) was just reset to, from a
+        copy of it: no drawing, planning and approaching again (about 0.15 s). The same
+        observation, info and state as ``reset(options=…)`` with the options that gave
+        ``reset`` its episode, this environment's generator advanced as that reset would
+        (tested to the byte), when both build their episodes alike: the same plant, stream,
+        push length, step, PD gains, residual path and offset bound (ConfigError naming the
+        first that differs). The ``feedback`` controller's environment in the evaluation
+        takes each trial's reset from the policy's. ``redrawn``: the goals ``reset`` redrew
+        (its info's ``goals_redrawn``)."""
+        episode = reset.episode
+        if episode is None or episode.step_index != 0:
+            raise StateError("reset_from() takes an environment just reset, before a step")
+        differs = self.episodes_differ(reset)
+        if differs is not None:
+            raise ConfigError(f"reset_from(): the environments differ in {differs}")
+        super().reset(seed=None)
+        self._default_draws()
+        copied = copy.deepcopy((episode, reset._last, reset._measured))
+        return self._start(*copied, redrawn)
+
+    def episodes_differ(self, other: PushEnv) -> str | None:
+        """What makes ``other``'s episodes other than this environment's for the same draw
+        (e.g. ``"residual_path ('reference' against 'velocity')"``), or None: then
+        :meth:`reset_from` can take ``other``'s resets."""
+        for name in _EPISODE_FIELDS:
+            mine, theirs = getattr(self.config, name), getattr(other.config, name)
+            if mine != theirs:
+                return f"{name} ({mine!r} against {theirs!r})"
+        if self.gains != other.gains:
+            return "the PD gains"
+        return None
+
+    def _start(
+        self, episode: Episode, last: StepResult, measured: np.ndarray, redrawn: int
+    ) -> tuple[np.ndarray, dict[str, Any]]:
+        """Take ``episode``, just reset (its approach's last step ``last`` and the force
+        estimate ``measured`` of it), as the current one: reset()'s observation and info."""
+        self.episode = episode
+        plan = episode.plan
         self._plan_pose = plan.trajectory.pose
         self._plan_forces = plan.forces.forces
-        self._true_forces = self.episode.plant_forces.forces
-        self._true_torques = self.episode.plant_forces.torques
-        self._last = self.episode.reset()
+        self._true_forces = episode.plant_forces.forces
+        self._true_torques = episode.plant_forces.torques
+        self._last = last
         self._error = self._pose_error(0)
-        self._measured = self.episode.measured_forces(self._last.contact_forces)
+        self._measured = measured
         self._base = self._base_law()
         # the plant unknowns (docs/design.md §9) drawn for this episode, for logs: never observed
-        unknowns = scenario.unknowns.as_dict(self.episode.plan.pusher.n_prongs)
+        scenario = episode.scenario
+        unknowns = scenario.unknowns.as_dict(plan.pusher.n_prongs)
         info = {"scenario": scenario, "goals_redrawn": redrawn, "unknowns": unknowns}
         return self.observation(), info
 
@@ -322,17 +372,22 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
             return None
         return FeedbackActor(self, self._base_gains, interval=self.config.dt)
 
+    def _default_draws(self) -> tuple[str, str, int]:
+        """The object, profile and scenario seed a reset without options pushes. Every reset
+        draws all three, so a fixed object does not shift the other draws."""
+        config, rng = self.config, self.np_random
+        drawn_object = config.objects[int(rng.integers(len(config.objects)))]
+        drawn_profile = config.profiles[int(rng.integers(len(config.profiles)))]
+        return drawn_object, drawn_profile, int(rng.integers(2**31 - 1))
+
     def _draw(self, options: dict[str, Any]) -> tuple[Scenario, int, Plan | None]:
         unknown = sorted(set(options) - set(RESET_OPTIONS))
         if unknown:
             raise ConfigError(
                 f"unknown reset option {unknown[0]!r}; accepted: {', '.join(RESET_OPTIONS)}"
             )
-        config, rng = self.config, self.np_random
-        # Always the same three draws, so a fixed object does not shift the other draws.
-        drawn_object = config.objects[int(rng.integers(len(config.objects)))]
-        drawn_profile = config.profiles[int(rng.integers(len(config.profiles)))]
-        drawn_seed = int(rng.integers(2**31 - 1))
+        config = self.config
+        drawn_object, drawn_profile, drawn_seed = self._default_draws()
         if "scenario" in options:
             return options["scenario"], 0, None
         return draw_planned_scenario(
