@@ -200,7 +200,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
 
     def reset_from(self, reset: PushEnv, redrawn: int = 0) -> tuple[np.ndarray, dict[str, Any]]:
         """reset() to the episode ``reset`` (another environment) was just reset to, from a
-        copy of it: no drawing, planning and approaching again (about 0.15 s). The same
+        copy of it: no drawing, planning and approaching again (a reset's 0.15 s). The same
         observation, info and state as ``reset(options=…)`` with the options that gave
         ``reset`` its episode, this environment's generator advanced as that reset would
         (tested to the byte), when both build their episodes alike: the same plant, stream,
