@@ -11,7 +11,9 @@ that did not fail, and reports the median force error of the pushes that landed 
 
 All on the *tuning* stream (:func:`~pushctl.evaluation.tune_feedback.reset_pushes`).
 ``python -m pushctl.evaluation.landing_study PLANT SEED PER_CASE`` prints the fit, then the
-failed pushes with where they landed.
+failed pushes with where they landed. ``python -m pushctl.evaluation.landing_study
+results/evaluation/trials.csv`` summarises an evaluation's landing offsets and its two
+force errors per plant, cell and controller (:func:`landed_summary`).
 """
 
 from __future__ import annotations
@@ -94,9 +96,43 @@ def landing_fit(pushes: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
+def landed_summary(trials: pd.DataFrame) -> pd.DataFrame:
+    """Per plant, object, profile and controller of an evaluation's ``trials.csv`` rows (RL
+    over every policy seed): the mean |landing offset| [mm], the share of pushes landed more
+    than :data:`NEAR_SPOT` off, the correlation of the offset with −``placement_across`` (the
+    approach aims at the believed pose, so the prongs land the other way), the mean
+    ``force_error`` and ``force_error_landed`` [mN] and their ratio."""
+    frame = trials.assign(
+        landed_mm=1e3 * trials["landed_offset"].abs(),
+        off_spot=trials["landed_offset"].abs() > NEAR_SPOT,
+        force_mN=1e3 * trials["force_error"],
+        force_landed_mN=1e3 * trials["force_error_landed"],
+    )
+    rows = []
+    for key, group in frame.groupby(["plant", "object", "profile", "controller"], sort=False):
+        rows.append(
+            {
+                **dict(zip(("plant", "object", "profile", "controller"), key, strict=True)),
+                "landed_mm": group["landed_mm"].mean(),
+                "off_spot_share": group["off_spot"].mean(),
+                "r_placement": float(
+                    np.corrcoef(group["landed_offset"], -group["placement_across"])[0, 1]
+                ),
+                "force_mN": group["force_mN"].mean(),
+                "force_landed_mN": group["force_landed_mN"].mean(),
+                "landed_over_plan_spot": group["force_landed_mN"].mean() / group["force_mN"].mean(),
+            }
+        )
+    return pd.DataFrame(rows)
+
+
 def main(argv: list[str]) -> None:  # pragma: no cover - prints the table
-    plant, seed, per_case = argv[0], int(argv[1]), int(argv[2])
     pd.set_option("display.width", 200)
+    if len(argv) == 1:
+        trials = pd.read_csv(argv[0], comment="#")
+        print(landed_summary(trials).round(3).to_string(index=False))
+        return
+    plant, seed, per_case = argv[0], int(argv[1]), int(argv[2])
     pushes = landing_pushes(plant, seed, per_case)
     print(landing_fit(pushes).round(2).to_string(index=False))
     print("\nfailed pushes:")

@@ -18,11 +18,19 @@ def _episode(unknowns: PlantUnknowns) -> Episode:
     return Episode(scenario.with_unknowns(unknowns), plan=plan)
 
 
-def test_no_shift_gives_the_plant_forces_bit_for_bit() -> None:
+def test_a_shift_moves_the_prongs_across_the_face_and_none_repeats_plant_forces() -> None:
+    """The reference is recomputed with fresh QPs: with no shift it must repeat the episode's
+    own plant forces to the bit (ProxQP's answers must not depend on its heap's history),
+    and a shift moves every prong by it along the face (the object-frame y)."""
     episode = _episode(PlantUnknowns(placement=(0.0, 0.002, 0.0), ground_variation=0.1))
     again = episode.plant_forces_at(0.0)
     assert np.array_equal(again.forces, episode.plant_forces.forces)
-    assert again.offset == episode.plant_forces.offset
+    moved = episode.plant_forces_at(1.5e-3)
+    np.testing.assert_allclose(
+        moved.prong_points[:, 1], episode.plant_forces.prong_points[:, 1] + 1.5e-3, atol=1e-15
+    )
+    assert np.array_equal(moved.prong_points[:, 0], episode.plant_forces.prong_points[:, 0])
+    assert not np.array_equal(moved.forces, episode.plant_forces.forces)
 
 
 def test_a_placement_across_the_face_lands_the_prongs_that_far_off_and_the_split_follows() -> None:

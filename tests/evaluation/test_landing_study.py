@@ -8,7 +8,7 @@ import pandas as pd
 import pytest
 
 from pushctl.episode.landed import spot_offset
-from pushctl.evaluation.landing_study import landing_fit
+from pushctl.evaluation.landing_study import landed_summary, landing_fit
 
 
 def test_a_pd_push_lands_off_the_plans_spot_and_stays_there() -> None:
@@ -44,3 +44,24 @@ def test_the_fit_leaves_out_failed_pushes_and_counts_those_on_the_spot() -> None
     assert row["a_mN"] == pytest.approx(5.0) and row["b_mN_per_mm"] == pytest.approx(10.0)
     assert row["correlation"] == pytest.approx(1.0)
     assert row["on_spot_median_mN"] == pytest.approx(5.0 + 10.0 * 0.2)
+
+
+def test_the_summary_of_an_evaluation_gives_each_group_its_landing_and_force_ratio() -> None:
+    across = np.array([1e-3, -2e-3, 0.2e-3, 3e-3])
+    trials = pd.DataFrame(
+        {
+            "plant": "sim",
+            "object": "cube",
+            "profile": "chirp",
+            "controller": ["pd", "pd", "pd", "pd"],
+            "placement_across": across,
+            "landed_offset": -across,
+            "force_error": [0.02, 0.02, 0.02, 0.02],
+            "force_error_landed": [0.01, 0.01, 0.01, 0.01],
+        }
+    )
+    (row,) = landed_summary(trials).to_dict("records")
+    assert row["landed_mm"] == pytest.approx(1.55)
+    assert row["off_spot_share"] == 0.75  # 0.2 mm is on the spot
+    assert row["r_placement"] == pytest.approx(1.0)
+    assert row["landed_over_plan_spot"] == pytest.approx(0.5)
