@@ -124,7 +124,9 @@ class Episode:
         nominal_obj = resolve_object(
             scenario.object, mass=nominal.object_mass, pusher_mass=scenario.pusher_mass(nominal)
         )
-        unknowns = scenario.unknowns
+        # The plant's needs (plant_forces) are those of the world that runs: MuJoCo's carries
+        # neither the centre-of-pressure offset nor the friction field.
+        unknowns = scenario.unknowns.acting_in(engine)
         self.object: ObjectSpec = with_unknown_loads(
             resolve_object(
                 scenario.object, mass=plant.object_mass, pusher_mass=scenario.pusher_mass(plant)
@@ -167,8 +169,7 @@ class Episode:
             dt=scenario.dt,
             pusher=pusher,
             gravity=scenario.gravity,
-            # MuJoCo's ground friction is uniform: the field is our engine's only
-            friction_field=self.friction_field if engine == "ours" else None,
+            friction_field=self.friction_field,  # None on MuJoCo (acting_in above)
             engine=engine,  # "mujoco": the same scene on MuJoCo (an independent plant)
         )
         # The controller's model of the arm: the world's own unless the pusher is mounted

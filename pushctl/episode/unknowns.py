@@ -19,7 +19,7 @@ stream with one more spawn key), so drawing them leaves every other draw of a se
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
@@ -136,6 +136,15 @@ class PlantUnknowns:
     @property
     def has_mounting_error(self) -> bool:
         return self.mount_yaw != 0.0 or any(v != 0.0 for pair in self.prong_errors for v in pair)
+
+    def acting_in(self, engine: str) -> PlantUnknowns:
+        """The unknowns that ``engine``'s world carries: all of them in ours; in MuJoCo's
+        the placement and mounting errors only. Its object rests on its own floor contact,
+        whose loads balance about the centre of mass (no centre-of-pressure offset), with
+        one μ_g per geom pair (no friction field): docs/mujoco.md."""
+        if engine == "ours":
+            return self
+        return replace(self, pressure_offset=(0.0, 0.0), ground_variation=0.0)
 
     def prong_errors_for(self, n_prongs: int) -> tuple[tuple[float, float], ...]:
         """The first ``n_prongs`` prong errors (zeros where none were drawn)."""

@@ -139,14 +139,15 @@ def _add_pusher(spec: mujoco.MjSpec, arm: ArmModel) -> None:
     body.mass = m
     body.ipos = (-0.5 * t, 0.0, 0.0)
     body.inertia = (m / 12.0) * np.array([w * w + h * h, t * t + h * h, t * t + w * w])
-    for i, offset in enumerate(pusher.prong_offsets()):
-        point = (0.0, float(offset), 0.0)
-        body.add_site(name=prong_site_name(i), pos=point)
+    # Where each prong really is on the plate: the nominal spacing plus any mounting error
+    # (``prong_errors``, a plant unknown), as our engine's prong frames (attach_pusher).
+    for i, (along, across) in enumerate(pusher.prong_points().tolist()):
+        body.add_site(name=prong_site_name(i), pos=(along, across, 0.0))
         body.add_geom(
             name=prong_geom_name(i),
             type=mujoco.mjtGeom.mjGEOM_SPHERE,
             size=(PRONG_RADIUS, 0, 0),
-            pos=(-PRONG_RADIUS, float(offset), 0.0),
+            pos=(along - PRONG_RADIUS, across, 0.0),
             contype=0,
             conaffinity=0,
             mass=0.0,

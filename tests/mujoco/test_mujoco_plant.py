@@ -95,3 +95,39 @@ def test_proxy_effects_layer_on_mujoco():
     assert isinstance(episode.world, MujocoWorld)
     assert trace.measured_pose is not None  # the camera's poses
     assert compute_metrics(trace).translation_error_pct < 3.0
+
+
+def test_the_forces_a_mujoco_plant_needs_leave_out_the_unknowns_it_does_not_carry():
+    """MuJoCo's object rests on its own floor contact with one μ_g: no centre-of-pressure
+    offset, no friction field (docs/mujoco.md). Its force reference (plant_forces, behind
+    force_error and force_error_landed) must be the plant's needs without them, while our
+    engine's keeps them; the recorded unknowns stay what was drawn."""
+    from dataclasses import replace
+
+    import numpy as np
+
+    from pushctl.episode.draw import draw_planned_scenario
+    from pushctl.episode.runner import Episode
+    from pushctl.episode.unknowns import PlantUnknowns
+
+    drawn, _, plan = draw_planned_scenario(4, "tuning", "cube", "constant", plant="sim")
+    unknowns = PlantUnknowns(
+        placement=(0.001, -0.001, 0.01),
+        mount_yaw=0.01,
+        prong_errors=((0.0005, 0.0005), (-0.0005, 0.0)),
+        pressure_offset=(0.15, -0.1),
+        ground_variation=0.15,
+        ground_seed=7,
+    )
+    scenario = drawn.with_unknowns(unknowns)
+    carried = drawn.with_unknowns(
+        replace(unknowns, pressure_offset=(0.0, 0.0), ground_variation=0.0)
+    )
+    on_mujoco = Episode(scenario, plan=plan, engine="mujoco")
+    assert on_mujoco.friction_field is None
+    expected = Episode(carried, plan=plan).plant_forces.forces
+    np.testing.assert_array_equal(on_mujoco.plant_forces.forces, expected)
+    ours = Episode(scenario, plan=plan)
+    assert ours.friction_field is not None
+    assert np.abs(ours.plant_forces.forces - expected).max() > 1e-3  # [N]: they do act there
+    assert on_mujoco.scenario.unknowns == unknowns

@@ -31,6 +31,29 @@ def test_mujoco_arm_model_matches_pinocchio_from_the_same_urdf(cube_world):
         assert np.allclose(world.prong_positions(), terms.prong_positions, atol=1e-12)
 
 
+def test_mujoco_pusher_carries_the_mounting_error_as_ours_does():
+    """A plant unknown: the plate turned on its mount and each prong off its nominal spot.
+    Both engines build the same mis-mounted pusher, so MuJoCo's prong points must be ours
+    (Pinocchio's frames) on random configurations, and differ from the nominal pusher's."""
+    from pushctl.config import PusherConfig
+
+    nominal = PusherConfig(mass=0.03)
+    mounted = PusherConfig(
+        mass=0.03, mount_yaw=0.03, prong_errors=((0.001, -0.0008), (-0.0005, 0.001))
+    )
+    ours = pushctl.make_world("cube", pusher=mounted)
+    theirs = pushctl.make_world("cube", pusher=mounted, engine="mujoco")
+    as_designed = pushctl.make_world("cube", pusher=nominal, engine="mujoco")
+    rng = np.random.default_rng(11)
+    for _ in range(5):
+        q = ours.arm.q_ready + rng.normal(0.0, 0.4, ours.arm.nq)
+        expected = ours.arm.compute(q, np.zeros(ours.arm.nv)).prong_positions
+        for world in (theirs, as_designed):
+            world.reset(object_pose=(2.0, 0.0, 0.0), arm_q=q)
+        assert np.allclose(theirs.prong_positions(), expected, atol=1e-12)
+        assert np.abs(as_designed.prong_positions() - expected).max() > 5e-4
+
+
 @pytest.mark.parametrize("name", ["cube", "wedge"])
 def test_mujoco_object_mass_properties_match_the_spec(name):
     """MuJoCo computes the object's inertia from its box or mesh and mass: I_z about the
