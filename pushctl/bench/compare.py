@@ -42,6 +42,7 @@ import sys
 import tarfile
 import tempfile
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -237,7 +238,7 @@ def unpack(commit: str, into: Path) -> Path:
     return tree
 
 
-def run_child(tree: Path, problems: Path, core: int = 0) -> dict[str, float]:
+def run_child(tree: Path, problems: Path, core: int = 0) -> dict[str, Any]:
     """One child process timing the tree at ``tree`` (its ``pushctl`` first on the path),
     pinned to ``core``."""
     pin = ["taskset", "-c", str(core)] if shutil.which("taskset") else []
@@ -265,7 +266,7 @@ def compare(against: str, repeats: int, core: int = 0) -> tuple[pd.DataFrame, in
         problems = record_cold_problems()
         problems_file = scratch_dir / "problems.pkl"
         problems_file.write_bytes(pickle.dumps(problems))
-        samples: dict[str, list[dict[str, float]]] = {"this": [], "reference": []}
+        samples: dict[str, list[dict[str, Any]]] = {"this": [], "reference": []}
         for k in range(repeats):
             order = ("reference", "this") if k % 2 == 0 else ("this", "reference")
             for name in order:

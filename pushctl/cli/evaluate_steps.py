@@ -153,7 +153,12 @@ def _shown(path: Path) -> Path:
 
 def policy_provenance(trained: TrainedPolicy | list[TrainedPolicy], path: Path | list[Path]) -> str:
     """The provenance field naming the evaluated policy file(s) and their own ``made by``."""
-    pairs = zip(trained, path, strict=True) if isinstance(trained, list) else [(trained, path)]
+    if isinstance(trained, list):
+        assert isinstance(path, list)
+        pairs = list(zip(trained, path, strict=True))
+    else:
+        assert not isinstance(path, list)
+        pairs = [(trained, path)]
     named = [f"policy {where}, {one.made_by.removeprefix('# ')}" for one, where in pairs]
     return "; ".join(named)
 

@@ -5,9 +5,11 @@ terminal. The commands are in
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
 from rich.table import Table
 
 from pushctl.config import PusherConfig
@@ -64,6 +66,7 @@ def push(
     from pushctl.rl.env_config import EnvConfig
     from pushctl.rl.policy import finish_with_policy
 
+    actor: Callable[[np.ndarray], np.ndarray]
     if controller == "rl":
         trained = load_evaluation_policy(policy if policy is not None else DEFAULT_POLICY)
         config, actor = trained.env, trained.actor

@@ -68,7 +68,7 @@ def _min_norm(A: np.ndarray, rhs: np.ndarray) -> np.ndarray:
     _dgelsy(
         size.ctypes, size.ctypes, one.ctypes, a.ctypes, size.ctypes, x.ctypes, size.ctypes,
         jpvt.ctypes, rcond.ctypes, rank.ctypes, work.ctypes, lwork.ctypes, info.ctypes,
-    )  # fmt: skip
+    )  # type: ignore[call-overload]  # fmt: skip  # numba's typed signature
     return x
 
 

@@ -253,7 +253,7 @@ class FeedbackLaw:
                 self.since_landing += self.dt
                 if self.landed is None and self.since_landing >= 2.0 * tau:
                     self.landed = self.slide_now
-            if self.landed is not None:
+            if self.landed is not None and self.slide_now is not None:  # landed: both set
                 slid = self.slide_now - self.landed
         guarded = abs(slid) >= gains.slide_limit  # a push sideways the way they slid is barred
         if all_loaded:

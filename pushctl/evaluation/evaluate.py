@@ -128,15 +128,21 @@ def evaluate(
     gains = gains if gains is not None else load_gains()
     if "feedback" in spec.controllers and feedback_gains is None:
         feedback_gains = load_feedback_gains()
-    several = policy is not None and not isinstance(policy, TrainedPolicy)
-    policies = list(policy) if several else ([policy] if policy is not None else [])
+    policies: list[TrainedPolicy]
+    if policy is None:
+        policies = []
+    elif isinstance(policy, TrainedPolicy):
+        policies = [policy]
+    else:
+        policies = list(policy)
+    several = not (policy is None or isinstance(policy, TrainedPolicy))
     seeds = policy_seeds(policies)
-    policy = policies[0] if policies else None
-    config = policy.env if policy is not None else (env_config or EnvConfig())
+    first = policies[0] if policies else None
+    config = first.env if first is not None else (env_config or EnvConfig())
     actor_state = (
         tuple(portable(p.actor.state()) for p in policies)
         if several
-        else (portable(policy.actor.state()) if policy is not None else None)
+        else (portable(first.actor.state()) if first is not None else None)
     )
     policy_seed = tuple(seeds) if several else (seeds[0] if seeds else None)
     setup = (
@@ -165,7 +171,7 @@ def policy_seeds(policies: Sequence[TrainedPolicy]) -> list[int | None]:
             "with several policies each must name its training seed in its provenance "
             "(`pushctl train` writes it); one names none"
         )
-    repeated = sorted({s for s in seeds if seeds.count(s) > 1})
+    repeated = sorted({s for s in seeds if s is not None and seeds.count(s) > 1})
     if repeated:
         raise ConfigError(f"several policies were trained with seed {repeated[0]}; give each once")
     first = policies[0].env
@@ -249,6 +255,7 @@ class _Context:
             ActorPolicy.from_state(tensors(actor_state)) if actor_state is not None else None
         )
         self.controllers = controllers
+        assert not isinstance(policy_seed, tuple)  # several policies: in self.policies
         self.policy_seed = policy_seed
 
     def run(self, job: Job) -> TrialResult:

@@ -362,7 +362,8 @@ def main(argv: list[str]) -> None:  # pragma: no cover - prints the table
     if argv and argv[0] == "ringing":  # ringing [SEED]
         print(ringing(*(int(a) for a in argv[1:2])).round(4).to_string(index=False))
         return
-    settings, plant = SETTINGS, "sim"
+    settings: tuple[Setting, ...] = SETTINGS
+    plant = "sim"
     if argv and argv[0] == "turn":  # turn [SEED PER_CASE K K_I]
         settings, argv = TURN_SETTINGS, argv[1:]
     elif argv and argv[0] == "smoothing":  # smoothing PLANT [SEED PER_CASE K K_I]

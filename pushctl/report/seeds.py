@@ -72,8 +72,8 @@ def seed_tables(trials: pd.DataFrame) -> SeedTables:
     seeds = policy_seeds(trials)
     if len(seeds) < 2:
         return SeedTables(table3(trials), table4(trials), seed_ratios(trials, seeds), (), {})
-    intervals = {}
-    tables = []
+    intervals: dict[tuple[str, str, str, str], float] = {}
+    tables: list[ResultTable] = []
     for make in (table3, table4):
         table = across_seeds(trials, make, seeds)
         pairs = [
@@ -84,7 +84,8 @@ def seed_tables(trials: pd.DataFrame) -> SeedTables:
         ]
         intervals |= ratio_intervals(trials, make, seeds, pairs)
         tables.append(table)
-    return SeedTables(*tables, seed_ratios(trials, seeds), tuple(seeds), intervals)
+    third, fourth = tables
+    return SeedTables(third, fourth, seed_ratios(trials, seeds), tuple(seeds), intervals)
 
 
 def policy_seeds(trials: pd.DataFrame) -> list[int]:
@@ -129,7 +130,8 @@ def seed_ratios(trials: pd.DataFrame, seeds: Sequence[int]) -> pd.DataFrame:
     cell with an empty seed when the trials name none), the seed's own RL means of Table III
     [%] and its :data:`SEED_RATIOS`."""
     rows = []
-    tables = {seed: _by_cell(table3(one_seed(trials, seed))) for seed in (seeds or [None])}
+    chosen: list[int | None] = [*seeds] or [None]
+    tables = {seed: _by_cell(table3(one_seed(trials, seed))) for seed in chosen}
     for obj, profile in next(iter(tables.values())).index:
         for seed, table in tables.items():
             cell = table.loc[(obj, profile)]

@@ -17,7 +17,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-if numba.config.USING_SVML:  # pragma: no cover - SVML would vectorise tanh by batch size
+if numba.config.USING_SVML:  # type: ignore[attr-defined]  # pragma: no cover - SVML would vectorise tanh by batch size
     raise ImportError("pushctl.rl.batched_actor needs numba without SVML (row-exact tanh)")
 
 

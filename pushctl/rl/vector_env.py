@@ -89,6 +89,9 @@ class PushVectorEnv(gym.vector.VectorEnv):
         self.single_action_space = first.action_space
         self.observation_space = batch_space(first.observation_space, self.num_envs)
         self.action_space = batch_space(first.action_space, self.num_envs)
+        shape = self.observation_space.shape
+        assert shape is not None  # a Box's
+        self._observations_shape: tuple[int, ...] = shape
         self._autoreset = np.zeros(self.num_envs, dtype=bool)
         self._started = False
 
@@ -111,7 +114,7 @@ class PushVectorEnv(gym.vector.VectorEnv):
         if not self._started and not mask.all():
             raise ConfigError("the first reset must reset every sub-environment")
         seeds = self._seeds(seed)
-        observations = np.zeros(self.observation_space.shape, dtype=np.float32)
+        observations = np.zeros(self._observations_shape, dtype=np.float32)
         infos: dict[str, Any] = {}
         for i, env in enumerate(self.envs):
             if mask[i]:
@@ -134,7 +137,7 @@ class PushVectorEnv(gym.vector.VectorEnv):
                 f"actions must have shape {self.action_space.shape}, got {actions.shape}"
             )
         n = self.num_envs
-        observations = np.zeros(self.observation_space.shape, dtype=np.float32)
+        observations = np.zeros(self._observations_shape, dtype=np.float32)
         rewards = np.zeros(n)
         terminations = np.zeros(n, dtype=bool)
         truncations = np.zeros(n, dtype=bool)
@@ -192,7 +195,9 @@ class PushVectorEnv(gym.vector.VectorEnv):
     def _seeds(self, seed: int | Sequence[int | None] | None) -> list[int | None]:
         if seed is None:
             return [None] * self.num_envs
-        if isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
+        if isinstance(seed, (int, np.integer)):
+            if isinstance(seed, bool):
+                raise ConfigError(f"reset seed must be an integer or {self.num_envs} of them")
             return [int(seed) + i for i in range(self.num_envs)]
         seeds = list(seed)
         if len(seeds) != self.num_envs:
