@@ -98,6 +98,7 @@ def test_disabled_mode_resets_only_the_masked_envs() -> None:
         lambda: PushVectorEnv(0, SHORT),
         lambda: PushVectorEnv(2, SHORT, autoreset_mode="SameStep"),
         lambda: PushVectorEnv(2, SHORT).reset(seed=[1]),
+        lambda: PushVectorEnv(2, SHORT).reset(seed=True),
         lambda: PushVectorEnv(2, SHORT).step(np.zeros(3)),
     ],
 )
