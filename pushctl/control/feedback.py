@@ -69,6 +69,7 @@ offset, so the offset is k ∫ e + k_i ∬ e: integral and double-integral actio
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -168,7 +169,12 @@ class FeedbackLaw:
     """The PI law of one push (state: the error's integral). ``lever`` (2,) [m]: the pusher
     origin from the object's centre, plan frame; ``dt`` [s]: the time each call covers;
     ``prongs`` (k,) [m]: the prongs' offsets along the plate from its centre (the pusher
-    frame's y, :meth:`PusherConfig.prong_offsets`; None: no contact seeking)."""
+    frame's y, :meth:`PusherConfig.prong_offsets`; None: no contact seeking).
+
+    The arithmetic runs on Python floats (:meth:`twist_floats`): the law runs at every 10 ms
+    step under a policy, and numpy's per-call cost on 3-vectors was most of its time. Each
+    component sees the same IEEE operations in the same order as the numpy form it replaced,
+    so the same bits (tests/control/test_feedback_floats.py)."""
 
     def __init__(
         self,
@@ -179,13 +185,14 @@ class FeedbackLaw:
     ) -> None:
         self.gains = gains
         self.lever = np.asarray(lever, dtype=float).copy()
+        self._lever = (float(self.lever[0]), float(self.lever[1]))
         self.dt = float(dt)
         self.prongs = None if prongs is None else np.asarray(prongs, dtype=float).copy()
         # the farthest prong's distance across the push from the object's centre [m]: a
         # turn u_θ moves it at |u_θ| · reach (fixed for the push; the turn cap's divisor)
         self._reach = None if prongs is None else float(np.max(np.abs(self.lever[1] + self.prongs)))
-        self.integral = np.zeros(3)
-        self.output = np.zeros(3)
+        self.integral = (0.0, 0.0, 0.0)
+        self.output = (0.0, 0.0, 0.0)
         self.seeking_for = 0.0  # [s] since the law last saw every prong loaded or none
         # the slide guard's state: :meth:`slide` through its lag [m], started when every
         # prong first carried load; the time since then [s]; the landing spot it measures
@@ -208,14 +215,38 @@ class FeedbackLaw:
         (3,) [m, m, rad]: the pusher reference's offset built so far (the ``reference`` path),
         which the slide guard needs (None: no guard). With ``smoothing`` τ > 0 the output
         follows the law through a first-order lag of τ."""
+        return np.array(
+            self.twist_floats(
+                np.asarray(error, dtype=float).tolist(),
+                np.asarray(normal_forces, dtype=float).tolist(),
+                speed,
+                None if offset is None else np.asarray(offset, dtype=float).tolist(),
+            )
+        )
+
+    def twist_floats(
+        self,
+        error: Sequence[float],
+        normal_forces: Sequence[float],
+        speed: float | None = None,
+        offset: Sequence[float] | None = None,
+    ) -> tuple[float, float, float]:
+        """:meth:`twist` on Python floats: ``error`` (e_x, e_y, e_θ), one normal force per
+        prong, ``offset`` (x, y, yaw) or None; returns (v_x, v_y, ω)."""
         raw = self._law(error, normal_forces, speed, offset)
         tau = self.gains.smoothing
         if tau <= 0.0:
             return raw
-        self.output = self.output + (self.dt / (tau + self.dt)) * (raw - self.output)
-        return self.output.copy()
+        gain = self.dt / (tau + self.dt)
+        o_x, o_y, o_w = self.output
+        self.output = (
+            o_x + gain * (raw[0] - o_x),
+            o_y + gain * (raw[1] - o_y),
+            o_w + gain * (raw[2] - o_w),
+        )
+        return self.output
 
-    def slide(self, error: np.ndarray, offset: np.ndarray) -> float:
+    def slide(self, error: Sequence[float], offset: Sequence[float]) -> float:
         """Where the pusher sits across the push on the object, relative to the plan's spot
         [m], from the pose ``error`` (3,) and the reference ``offset`` (3,): the pusher is
         at the plan's pusher position plus the offset and the object at the plan's pose
@@ -223,26 +254,26 @@ class FeedbackLaw:
         offset + error + e_θ ẑ × lever (first order in e_θ); this is its y. Off the true spot
         by the PD's own tracking error (0.2 mm on push 20412), which changes slowly: the guard
         reads how this moves, not its value."""
-        return float(offset[1] + error[1] + error[2] * self.lever[0])
+        return float(offset[1] + error[1] + error[2] * self._lever[0])
 
     def _law(
         self,
-        error: np.ndarray,
-        normal_forces: np.ndarray,
+        error: Sequence[float],
+        normal_forces: Sequence[float],
         speed: float | None = None,
-        offset: np.ndarray | None = None,
-    ) -> np.ndarray:
-        """The law's twist before the lag (:meth:`twist`)."""
+        offset: Sequence[float] | None = None,
+    ) -> tuple[float, float, float]:
+        """The law's twist before the lag (:meth:`twist_floats`)."""
         gains = self.gains
-        error = np.asarray(error, dtype=float)
-        loaded = np.asarray(normal_forces) >= gains.contact_force
-        all_loaded = bool(loaded.all())
-        seeking = not all_loaded and bool(loaded.any())  # some prongs carry load, not all
+        e_x, e_y, e_w = (float(value) for value in error)
+        loaded = [force >= gains.contact_force for force in normal_forces]
+        all_loaded = all(loaded)
+        seeking = not all_loaded and any(loaded)  # some prongs carry load, not all
         self.seeking_for = self.seeking_for + self.dt if seeking else 0.0
         # how far the prongs have moved across the push since they landed [m] (0: no guard)
         slid = 0.0
         if offset is not None and math.isfinite(gains.slide_limit):
-            now = self.slide(error, np.asarray(offset, dtype=float))
+            now = self.slide((e_x, e_y, e_w), offset)
             if self.slide_now is None:
                 if all_loaded:  # the lag starts where the prongs landed
                     self.slide_now = now
@@ -257,29 +288,33 @@ class FeedbackLaw:
                 slid = self.slide_now - self.landed
         guarded = abs(slid) >= gains.slide_limit  # a push sideways the way they slid is barred
         if all_loaded:
-            step = self.dt * error
-            if guarded and step[1] * slid > 0.0:
+            dt = self.dt
+            step_y = dt * e_y
+            if guarded and step_y * slid > 0.0:
                 # an e_y of the sign they slid asks for more output that way: hold it there
-                step[1] = 0.0
-            self.integral = self.integral + step
+                step_y = 0.0
+            i_x, i_y, i_w = self.integral
+            self.integral = (i_x + dt * e_x, i_y + step_y, i_w + dt * e_w)
         elif gains.hold_off_contact:
             if seeking and self.prongs is not None and gains.seek_rate > 0.0:
-                return self._seek(loaded)
-            return np.zeros(3)
-        u = gains.k * error + gains.k_i * self.integral
-        r_x, r_y = self.lever
+                return self._seek(np.array(loaded))
+            return (0.0, 0.0, 0.0)
+        k, k_i = gains.k, gains.k_i
+        i_x, i_y, i_w = self.integral
+        u_x, u_y, u_w = k * e_x + k_i * i_x, k * e_y + k_i * i_y, k * e_w + k_i * i_w
+        r_x, r_y = self._lever
         if self._reach is not None and speed is not None and math.isfinite(gains.turn_ratio):
             cap = gains.turn_ratio * abs(speed) / self._reach
-            u[2] = min(max(u[2], -cap), cap)
-        lateral = u[1] + u[2] * r_x
+            u_w = min(max(u_w, -cap), cap)
+        lateral = u_y + u_w * r_x
         if speed is not None and math.isfinite(gains.lateral_ratio):
             cap = gains.lateral_ratio * abs(speed)
             lateral = min(max(lateral, -cap), cap)
         if guarded and lateral * slid > 0.0:
             lateral = 0.0
-        return np.array([u[0] - u[2] * r_y, lateral, u[2]])
+        return (u_x - u_w * r_y, lateral, u_w)
 
-    def _seek(self, loaded: np.ndarray) -> np.ndarray:
+    def _seek(self, loaded: np.ndarray) -> tuple[float, float, float]:
         """The plate's turn about the loaded prongs' centre (0, c) (pusher frame; x along the
         push, into the face) that moves the unloaded prong at offset f farthest from it
         forwards: ω ẑ × (0, f − c) has x-component −ω (f − c), so ω = −sign(f − c) · rate;
@@ -292,4 +327,4 @@ class FeedbackLaw:
         ramp = self.gains.seek_ramp
         rate = self.gains.seek_rate * (min(1.0, self.seeking_for / ramp) if ramp > 0.0 else 1.0)
         omega = -math.copysign(rate, farthest - centre)
-        return np.array([omega * centre, 0.0, omega])
+        return (omega * centre, 0.0, omega)

@@ -106,7 +106,7 @@ from __future__ import annotations
 
 import copy
 import math
-from collections.abc import Callable
+from collections.abc import Sequence
 from typing import Any
 
 import gymnasium as gym
@@ -165,6 +165,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         self._action_scale = np.array(
             [self.config.action_scale_linear] * 2 + [self.config.action_scale_angular]
         )
+        self._action_scales = tuple(self._action_scale.tolist())
         self.effects: ProxyEffects | None = effects_for(self.config.plant)
         """The reality proxy's effects of the episodes (None on the sim plant): a paired
         PD-only run is ``Episode(env.scenario, env.gains, plan=env.plan, effects=env.effects,
@@ -176,7 +177,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         self._base_gains = None
         if self.config.base_law == "feedback":
             self._base_gains = load_feedback_gains()
-        self._base: Callable[[np.ndarray], np.ndarray] | None = None
+        self._base: FeedbackActor | None = None
 
     # ------------------------------------------------------------------ gymnasium API
 
@@ -239,6 +240,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         self.episode = episode
         plan = episode.plan
         self._plan_pose = plan.trajectory.pose
+        self._plan_yaws = plan.trajectory.pose[:, 2].tolist()
         self._plan_forces = plan.forces.forces
         self._true_forces = episode.plant_forces.forces
         self._true_torques = episode.plant_forces.torques
@@ -308,10 +310,18 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
                 action = scale * np.asarray(action, dtype=np.float64)
             if self._base is None:
                 clipped = np.zeros(3) if action is None else np.clip(action, -1.0, 1.0)
+                residual = self._world_twist(clipped, n)
             else:  # the law acts at every step, on the state now; the policy's action is held
-                law = self._base(np.asarray(self.observation(), dtype=np.float64))
-                clipped = np.clip(law if action is None else law + action, -1.0, 1.0)
-            residual = self._world_twist(clipped, n)
+                # (Python floats: np.clip(law + action, -1, 1)'s arithmetic, 3 components)
+                law = self._base.act()
+                if action is not None:
+                    a_x, a_y, a_w = np.asarray(action, dtype=np.float64).tolist()
+                    law = (
+                        min(max(law[0] + a_x, -1.0), 1.0),
+                        min(max(law[1] + a_y, -1.0), 1.0),
+                        min(max(law[2] + a_w, -1.0), 1.0),
+                    )
+                residual = self._world_twist(law, n)
         self._last = episode.step(residual)
         self._error = self._pose_error(n + 1)  # the observation's, the next gate's
         self._measured = episode.measured_forces(self._last.contact_forces)
@@ -359,6 +369,18 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         return self.episode.plan
 
     @property
+    def pose_error(self) -> np.ndarray:
+        """The pose error (3,) [m, m, rad], plan frame, that the observation holds now
+        (read by the controller: the camera's on the proxy with ``observe_camera``)."""
+        return self._error
+
+    @property
+    def measured_forces(self) -> np.ndarray:
+        """The prong forces (k, 2) [N] (normal, tangential) the observation holds now (the
+        proxy's noisy estimate)."""
+        return self._measured
+
+    @property
     def gate_open(self) -> bool:
         """Whether the next step() applies its action: the pose deviation exceeds the gate's
         threshold. While it is shut any action gives the same step."""
@@ -366,7 +388,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
 
     # ------------------------------------------------------------------ internals
 
-    def _base_law(self) -> Callable[[np.ndarray], np.ndarray] | None:
+    def _base_law(self) -> FeedbackActor | None:
         """The law under the residual for the episode just reset (None: PD-only)."""
         if self._base_gains is None:
             return None
@@ -421,12 +443,14 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         error = self._error if error is None else error
         return math.hypot(error[0], error[1], self.config.gate_length * error[2])
 
-    def _world_twist(self, action: np.ndarray, n: int) -> np.ndarray:
+    def _world_twist(self, action: Sequence[float] | np.ndarray, n: int) -> np.ndarray:
         """The action (3,) in [−1, 1], plan frame, as a world twist [m/s, m/s, rad/s]."""
-        scaled = action * self._action_scale
-        yaw = self._plan_pose[n, 2]
-        c, s = math.cos(yaw), math.sin(yaw)
-        return np.array([c * scaled[0] - s * scaled[1], s * scaled[0] + c * scaled[1], scaled[2]])
+        # floats: a float32 numpy scalar times a Python float would stay float32
+        a_x, a_y, a_w = action.tolist() if isinstance(action, np.ndarray) else action
+        s_x, s_y, s_w = self._action_scales
+        x, y = a_x * s_x, a_y * s_y  # the products of action * scale, component-wise
+        c, s = math.cos(self._plan_yaws[n]), math.sin(self._plan_yaws[n])
+        return np.array([c * x - s * y, s * x + c * y, a_w * s_w])
 
     def _reward_terms(self, row: int) -> tuple[float, float, float]:
         """The three weighted terms of eq. 17 for the step that ended at ``row``.

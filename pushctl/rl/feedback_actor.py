@@ -15,8 +15,9 @@ from pushctl.rl.spaces import index, observation_entries
 
 class PushSource(Protocol):
     """What the actor reads of a :class:`~pushctl.rl.env.PushEnv` (not imported: the
-    environment builds this actor as its ``base_law``): the plan, the settings and the
-    episode (its step index)."""
+    environment builds this actor as its ``base_law``): the plan, the settings, the
+    episode (its step index), and for :meth:`FeedbackActor.act` the observation's pose
+    error and force estimate."""
 
     @property
     def plan(self) -> Any: ...
@@ -24,6 +25,11 @@ class PushSource(Protocol):
     def config(self) -> Any: ...
     @property
     def episode(self) -> Any: ...
+    @property
+    def pose_error(self) -> np.ndarray: ...
+    @property
+    def measured_forces(self) -> np.ndarray: ...
+    def observation(self) -> np.ndarray: ...
 
 
 class FeedbackActor:
@@ -59,18 +65,51 @@ class FeedbackActor:
         )
         config = env.config
         velocity = plan.trajectory.velocity
-        self._speed = np.hypot(velocity[:, 0], velocity[:, 1])  # (N + 1,) [m/s]
+        self._speed = np.hypot(velocity[:, 0], velocity[:, 1]).tolist()  # (N + 1,) [m/s]
         self._env = env
         self._scale = np.array([config.action_scale_linear] * 2 + [config.action_scale_angular])
+        self._scales = tuple(self._scale.tolist())
 
     def twist(self, observation: np.ndarray) -> np.ndarray:
         """The law's pusher twist (3,) [m/s, m/s, rad/s], plan frame, before the clip."""
-        obs = np.asarray(observation, dtype=float)
-        episode = self._env.episode
-        assert episode is not None
-        speed = self._speed[min(episode.step_index, self._speed.size - 1)]
-        offset = None if self._offset is None else obs[self._offset]
-        return self.law.twist(obs[self._error], obs[self._normal], float(speed), offset)
+        return np.array(self._twist(np.asarray(observation, dtype=float)))
 
     def __call__(self, observation: np.ndarray) -> np.ndarray:
-        return np.clip(self.twist(observation) / self._scale, -1.0, 1.0)
+        return np.array(self._clipped(self._twist(np.asarray(observation, dtype=float))))
+
+    def act(self) -> tuple[float, float, float]:
+        """``self(observation)`` without the observation: the same floats, read from the
+        environment's state (its pose error and force estimate, rounded to float32 as the
+        observation rounds them). The base law under a policy runs at every 10 ms step, and
+        building the whole observation for five of its entries cost as much as the law.
+        The slide guard (which reads the offset rows) takes the observation's path."""
+        if self._offset is not None:
+            return self._clipped(self._twist(np.asarray(self._env.observation(), dtype=float)))
+        env = self._env
+        n_prongs = len(self._normal)
+        read = np.empty(3 + n_prongs, dtype=np.float32)  # the observation's rounding
+        read[:3] = env.pose_error
+        read[3:] = env.measured_forces[:, 0]
+        values = read.tolist()
+        return self._clipped(self.law.twist_floats(values[:3], values[3:], self._speed_now()))
+
+    def _twist(self, obs: np.ndarray) -> tuple[float, float, float]:
+        offset = None if self._offset is None else obs[self._offset].tolist()
+        return self.law.twist_floats(
+            obs[self._error].tolist(), obs[self._normal].tolist(), self._speed_now(), offset
+        )
+
+    def _speed_now(self) -> float:
+        """The plan's object speed [m/s] at the episode's step."""
+        episode = self._env.episode
+        assert episode is not None
+        return self._speed[min(episode.step_index, len(self._speed) - 1)]
+
+    def _clipped(self, twist: tuple[float, float, float]) -> tuple[float, float, float]:
+        """The twist over the action scale, clipped to [−1, 1] (np.clip's arithmetic)."""
+        s_x, s_y, s_w = self._scales
+        return (
+            min(max(twist[0] / s_x, -1.0), 1.0),
+            min(max(twist[1] / s_y, -1.0), 1.0),
+            min(max(twist[2] / s_w, -1.0), 1.0),
+        )
