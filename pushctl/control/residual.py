@@ -43,11 +43,15 @@ class ReferenceOffset:
     """The pusher reference's offset from the plan built by the ``reference`` path:
     ``offset`` (3,) [m, m, rad], world x, y and yaw. ``dt`` [s]: the control step.
     ``limit`` (linear [m], angular [rad]): the offset's bound per component (None or inf:
-    unbounded)."""
+    unbounded).
+
+    Kept as three Python floats: :meth:`shifted` runs at every step, and numpy's per-call
+    cost on a 3-vector was most of its time. The arithmetic is the numpy form's,
+    component by component (``np.clip`` is ``min(max(x, lo), hi)``), so the same bits."""
 
     def __init__(self, dt: float, limit: tuple[float, float] | None = None) -> None:
         self.dt = float(dt)
-        self.offset = np.zeros(3)
+        self._offset = (0.0, 0.0, 0.0)
         self.limit: np.ndarray | None = None
         if limit is not None:
             linear, angular = (float(value) for value in limit)
@@ -57,9 +61,20 @@ class ReferenceOffset:
                 )
             if math.isfinite(linear) or math.isfinite(angular):
                 self.limit = np.array([linear, linear, angular])
+        self._limits = None if self.limit is None else tuple(self.limit.tolist())
+
+    @property
+    def offset(self) -> np.ndarray:
+        """The offset so far (3,) [m, m, rad] (a new array)."""
+        return np.array(self._offset)
+
+    @offset.setter
+    def offset(self, value: np.ndarray) -> None:
+        x, y, yaw = np.asarray(value, dtype=float).tolist()
+        self._offset = (x, y, yaw)
 
     def reset(self) -> None:
-        self.offset = np.zeros(3)
+        self._offset = (0.0, 0.0, 0.0)
 
     def shifted(
         self, position: np.ndarray, yaw: float, twist_ff: np.ndarray, residual: np.ndarray | None
@@ -69,22 +84,26 @@ class ReferenceOffset:
         reference's own rate), and the offset advanced by ``residual`` · dt for the next step
         (clipped to ``limit``; the rate added to the twist is then the clipped offset's).
         Returns (position (3,), yaw, twist (6,))."""
-        offset = self.offset
+        o_x, o_y, o_w = self._offset
         shifted_position = position.copy()
-        shifted_position[0] += offset[0]
-        shifted_position[1] += offset[1]
-        shifted_yaw = float(yaw) + float(offset[2])
+        shifted_position[0] += o_x
+        shifted_position[1] += o_y
+        shifted_yaw = float(yaw) + o_w
         if residual is None:
             return shifted_position, shifted_yaw, twist_ff
-        advanced = offset + self.dt * residual
-        if self.limit is not None:
-            clipped = np.clip(advanced, -self.limit, self.limit)
-            # only a clipped component's rate changes (the others keep their bits)
-            residual = np.where(clipped == advanced, residual, (clipped - offset) / self.dt)
-            advanced = clipped
+        dt = self.dt
+        rates = residual.tolist()
+        old = self._offset
+        advanced = [old[i] + dt * rates[i] for i in range(3)]
+        if self._limits is not None:
+            for i, bound in enumerate(self._limits):
+                clipped = min(max(advanced[i], -bound), bound)
+                if clipped != advanced[i]:  # only a clipped component's rate changes
+                    rates[i] = (clipped - old[i]) / dt
+                    advanced[i] = clipped
         twist = twist_ff.copy()
-        twist[0] += residual[0]
-        twist[1] += residual[1]
-        twist[5] += residual[2]
-        self.offset = advanced
+        twist[0] += rates[0]
+        twist[1] += rates[1]
+        twist[5] += rates[2]
+        self._offset = (advanced[0], advanced[1], advanced[2])
         return shifted_position, shifted_yaw, twist

@@ -240,7 +240,8 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         self.episode = episode
         plan = episode.plan
         self._plan_pose = plan.trajectory.pose
-        self._plan_yaws = plan.trajectory.pose[:, 2].tolist()
+        self._plan_rows = plan.trajectory.pose.tolist()  # (N + 1) × [x, y, yaw], floats
+        self._plan_yaws = [row[2] for row in self._plan_rows]
         self._plan_forces = plan.forces.forces
         self._true_forces = episode.plant_forces.forces
         self._true_torques = episode.plant_forces.torques
@@ -428,14 +429,15 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         ``observe_camera``), or the true one if ``exact``."""
         episode = self.episode
         assert episode is not None
-        desired = self._plan_pose[n]
+        x, y, yaw = self._plan_rows[n]
         if exact or self._exact_pose:
             actual = self._last.object_pose
         else:
             actual = episode.measured_pose()
-        c, s = math.cos(desired[2]), math.sin(desired[2])
-        dx, dy = desired[0] - actual[0], desired[1] - actual[1]
-        angle = math.remainder(desired[2] - actual[2], math.tau)
+        a_x, a_y, a_yaw = actual.tolist()  # floats: numpy's scalar arithmetic, faster
+        c, s = math.cos(yaw), math.sin(yaw)
+        dx, dy = x - a_x, y - a_y
+        angle = math.remainder(yaw - a_yaw, math.tau)
         return np.array([c * dx + s * dy, -s * dx + c * dy, angle])
 
     def _deviation(self, error: np.ndarray | None = None) -> float:

@@ -66,7 +66,7 @@ class FeedbackActor:
         config = env.config
         velocity = plan.trajectory.velocity
         self._speed = np.hypot(velocity[:, 0], velocity[:, 1]).tolist()  # (N + 1,) [m/s]
-        self._env = env
+        self.env = env
         self._scale = np.array([config.action_scale_linear] * 2 + [config.action_scale_angular])
         self._scales = tuple(self._scale.tolist())
 
@@ -84,8 +84,8 @@ class FeedbackActor:
         building the whole observation for five of its entries cost as much as the law.
         The slide guard (which reads the offset rows) takes the observation's path."""
         if self._offset is not None:
-            return self._clipped(self._twist(np.asarray(self._env.observation(), dtype=float)))
-        env = self._env
+            return self._clipped(self._twist(np.asarray(self.env.observation(), dtype=float)))
+        env = self.env
         n_prongs = len(self._normal)
         read = np.empty(3 + n_prongs, dtype=np.float32)  # the observation's rounding
         read[:3] = env.pose_error
@@ -101,7 +101,7 @@ class FeedbackActor:
 
     def _speed_now(self) -> float:
         """The plan's object speed [m/s] at the episode's step."""
-        episode = self._env.episode
+        episode = self.env.episode
         assert episode is not None
         return self._speed[min(episode.step_index, len(self._speed) - 1)]
 

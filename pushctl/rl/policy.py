@@ -24,6 +24,7 @@ from pushctl.errors import ConfigError, StateError
 from pushctl.provenance import write_atomic
 from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
+from pushctl.rl.feedback_actor import FeedbackActor
 from pushctl.rl.networks import ActorPolicy
 
 POLICY_FORMAT = 1
@@ -127,14 +128,24 @@ def finish_with_policy(env: PushEnv, actor: Callable[[np.ndarray], np.ndarray]) 
     repeat = env.config.action_repeat
     opened = 0
     held: np.ndarray | None = None
+    decide = _decision(env, actor)
     while not episode.done:
         if repeat > 1 and episode.step_index % repeat == 0:
-            held = actor(np.asarray(env.observation(), dtype=np.float64))
+            held = decide()
         if env.gate_open:
             opened += 1
             if repeat == 1:
-                held = actor(np.asarray(env.observation(), dtype=np.float64))
+                held = decide()
             env.advance(held)
         else:
             env.advance(None)
     return opened
+
+
+def _decision(env: PushEnv, actor: Callable[[np.ndarray], np.ndarray]) -> Callable[[], np.ndarray]:
+    """The actor's action on ``env``'s state now. The feedback law of ``env`` itself reads
+    the state without the observation (:meth:`FeedbackActor.act`: the same floats); any
+    other actor, a subclass of the law's included, gets the observation."""
+    if type(actor) is FeedbackActor and actor.env is env:
+        return lambda: np.array(actor.act())
+    return lambda: actor(np.asarray(env.observation(), dtype=np.float64))
