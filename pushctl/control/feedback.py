@@ -191,8 +191,8 @@ class FeedbackLaw:
         # the farthest prong's distance across the push from the object's centre [m]: a
         # turn u_θ moves it at |u_θ| · reach (fixed for the push; the turn cap's divisor)
         self._reach = None if prongs is None else float(np.max(np.abs(self.lever[1] + self.prongs)))
-        self.integral = (0.0, 0.0, 0.0)
-        self.output = (0.0, 0.0, 0.0)
+        self._integral = (0.0, 0.0, 0.0)
+        self._output = (0.0, 0.0, 0.0)
         self.seeking_for = 0.0  # [s] since the law last saw every prong loaded or none
         # the slide guard's state: :meth:`slide` through its lag [m], started when every
         # prong first carried load; the time since then [s]; the landing spot it measures
@@ -200,6 +200,16 @@ class FeedbackLaw:
         self.slide_now: float | None = None
         self.since_landing = 0.0
         self.landed: float | None = None
+
+    @property
+    def integral(self) -> np.ndarray:
+        """∫ e dt so far (3,) [m·s, m·s, rad·s] (a new array)."""
+        return np.array(self._integral)
+
+    @property
+    def output(self) -> np.ndarray:
+        """The lagged output of the last call (3,) [m/s, m/s, rad/s] (a new array)."""
+        return np.array(self._output)
 
     def twist(
         self,
@@ -238,13 +248,13 @@ class FeedbackLaw:
         if tau <= 0.0:
             return raw
         gain = self.dt / (tau + self.dt)
-        o_x, o_y, o_w = self.output
-        self.output = (
+        o_x, o_y, o_w = self._output
+        self._output = (
             o_x + gain * (raw[0] - o_x),
             o_y + gain * (raw[1] - o_y),
             o_w + gain * (raw[2] - o_w),
         )
-        return self.output
+        return self._output
 
     def slide(self, error: Sequence[float], offset: Sequence[float]) -> float:
         """Where the pusher sits across the push on the object, relative to the plan's spot
@@ -293,14 +303,14 @@ class FeedbackLaw:
             if guarded and step_y * slid > 0.0:
                 # an e_y of the sign they slid asks for more output that way: hold it there
                 step_y = 0.0
-            i_x, i_y, i_w = self.integral
-            self.integral = (i_x + dt * e_x, i_y + step_y, i_w + dt * e_w)
+            i_x, i_y, i_w = self._integral
+            self._integral = (i_x + dt * e_x, i_y + step_y, i_w + dt * e_w)
         elif gains.hold_off_contact:
             if seeking and self.prongs is not None and gains.seek_rate > 0.0:
                 return self._seek(np.array(loaded))
             return (0.0, 0.0, 0.0)
         k, k_i = gains.k, gains.k_i
-        i_x, i_y, i_w = self.integral
+        i_x, i_y, i_w = self._integral
         u_x, u_y, u_w = k * e_x + k_i * i_x, k * e_y + k_i * i_y, k * e_w + k_i * i_w
         r_x, r_y = self._lever
         if self._reach is not None and speed is not None and math.isfinite(gains.turn_ratio):
