@@ -174,7 +174,7 @@ class FeedbackLaw:
     The arithmetic runs on Python floats (:meth:`twist_floats`): the law runs at every 10 ms
     step under a policy, and numpy's per-call cost on 3-vectors was most of its time. Each
     component sees the same IEEE operations in the same order as the numpy form it replaced,
-    so the same bits (tests/control/test_feedback_floats.py)."""
+    so the same bits (tests/control/test_floats_bit_exact.py)."""
 
     def __init__(
         self,

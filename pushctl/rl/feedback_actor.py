@@ -75,7 +75,9 @@ class FeedbackActor:
         return np.array(self._twist(np.asarray(observation, dtype=float)))
 
     def __call__(self, observation: np.ndarray) -> np.ndarray:
-        return np.array(self._clipped(self._twist(np.asarray(observation, dtype=float))))
+        # through twist(), which a subclass may extend (the residual study records it)
+        x, y, w = self.twist(observation).tolist()
+        return np.array(self._clipped((x, y, w)))
 
     def act(self) -> tuple[float, float, float]:
         """``self(observation)`` without the observation: the same floats, read from the

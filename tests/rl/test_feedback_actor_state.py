@@ -71,3 +71,20 @@ def test_the_base_law_under_a_policy_pushes_as_the_law_from_observations() -> No
     law = FeedbackActor(by_hand, load_feedback_gains(), interval=config.dt)
     finish_with_policy(by_hand, lambda obs: law(obs))
     assert _frame(env) == _frame(by_hand)
+
+
+def test_a_subclass_of_the_law_is_asked_through_its_own_twist() -> None:
+    """The state path is the law's own: a subclass that extends twist() (the residual study
+    records the law's twists) is called at every decision, through the observation."""
+
+    class Counting(FeedbackActor):
+        calls = 0
+
+        def twist(self, observation: np.ndarray) -> np.ndarray:
+            Counting.calls += 1
+            return super().twist(observation)
+
+    env = _feedback_env("sim")
+    assert env.config.action_repeat == 1  # a decision at every step the gate is open
+    opened = finish_with_policy(env, Counting(env, load_feedback_gains()))
+    assert Counting.calls == opened > 100
