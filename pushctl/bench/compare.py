@@ -26,7 +26,8 @@ core (``taskset -c 0`` where it exists). Each child times, on the same inputs:
   with the nominal one to the bit (scenario seed 0) and ``…, own g`` one where it does not
   (seed 3) [µs]. NaN where the reference tree lacks these settings.
 
-The table gives the median over repeats of each tree and the ratio this / reference.
+The table gives the median over repeats of each tree, and as the ratio the median over repeats
+of each pair's this / reference (:func:`paired_ratio`).
 """
 
 from __future__ import annotations
@@ -279,18 +280,28 @@ def compare(against: str, repeats: int, core: int = 0) -> tuple[pd.DataFrame, in
         sample["cold MLCP, ProxQP path of the reference"] = 1e6 * statistics.median(subset)
     rows = []
     for metric in METRICS:
-        ours = statistics.median(s[metric] for s in samples["this"])
-        theirs = statistics.median(s[metric] for s in samples["reference"])
+        this = [s[metric] for s in samples["this"]]
+        reference_values = [s[metric] for s in samples["reference"]]
         rows.append(
             {
                 "name": metric,
-                "this_us": ours,
-                "reference_us": theirs,
-                "ratio": ours / theirs,
-                "note": f"median of {repeats} interleaved child processes per tree, one core",
+                "this_us": statistics.median(this),
+                "reference_us": statistics.median(reference_values),
+                "ratio": paired_ratio(this, reference_values),
+                "note": f"medians of {repeats} interleaved child processes per tree, one core; "
+                "ratio: the median of each pair's",
             }
         )
     return pd.DataFrame(rows), len(problems)
+
+
+def paired_ratio(this: list[float], reference: list[float]) -> float:
+    """The median over repeats of this / reference, each pair run one after the other.
+
+    The machine's speed drifts over minutes (on a shared AMD EPYC, 2026-11-25, the ratio of
+    the two trees' medians gave 0.55-0.73 for code the two trees share); a pair's two
+    children see about the same machine, so the drift cancels in their ratio."""
+    return statistics.median(ours / theirs for ours, theirs in zip(this, reference, strict=True))
 
 
 def main(argv: list[str] | None = None) -> int:
