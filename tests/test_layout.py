@@ -27,6 +27,7 @@ TOP_LEVEL = {
     "output_guard.py",
     "toml_files.py",
     "proxqp_build.py",  # ProxQP from its portable build, for planning and contact alike
+    "machine.py",  # the kind of machine a run's last bits belong to (its manifest says)
 }
 
 # Layer of each subpackage (and of the few modules that sit above their package's layer):
@@ -59,6 +60,7 @@ LAYERS = {
     "pushctl.output_guard": 0,
     "pushctl.toml_files": 0,
     "pushctl.proxqp_build": 0,
+    "pushctl.machine": 0,
 }
 
 

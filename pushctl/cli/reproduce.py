@@ -47,6 +47,7 @@ from datetime import datetime, timezone
 from pathlib import Path
 
 import pushctl
+from pushctl.machine import machine_description
 from pushctl.provenance import git_commit, write_atomic
 
 SEED = 0
@@ -254,6 +255,8 @@ def write_manifest(
         f"`{setup.results}/training/seed-K/`), evaluation {SEED} (evaluation stream) of "
         f"every training seed's policy",
         f"- started {started.strftime('%Y-%m-%d %H:%M:%S')} UTC; wall time {_minutes(total)}",
+        f"- machine: {machine_description()} (the bytes repeat on a machine of this kind: "
+        "docs/reproducibility.md)",
         f"- outcome: {'running (or stopped)' if running else outcome}",
         _run_line(setup),
         "",

@@ -11,6 +11,7 @@ import pytest
 
 from pushctl.cli import reproduce
 from pushctl.cli.reproduce import FULL, MANIFEST, QUICK, TRAINING_FILES, Setup
+from pushctl.machine import machine_description
 
 
 def test_the_full_setup_is_the_issue_s_protocol(
@@ -161,6 +162,8 @@ def test_the_manifest_sets_each_stage_beside_its_budget(tmp_path: Path) -> None:
     manifest = (setup.results / MANIFEST).read_text()
     assert "2 of 4 budgets met; missed: training, seed 1, evaluation" in manifest
     assert "| training, seed 0 | 15 min 00.0 s | 20 min 00.0 s | yes |" in manifest
+    # the kind of machine the bytes belong to (docs/reproducibility.md)
+    assert f"- machine: {machine_description()} (the bytes repeat" in manifest
     one = replace(setup, seeds=(0,))
     assert reproduce.budgets(one, records)[-1].budget == 30 * 60.0
     resumed = [replace(records[0], command="pushctl train --resume"), *records[1:]]
