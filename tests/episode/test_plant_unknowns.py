@@ -10,7 +10,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from blas_kernels import openblas_kernels
 
 from pushctl.config import PusherConfig
 from pushctl.episode.draw import draw_planned_scenario
@@ -19,6 +18,7 @@ from pushctl.episode.ranges import load_ranges
 from pushctl.episode.runner import Episode
 from pushctl.episode.unknowns import NO_UNKNOWNS, PlantUnknowns, UnknownRanges, unknowns_rng
 from pushctl.errors import ConfigError
+from pushctl.machine import blas_kernels
 
 SHORT = 2.0  # [s] pushes long enough to see an offset, short enough for the default suite
 
@@ -121,7 +121,8 @@ def test_a_ranges_file_without_unknowns_has_none_and_a_bad_key_is_named(tmp_path
 # and again when ProxQP came from its portable build, pushctl.proxqp_build: 5807e433d53a952d,
 # 5c604c6ceb56c521 with the AVX-512 build.) Recorded on a machine with AVX-512; on one whose
 # OpenBLAS runs its Haswell kernels (an AMD EPYC, 2026-11-25) the same code gives the second
-# set, at 551bcac's successors up to c846350 and since (tests/blas_kernels.py).
+# set (checked at c846350 and after it). OpenBLAS picks its kernels by CPU and their sums
+# round differently (pushctl.machine, docs/reproducibility.md).
 BEFORE_UNKNOWNS = {
     ("cube", "chirp", 3): "2bd7ccfa87b107b8",
     ("wedge", "constant", 5): "4c03e0aafa936aac",
@@ -143,7 +144,7 @@ def test_a_sim_plant_with_zero_ranges_pushes_bit_for_bit_as_before(
     )
     assert scenario.unknowns.is_none and NO_UNKNOWNS.is_none
     trace = Episode(scenario, plan=plan).run()
-    recorded = BEFORE_UNKNOWNS_BY_KERNELS.get(openblas_kernels(), BEFORE_UNKNOWNS)
+    recorded = BEFORE_UNKNOWNS_BY_KERNELS.get(blas_kernels(), BEFORE_UNKNOWNS)
     assert _digest(trace) == recorded[(obj, profile, seed)]
 
 
