@@ -116,10 +116,11 @@ class ArmTerms(NamedTuple):
 _WORLD_ALIGNED = pin.LOCAL_WORLD_ALIGNED
 _jacobian = pin.getFrameJacobian  # hot path: no attribute lookup
 _DATA_VIEWS = ("_data_M", "_data_nle", "_data_g", "_pusher_placement", "_prong_placements")
+"""ArmModel's attributes that view its Data (rebound, not copied, with the model)."""
 _READY_POSES: dict[tuple, IKResult] = {}
 """Ready-pose IK answers by kinematics (:meth:`ArmModel._solve_ready`), oldest first."""
 _READY_POSES_KEPT = 64
-"""ArmModel's attributes that view its Data (rebound, not copied, with the model)."""
+"""How many of them are kept: a world arm's mounting error is its own, so few repeat."""
 
 
 def _fills_lower_triangle(model: pin.Model, data: pin.Data) -> bool:
@@ -213,7 +214,7 @@ class ArmModel:
                 f"arm {self.name!r} cannot reach its ready pusher pose "
                 f"(error {result.position_error:.2e} m, {result.rotation_error:.2e} rad)"
             )
-        if len(_READY_POSES) >= _READY_POSES_KEPT:  # a world arm's mounting error is its own
+        if len(_READY_POSES) >= _READY_POSES_KEPT:  # the oldest goes
             del _READY_POSES[next(iter(_READY_POSES))]
         _READY_POSES[key] = replace(result, q=result.q.copy())
         return result
