@@ -7,6 +7,8 @@ import os
 import subprocess
 import sys
 
+import pytest
+
 from pushctl.machine import blas_kernels, machine_description
 
 
@@ -15,8 +17,8 @@ def test_the_kernels_are_openblas_own_name_and_follow_its_coretype_switch() -> N
     (read when numpy loads it) changes what it reports."""
     here = blas_kernels()
     assert here and " " not in here
-    if here == "unknown":  # a numpy without its own OpenBLAS: nothing more to check
-        return
+    if here == "unknown":
+        pytest.skip("this numpy brings no OpenBLAS that names its kernels")
     probe = "from pushctl.machine import blas_kernels; print(blas_kernels())"
     env = {**os.environ, "OPENBLAS_CORETYPE": "Sandybridge"}
     forced = subprocess.run(

@@ -52,7 +52,7 @@ class ReferenceOffset:
     def __init__(self, dt: float, limit: tuple[float, float] | None = None) -> None:
         self.dt = float(dt)
         self._offset = (0.0, 0.0, 0.0)
-        self.limit: np.ndarray | None = None
+        self.limit: tuple[float, float, float] | None = None
         if limit is not None:
             linear, angular = (float(value) for value in limit)
             if not (linear > 0.0 and angular > 0.0):  # also catches NaN
@@ -60,8 +60,7 @@ class ReferenceOffset:
                     f"offset limit must be > 0 (m, rad; inf for none), got {tuple(limit)!r}"
                 )
             if math.isfinite(linear) or math.isfinite(angular):
-                self.limit = np.array([linear, linear, angular])
-        self._limits = None if self.limit is None else tuple(self.limit.tolist())
+                self.limit = (linear, linear, angular)
 
     @property
     def offset(self) -> np.ndarray:
@@ -95,8 +94,8 @@ class ReferenceOffset:
         rates = residual.tolist()
         old = self._offset
         advanced = [old[i] + dt * rates[i] for i in range(3)]
-        if self._limits is not None:
-            for i, bound in enumerate(self._limits):
+        if self.limit is not None:
+            for i, bound in enumerate(self.limit):
                 clipped = min(max(advanced[i], -bound), bound)
                 if clipped != advanced[i]:  # only a clipped component's rate changes
                     rates[i] = (clipped - old[i]) / dt

@@ -162,10 +162,8 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
             -np.inf, np.inf, shape=(len(self.observation_entries),), dtype=np.float32
         )
         self.action_space = gym.spaces.Box(-1.0, 1.0, shape=(3,), dtype=np.float32)
-        self._action_scale = np.array(
-            [self.config.action_scale_linear] * 2 + [self.config.action_scale_angular]
-        )
-        self._action_scales = tuple(self._action_scale.tolist())
+        linear, angular = self.config.action_scale_linear, self.config.action_scale_angular
+        self._action_scales = (float(linear), float(linear), float(angular))
         self.effects: ProxyEffects | None = effects_for(self.config.plant)
         """The reality proxy's effects of the episodes (None on the sim plant): a paired
         PD-only run is ``Episode(env.scenario, env.gains, plan=env.plan, effects=env.effects,
@@ -241,7 +239,6 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         plan = episode.plan
         self._plan_pose = plan.trajectory.pose
         self._plan_rows = plan.trajectory.pose.tolist()  # (N + 1) × [x, y, yaw], floats
-        self._plan_yaws = [row[2] for row in self._plan_rows]
         self._plan_forces = plan.forces.forces
         self._true_forces = episode.plant_forces.forces
         self._true_torques = episode.plant_forces.torques
@@ -451,7 +448,8 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         a_x, a_y, a_w = action.tolist() if isinstance(action, np.ndarray) else action
         s_x, s_y, s_w = self._action_scales
         x, y = a_x * s_x, a_y * s_y  # the products of action * scale, component-wise
-        c, s = math.cos(self._plan_yaws[n]), math.sin(self._plan_yaws[n])
+        yaw = self._plan_rows[n][2]
+        c, s = math.cos(yaw), math.sin(yaw)
         return np.array([c * x - s * y, s * x + c * y, a_w * s_w])
 
     def _reward_terms(self, row: int) -> tuple[float, float, float]:

@@ -67,8 +67,8 @@ class FeedbackActor:
         velocity = plan.trajectory.velocity
         self._speed = np.hypot(velocity[:, 0], velocity[:, 1]).tolist()  # (N + 1,) [m/s]
         self.env = env
-        self._scale = np.array([config.action_scale_linear] * 2 + [config.action_scale_angular])
-        self._scales = tuple(self._scale.tolist())
+        linear, angular = config.action_scale_linear, config.action_scale_angular
+        self._scales = (float(linear), float(linear), float(angular))  # the action's units
 
     def twist(self, observation: np.ndarray) -> np.ndarray:
         """The law's pusher twist (3,) [m/s, m/s, rad/s], plan frame, before the clip."""
