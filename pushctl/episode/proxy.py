@@ -37,9 +37,10 @@ PROXY_STREAM = 4
 """First spawn-key entry of the proxy's generators: beside the scenario streams 1–3 of
 :data:`pushctl.episode.scenario.STREAMS`, so proxy noise never repeats a scenario draw."""
 
-PROXY_PURPOSES = {"camera": 1, "force": 2}
+PROXY_PURPOSES = {"camera": 1, "force": 2, "landing": 3}
 """Second spawn-key entry, by purpose: the camera's noise does not depend on how many force
-estimates the policy read, so a PD-only run and an RL-assisted run share it."""
+estimates the policy read, so a PD-only run and an RL-assisted run share it (``landing``: the
+frames a re-landing reads, :mod:`pushctl.episode.relanding`)."""
 
 LARGE_JOINT_COULOMB, SMALL_JOINT_COULOMB = 1.0, 0.5
 """Assumed Coulomb friction [N·m] of the Kinova Gen2's large (joints 1–4, 40/80 N·m) and

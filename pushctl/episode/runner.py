@@ -52,6 +52,7 @@ from pushctl.episode.proxy import (
     draw_camera_noise,
     proxy_rng,
 )
+from pushctl.episode.relanding import LANDING_PURPOSE, landing_shift
 from pushctl.episode.scenario import Scenario
 from pushctl.episode.trace import Trace, contact_torques
 from pushctl.episode.unknowns import friction_field, friction_limits, with_unknown_loads
@@ -391,7 +392,7 @@ class Episode:
 
     def _approach(self) -> StepResult:
         """Ready pose → standoff → touching at the plan's offset → settle."""
-        world, settings, dt = self.world, self.approach, self.scenario.dt
+        settings, dt = self.approach, self.scenario.dt
         terms = self.controller_terms()
         contact_position = self.reference.position[0]
         yaw = float(self.reference.yaw[0])
@@ -405,7 +406,12 @@ class Episode:
         settle_steps = round(settings.settle_time / dt)
         if settle_steps:
             parts.append(hold(contact_position, yaw, settle_steps, dt))
-        reference = concatenate(*parts)
+        return self._follow(concatenate(*parts))
+
+    def _follow(self, reference: PusherReference) -> StepResult:
+        """Servo the PD along ``reference`` (an approach's path), one world step per sample
+        after its first; the last step's result."""
+        world = self.world
         twists = reference.twist
         result = None
         for n in range(len(reference) - 1):
@@ -416,6 +422,59 @@ class Episode:
             result, _ = self._actuate(command)
         assert result is not None
         return result
+
+    def reland(self) -> StepResult:
+        """Put the prongs back on the plan's spot of the face, as a controller that reads the
+        object's pose does before its push (:mod:`pushctl.episode.relanding`): back the
+        plate off to the approach's standoff (``creep_time``), read the object's pose (exact
+        on the simulator; on the proxy the mean of the camera's frames over the back-off),
+        move the plate across its face by :func:`~pushctl.episode.relanding.landing_shift`
+        (``creep_time``), creep back onto the face (``creep_time``) and settle. The move is
+        kept as the reference path's offset, so the push holds it; the state at t = 0 is
+        the new one. Only on an episode just reset, on the ``reference`` path (StateError,
+        ConfigError); about 3.2 s of world steps."""
+        if not self._started or self._n != 0:
+            raise StateError("reland() takes an episode just reset, before a push step")
+        if self.residual_path != "reference":
+            raise ConfigError(
+                "re-landing needs the reference residual path: its offset holds the plate "
+                f"where it landed (got {self.residual_path!r})"
+            )
+        settings, dt = self.approach, self.scenario.dt
+        contact = self.reference.position[0]
+        yaw = float(self.reference.yaw[0])
+        normal = np.array([math.cos(yaw), math.sin(yaw), 0.0])
+        standoff = contact - settings.standoff * normal
+        self._follow(minimum_jerk(contact, yaw, standoff, yaw, settings.creep_time, dt))
+        bound = math.inf if self._offset.limit is None else self._offset.limit[0]
+        shift = landing_shift(
+            self.plan.trajectory.pose[0], self._landing_pose(), contact, yaw, bound
+        )
+        target = contact + shift
+        parts = [
+            minimum_jerk(standoff, yaw, standoff + shift, yaw, settings.creep_time, dt),
+            minimum_jerk(standoff + shift, yaw, target, yaw, settings.creep_time, dt),
+        ]
+        settle_steps = round(settings.settle_time / dt)
+        if settle_steps:
+            parts.append(hold(target, yaw, settle_steps, dt))
+        result = self._follow(concatenate(*parts))
+        self._offset.offset = shift
+        self._record(0, result, self._tau[0])
+        return result
+
+    def _landing_pose(self) -> np.ndarray:
+        """The object's pose (3,) [m, m, rad] as :meth:`reland` reads it, the plate backed
+        off: exact on the simulator and MuJoCo; on the proxy plus the mean noise of the
+        camera's frames over the back-off (the object at rest), from their own generator."""
+        pose = np.asarray(self.world.object_pose, dtype=float).copy()
+        effects = self.effects
+        if effects is None:
+            return pose
+        case = f"{self.scenario.object}/{self.scenario.profile}"
+        frames = camera_frames(self.approach.creep_time, effects.camera_rate)
+        rng = proxy_rng(self.scenario.seed, LANDING_PURPOSE, case)
+        return pose + draw_camera_noise(effects, frames, rng).mean(axis=0)
 
     def _actuate(self, command: PDCommand) -> tuple[StepResult, np.ndarray]:
         """One world step with ``command``: (the result, the joint torque applied over the

@@ -26,7 +26,8 @@ CONTROLLERS = ("pd", "feedback", "rl")
 def feedback_config(config: EnvConfig) -> EnvConfig:
     """The environment the ``feedback`` controller pushes in beside a policy trained with
     ``config``: the same push (duration, step, plant, stream) with today's default residual
-    settings (path, action scale, gate, the camera), whatever the policy was trained with."""
+    settings (path, action scale, gate, the camera, the re-landing), whatever the policy was
+    trained with."""
     default = EnvConfig()
     return replace(
         config,
@@ -41,4 +42,5 @@ def feedback_config(config: EnvConfig) -> EnvConfig:
         offset_limit_angular=default.offset_limit_angular,
         base_law=default.base_law,  # the law itself is the actor: not added twice
         residual_scale=default.residual_scale,  # and acts with the whole envelope
+        landing=default.landing,
     )

@@ -43,11 +43,10 @@ from pushctl.episode.landed import landed
 from pushctl.episode.metrics import compute_metrics
 from pushctl.episode.trace import Trace
 from pushctl.evaluation.controllers import FeedbackActor
-from pushctl.evaluation.tune_feedback import reset_pushes, tuning_env
+from pushctl.evaluation.tune_feedback import BELIEVED, reset_pushes, tuning_env
 from pushctl.objects import OBJECT_NAMES
 from pushctl.planning import PROFILE_NAMES
 from pushctl.rl.env import PushEnv
-from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.policy import finish_with_policy
 
 FAILED_ANGLE_PCT = 20.0
@@ -210,7 +209,7 @@ def study(
     """One row per setting: per object, the mean translation and angle errors [%], the
     number of failed pushes and the share of steps with a prong off the face, on
     ``plant``'s tuning pushes. ``gains``: k and k_i (default: the gains file's)."""
-    env = tuning_env(plant=plant, config=EnvConfig())
+    env = tuning_env(plant=plant, config=BELIEVED)
     reset = reset_pushes(env, seed, OBJECT_NAMES, PROFILE_NAMES, per_case)
     gains = gains or load_feedback_gains()
     rows = []
@@ -234,7 +233,7 @@ def gain_table(
     :class:`EnvConfig`) at each (k, k_i) of ``gains`` on ``plant``'s tuning pushes: per
     object × profile, the means of translation and angle error [%], force error [N] and
     contact-loss share."""
-    env = tuning_env(plant=plant, config=EnvConfig())
+    env = tuning_env(plant=plant, config=BELIEVED)
     reset = reset_pushes(env, seed, OBJECT_NAMES, PROFILE_NAMES, per_case)
     base = load_feedback_gains()
     bound = (env.config.offset_limit_linear, math.degrees(env.config.offset_limit_angular))
@@ -287,7 +286,7 @@ def force_split(
     before ``after``, the force error as the metric has it (mean over steps and prongs of
     the force vector's error) [mN]; and where the prongs landed across the face
     (:func:`landed`) [mm]."""
-    env = tuning_env(plant=plant, config=EnvConfig())
+    env = tuning_env(plant=plant, config=BELIEVED)
     gains = load_feedback_gains()
     rows = []
     for seed in seeds:
@@ -321,7 +320,7 @@ def ringing(seed: int = 1000) -> pd.DataFrame:
     twist alternating with zero every step (what the law's mode switches do)."""
     rows = []
     for plant in ("sim", "mujoco"):
-        env = tuning_env(plant=plant, config=EnvConfig())
+        env = tuning_env(plant=plant, config=BELIEVED)
         reset = reset_pushes(env, seed, ("cube",), ("constant",), 1)[0]
         policies = {
             "PD-only": None,

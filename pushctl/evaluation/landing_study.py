@@ -27,10 +27,9 @@ from pushctl.control.feedback import load_feedback_gains
 from pushctl.episode.landed import landed
 from pushctl.episode.metrics import compute_metrics
 from pushctl.evaluation.failure_study import FAILED_ANGLE_PCT, FAILED_TRANSLATION_PCT, finish_copy
-from pushctl.evaluation.tune_feedback import reset_pushes, tuning_env
+from pushctl.evaluation.tune_feedback import BELIEVED, reset_pushes, tuning_env
 from pushctl.objects import OBJECT_NAMES
 from pushctl.planning import PROFILE_NAMES
-from pushctl.rl.env_config import EnvConfig
 
 NEAR_SPOT = 0.5e-3
 """[m]: a push whose prongs landed within this of the plan's spot is "on the spot"."""
@@ -41,7 +40,7 @@ def landing_pushes(plant: str, seed: int, per_case: int) -> pd.DataFrame:
     PD-only and the feedback law (the gains file's): controller, scenario seed, object,
     profile, where the prongs landed (:func:`~pushctl.episode.landed.landed`) [mm],
     force error [mN], and whether the push failed."""
-    env = tuning_env(plant=plant, config=EnvConfig())
+    env = tuning_env(plant=plant, config=BELIEVED)
     reset = reset_pushes(env, seed, OBJECT_NAMES, PROFILE_NAMES, per_case)
     gains = load_feedback_gains()
     rows = []

@@ -19,7 +19,7 @@ from pushctl.control.feedback import FeedbackGains, load_feedback_gains
 from pushctl.episode.metrics import compute_metrics
 from pushctl.episode.unknowns import NO_UNKNOWNS
 from pushctl.evaluation.controllers import FeedbackActor
-from pushctl.evaluation.tune_feedback import reset_pushes, tuning_env
+from pushctl.evaluation.tune_feedback import BELIEVED, reset_pushes, tuning_env
 from pushctl.objects import OBJECT_NAMES
 from pushctl.planning import PROFILE_NAMES
 from pushctl.rl.env import PushEnv
@@ -33,7 +33,7 @@ PROXY_GATES = (0.0, 1.5e-4, 1e-3, 2e-3, 3e-3)
 
 def pushes(plant: str, seed: int = 0, per_case: int = 2, unknowns: bool = True) -> list[PushEnv]:
     """The tuning pushes on ``plant``, reset; without the plant unknowns if not ``unknowns``."""
-    env = tuning_env(plant=plant)
+    env = tuning_env(plant=plant, config=BELIEVED)
     reset = reset_pushes(env, seed, OBJECT_NAMES, PROFILE_NAMES, per_case)
     if unknowns:
         return reset

@@ -39,7 +39,7 @@ from pushctl.errors import ConfigError, PushctlError
 from pushctl.evaluation.controllers import FeedbackActor
 from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
-from pushctl.rl.policy import finish_with_policy
+from pushctl.rl.policy import finish_with_policy, pd_only_episode
 
 GRID = {"k": (0.1, 0.2, 0.35, 0.5), "k_i": (0.0, 0.02, 0.05, 0.1)}
 """The coarse grid: k [1/s] × k_i [1/s²], 16 candidates (docs/design.md §5's prototype: k = 0.5 /s
@@ -61,6 +61,12 @@ class FeedbackCandidate:
     translation_error_pct: float
     angle_error_pct: float
     gate_open_fraction: float
+
+
+BELIEVED = EnvConfig(landing="believed")
+"""The studies' environment (``failure_study``, ``landing_study``, ``residual_study``): the
+law's pushes start where the approach landed the prongs, as in the passes they document,
+which came before the re-landing (docs/plant-unknowns.md, "Re-landing")."""
 
 
 def tuning_env(
@@ -96,7 +102,7 @@ def score(gains: FeedbackGains | None, pushes: list[PushEnv]) -> FeedbackCandida
         assert env.episode is not None
         try:
             if gains is None:
-                trace = env.episode.finish()
+                trace = pd_only_episode(env).finish()
                 share = 0.0
             else:
                 share = finish_with_policy(env, FeedbackActor(env, gains)) / env.episode.n_steps

@@ -127,7 +127,9 @@ from pushctl.rl.feedback_actor import FeedbackActor
 from pushctl.rl.spaces import ACTION_ENTRIES, observation_entries
 from pushctl.types import StepResult
 
-_EPISODE_FIELDS = ("plant", "stream", "duration", "dt", "residual_path", "offset_limit")
+_EPISODE_FIELDS = (
+    "plant", "stream", "duration", "dt", "residual_path", "offset_limit", "landing"
+)  # fmt: skip
 """The configuration an environment's episodes are built from, after the draw
 (:meth:`PushEnv.reset_from` hands a reset over only between environments that agree on it)."""
 
@@ -171,6 +173,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         self.engine = plant_engine(self.config.plant)
         """The episodes' physics engine: ``mujoco`` on the MuJoCo plant, else ``ours``."""
         self.episode: Episode | None = None
+        self._believed: Episode | None = None
         self._exact_pose = self.effects is None or not self.config.observe_camera
         self._base_gains = None
         if self.config.base_law == "feedback":
@@ -194,8 +197,12 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
             offset_limit=self.config.offset_limit,
         )
         last = episode.reset()
+        believed = None
+        if self.config.landing == "measured":
+            believed = copy.deepcopy(episode)  # PD-only's start: where the approach landed
+            last = episode.reland()
         measured = episode.measured_forces(last.contact_forces)
-        return self._start(episode, last, measured, redrawn)
+        return self._start(episode, last, measured, redrawn, believed)
 
     def reset_from(self, reset: PushEnv, redrawn: int = 0) -> tuple[np.ndarray, dict[str, Any]]:
         """reset() to the episode ``reset`` (another environment) was just reset to, from a
@@ -215,8 +222,18 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
             raise ConfigError(f"reset_from(): the environments differ in {differs}")
         super().reset(seed=None)
         self._default_draws()
-        copied = copy.deepcopy((episode, reset._last, reset._measured))
-        return self._start(*copied, redrawn)
+        copied = copy.deepcopy((episode, reset._last, reset._measured, reset._believed))
+        return self._start(*copied[:3], redrawn, copied[3])
+
+    @property
+    def believed_start(self) -> Episode:
+        """The episode as the reset's approach left it, the prongs where it landed them:
+        PD-only's start (:func:`~pushctl.rl.policy.pd_only_episode`). It is :attr:`episode`
+        itself unless the reset re-landed the prongs (``landing = "measured"``); do not
+        step it."""
+        if self.episode is None:
+            raise StateError("call reset() first: no episode yet")
+        return self.episode if self._believed is None else self._believed
 
     def episodes_differ(self, other: PushEnv) -> str | None:
         """What makes ``other``'s episodes other than this environment's for the same draw
@@ -231,11 +248,19 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         return None
 
     def _start(
-        self, episode: Episode, last: StepResult, measured: np.ndarray, redrawn: int
+        self,
+        episode: Episode,
+        last: StepResult,
+        measured: np.ndarray,
+        redrawn: int,
+        believed: Episode | None = None,
     ) -> tuple[np.ndarray, dict[str, Any]]:
         """Take ``episode``, just reset (its approach's last step ``last`` and the force
-        estimate ``measured`` of it), as the current one: reset()'s observation and info."""
+        estimate ``measured`` of it), as the current one: reset()'s observation and info.
+        ``believed``: the same episode as the approach left it, before a re-landing (None:
+        not re-landed)."""
         self.episode = episode
+        self._believed = believed
         plan = episode.plan
         self._plan_pose = plan.trajectory.pose
         self._plan_rows = plan.trajectory.pose.tolist()  # (N + 1) × [x, y, yaw], floats

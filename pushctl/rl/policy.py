@@ -103,11 +103,13 @@ def pd_only_episode(env: PushEnv) -> Episode:
     effects (the proxy's latency, friction and noise generators), engine and approach. Its
     ``finish()`` is the trace of a fresh ``Episode(env.scenario, env.gains, plan=env.plan,
     effects=env.effects, engine=env.engine).run()``, without running the approach again.
-    The one way the evaluation, the validation and the training curves build it."""
+    The one way the evaluation, the validation and the training curves build it. Where the
+    reset re-landed the prongs (``landing = "measured"``), PD-only starts where the approach
+    landed them (:attr:`PushEnv.believed_start`): it is open loop in the object's pose."""
     episode = env.episode
     if episode is None or episode.step_index != 0:
         raise StateError("the PD-only push is copied from an episode just reset, before a step")
-    return copy.deepcopy(episode)
+    return copy.deepcopy(env.believed_start)
 
 
 def finish_with_policy(env: PushEnv, actor: Callable[[np.ndarray], np.ndarray]) -> int:

@@ -4,6 +4,7 @@ metrics, the outputs, and bad input."""
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -11,12 +12,13 @@ import pandas as pd
 import pytest
 
 from pushctl.control.feedback import FeedbackGains
-from pushctl.episode.metrics import EpisodeMetrics
+from pushctl.episode.metrics import EpisodeMetrics, compute_metrics
 from pushctl.episode.ranges import load_ranges
 from pushctl.episode.scenario import STREAMS
 from pushctl.episode.unknowns import unknowns_rng
 from pushctl.errors import ConfigError
 from pushctl.evaluation.columns import STEP_COLUMNS, TRIAL_COLUMNS, UNKNOWN_COLUMNS
+from pushctl.evaluation.controllers import feedback_config
 from pushctl.evaluation.evaluate import (
     STEPS_FILE,
     TRIALS_FILE,
@@ -25,9 +27,10 @@ from pushctl.evaluation.evaluate import (
     summary,
     write_evaluation,
 )
-from pushctl.evaluation.trials import SEEDS_PER_EVALUATION, TrialSpec
+from pushctl.evaluation.trials import SEEDS_PER_EVALUATION, TrialSpec, step_quantities
 from pushctl.rl.config import DDPGConfig
 from pushctl.rl.ddpg import DDPGAgent
+from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.policy import write_policy
 from pushctl.rl.spaces import observation_entries, scales
@@ -48,7 +51,8 @@ def policy_file(tmp_path: Path, gate_threshold: float, n_obs: int | None = None)
         obs_scale=scales(entries)[:n] if n <= len(entries) else None,
     )
     path = tmp_path / f"policy_{gate_threshold}_{n}.pt"
-    env = EnvConfig(duration=DURATION, gate_threshold=gate_threshold)
+    # the prongs where the approach landed them, as PD-only's (a shut gate is then PD-only)
+    env = EnvConfig(duration=DURATION, gate_threshold=gate_threshold, landing="believed")
     write_policy(path, agent.actor_state(), env, "# made by: test")
     return path
 
@@ -212,10 +216,13 @@ def test_bad_policies_and_workers_are_refused(tmp_path: Path) -> None:
             evaluate(_spec(controllers=("pd",)), workers=workers)
 
 
-def test_a_zero_feedback_law_is_pd_only_and_rl_rows_name_the_policy_seed(tmp_path: Path) -> None:
+def test_a_zero_feedback_law_is_the_pd_from_its_landing_and_rl_rows_name_the_policy_seed(
+    tmp_path: Path,
+) -> None:
     """k = k_i = 0 and no contact seeking: the law's action is zero, the reference path adds
-    nothing, and the push is PD-only's to the bit; the rl row carries the policy's training
-    seed, the others none."""
+    nothing but the re-landing's offset, and the push is the PD's from the re-landed start
+    to the bit (PD-only's own starts where the approach landed); the rl row carries the
+    policy's training seed, the others none."""
     path = tmp_path / "policy.pt"
     agent = DDPGAgent(
         len(observation_entries(2, reference_offset=True)), 3, DDPGConfig(hidden=(4, 4)), seed=0
@@ -230,13 +237,22 @@ def test_a_zero_feedback_law_is_pd_only_and_rl_rows_name_the_policy_seed(tmp_pat
     assert list(trials["controller"]) == ["pd", "feedback", "rl"] * 2
     assert [None if pd.isna(s) else s for s in trials["policy_seed"]] == [None, None, 5] * 2
     metrics = list(EpisodeMetrics.__dataclass_fields__)
-    for plant in ("sim", "proxy"):
-        rows = trials[trials["plant"] == plant].set_index("controller")
-        np.testing.assert_array_equal(rows.loc["pd", metrics], rows.loc["feedback", metrics])
     steps = result.steps
     for plant in ("sim", "proxy"):
+        rows = trials[trials["plant"] == plant].set_index("controller")
+        law_env = PushEnv(feedback_config(replace(env, plant=plant, stream="evaluation")))
+        options = {"object": "cube", "profile": "trapezoid", "scenario_seed": 0}
+        law_env.reset(options=options)
+        assert law_env.episode is not None
+        relanded = law_env.episode.finish()
+        assert list(rows.loc["feedback", metrics]) == list(
+            compute_metrics(relanded).as_dict().values()
+        )
+        assert abs(rows.loc["feedback", "landed_offset"]) < 0.5 * abs(
+            rows.loc["pd", "landed_offset"]
+        )
         cell = steps[steps["plant"] == plant]
         np.testing.assert_array_equal(
-            cell[cell["controller"] == "pd"][list(STEP_COLUMNS)].to_numpy(),
             cell[cell["controller"] == "feedback"][list(STEP_COLUMNS)].to_numpy(),
+            step_quantities(relanded),
         )

@@ -15,9 +15,9 @@ def test_a_pd_push_lands_off_the_plans_spot_and_stays_there() -> None:
     """Tuning push 20013 (cube, constant, sim): the object sits about 1 mm across from where
     the plan believes, so the prongs land 1.6 mm across the face from the plan's spot; both
     stick, and the spot is the same at the end of the push."""
-    from pushctl.evaluation.tune_feedback import tuning_env
+    from pushctl.evaluation.tune_feedback import BELIEVED, tuning_env
 
-    env = tuning_env()
+    env = tuning_env(config=BELIEVED)
     env.reset(options={"object": "cube", "profile": "constant", "scenario_seed": 20013})
     assert env.episode is not None
     trace = env.episode.finish()

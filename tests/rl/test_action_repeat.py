@@ -16,7 +16,7 @@ from pushctl.rl.env_config import LEGACY_VALUES, EnvConfig
 from pushctl.rl.policy import finish_with_policy
 from pushctl.rl.spaces import index
 
-SHORT = EnvConfig(duration=1.0, gate_threshold=0.0)  # 100 steps, the gate always open
+SHORT = EnvConfig(duration=1.0, gate_threshold=0.0, landing="believed")  # 100 steps, gate open
 OPTIONS = {"object": "cube", "profile": "chirp", "scenario_seed": 5}
 
 

@@ -23,7 +23,10 @@ from pushctl.rl.policy import finish_with_policy
 from pushctl.rl.spaces import ACTION_ENTRIES, index, markdown_table, observation_entries
 
 LEARNING_PAGE = Path(__file__).resolve().parents[2] / "docs" / "learning.md"
-SHORT = EnvConfig(duration=2.0)  # 200 push steps (shorter chirps can need a pull)
+SHORT = EnvConfig(
+    duration=2.0, landing="believed"
+)  # 200 push steps (shorter chirps can need a pull)
+# (the prongs where the approach landed them, as PD-only's: tests/rl/test_landing.py re-lands)
 OPTIONS = {"object": "wedge", "profile": "trapezoid", "scenario_seed": 3}
 
 

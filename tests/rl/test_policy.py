@@ -43,7 +43,9 @@ def test_a_new_policy_keeps_its_residual_path(tmp_path: Path) -> None:
     assert EnvConfig().residual_path == "reference"  # the default of new runs
     loaded = load_policy(_saved(tmp_path, EnvConfig())).env
     assert loaded == EnvConfig()
-    loaded = load_policy(_saved(tmp_path, EnvConfig(residual_path="velocity"))).env
+    loaded = load_policy(
+        _saved(tmp_path, EnvConfig(residual_path="velocity", landing="believed"))
+    ).env
     assert loaded.residual_path == "velocity" and loaded.observe_camera is True
 
 

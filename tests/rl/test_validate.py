@@ -24,6 +24,7 @@ def test_a_policy_behind_a_shut_gate_scores_exactly_pd_only(plant: str) -> None:
         plant=plant,
         gate_threshold=1.0,
         stream="tuning",  # the mujoco plant is refused on the training stream
+        landing="believed",  # re-landed, a shut gate pushes from elsewhere than PD-only
     )
     validator = Validator(config, load_gains(), per_cell=2)
     n_obs = validator.env.observation_space.shape[0]
