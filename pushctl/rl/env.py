@@ -14,9 +14,11 @@ Description
     baseline. The agent is the *residual*: a planar pusher twist added to the baseline through
     the config's ``residual_path`` (``reference``: integrated into an offset of the pusher
     reference, the default; ``velocity``: added to the commanded twist, the paper's
-    Algorithm 1), and only while the gate is open. A zero action, or a shut gate, is PD-only
-    to the bit. The physics is pushctl's contact simulator (one box-friction MLCP per step),
-    or MuJoCo on the ``mujoco`` plant kind (evaluation only).
+    Algorithm 1), and only while the gate is open. A zero action, or a shut gate, is the PD
+    baseline from the push's start to the bit; with ``landing = "believed"`` that is PD-only's
+    push (the default ``measured`` starts re-landed, below). The physics is pushctl's contact
+    simulator (one box-friction MLCP per step), or MuJoCo on the ``mujoco`` plant kind
+    (evaluation only).
 
 Action space
     ``Box(-1, 1, (3,), float32)``: rows :data:`pushctl.rl.spaces.ACTION_ENTRIES`
@@ -58,7 +60,11 @@ Starting state
     is drawn from ``EnvConfig.stream`` (``training`` by default) with the ranges of
     ``EnvConfig.plant``, redrawn until the planner accepts the goal; it is planned with the
     nominal parameters and the arm runs the approach (a minimum-jerk move onto the pushed
-    face, not part of the episode). ``options`` (:data:`RESET_OPTIONS`) fixes the object,
+    face, not part of the episode). With ``landing = "measured"`` (the default) the reset then
+    re-lands the prongs on the plan's spot of the object as its pose reads
+    (:meth:`~pushctl.episode.runner.Episode.reland`), and the push starts from there with the
+    move as the reference offset; :attr:`PushEnv.believed_start` is the episode before it,
+    PD-only's start. ``options`` (:data:`RESET_OPTIONS`) fixes the object,
     the profile, the scenario seed, or gives a whole ``Scenario``. ``info`` at reset:
     ``scenario``, ``goals_redrawn``, ``unknowns`` (the drawn plant unknowns, for logs only).
 
@@ -74,7 +80,9 @@ Arguments
     config=EnvConfig(...))``. ``EnvConfig`` fields: the episode's draws (``objects``,
     ``profiles``, ``plant``, ``stream``, ``duration``, ``dt``), the residual (``residual_path``,
     ``action_scale_linear``, ``action_scale_angular``, ``gate_threshold``, ``gate_length``,
-    ``observe_camera``, ``observe_offset``, ``action_repeat``) and the reward (``w_normal``,
+    ``observe_camera``, ``observe_offset``, ``action_repeat``, ``offset_limit_linear``,
+    ``offset_limit_angular``, ``base_law``, ``residual_scale``), where the push starts
+    (``landing``) and the reward (``w_normal``,
     ``w_tangential``, ``w_torque``, ``w_pose``); ``EnvConfig.from_mapping`` reads the
     ``[env]`` table of a preset. ``gains``: the PD baseline's (default
     ``experiments/pd_gains.toml``). Step ``info`` besides the reward terms:
@@ -100,6 +108,9 @@ Version history
       offset's anti-windup bound); policies saved before load unbounded. ``base_law``
       (``feedback``: the residual is added to the feedback law's action); saved policies
       load with ``none``.
+    - issue 16, eighth pass: ``landing`` (``measured``, the new default: the reset re-lands
+      the prongs on the plan's spot of the object as measured); saved policies load with
+      ``believed``.
 """
 
 from __future__ import annotations
