@@ -396,17 +396,31 @@ class Episode:
         terms = self.controller_terms()
         contact_position = self.reference.position[0]
         yaw = float(self.reference.yaw[0])
-        normal = np.array([math.cos(yaw), math.sin(yaw), 0.0])
-        standoff = contact_position - settings.standoff * normal
+        standoff = self._standoff(contact_position, yaw)
         ready_yaw = math.atan2(terms.pusher_rotation[1, 0], terms.pusher_rotation[0, 0])
         parts = [
             minimum_jerk(terms.pusher_position, ready_yaw, standoff, yaw, settings.move_time, dt),
-            minimum_jerk(standoff, yaw, contact_position, yaw, settings.creep_time, dt),
+            *self._onto_face(standoff, contact_position, yaw),
         ]
+        return self._follow(concatenate(*parts))
+
+    def _standoff(self, contact: np.ndarray, yaw: float) -> np.ndarray:
+        """The point (3,) [m] the approach's ``standoff`` behind ``contact`` along the face
+        normal of a plate at ``yaw`` [rad]."""
+        normal = np.array([math.cos(yaw), math.sin(yaw), 0.0])
+        return contact - self.approach.standoff * normal
+
+    def _onto_face(
+        self, standoff: np.ndarray, contact: np.ndarray, yaw: float
+    ) -> list[PusherReference]:
+        """A landing's last parts: the creep from ``standoff`` onto ``contact``
+        (``creep_time``), then ``settle_time`` holding there."""
+        settings, dt = self.approach, self.scenario.dt
+        parts = [minimum_jerk(standoff, yaw, contact, yaw, settings.creep_time, dt)]
         settle_steps = round(settings.settle_time / dt)
         if settle_steps:
-            parts.append(hold(contact_position, yaw, settle_steps, dt))
-        return self._follow(concatenate(*parts))
+            parts.append(hold(contact, yaw, settle_steps, dt))
+        return parts
 
     def _follow(self, reference: PusherReference) -> StepResult:
         """Servo the PD along ``reference`` (an approach's path), one world step per sample
@@ -440,24 +454,19 @@ class Episode:
                 "re-landing needs the reference residual path: its offset holds the plate "
                 f"where it landed (got {self.residual_path!r})"
             )
-        settings, dt = self.approach, self.scenario.dt
+        creep, dt = self.approach.creep_time, self.scenario.dt
         contact = self.reference.position[0]
         yaw = float(self.reference.yaw[0])
-        normal = np.array([math.cos(yaw), math.sin(yaw), 0.0])
-        standoff = contact - settings.standoff * normal
-        self._follow(minimum_jerk(contact, yaw, standoff, yaw, settings.creep_time, dt))
+        standoff = self._standoff(contact, yaw)
+        self._follow(minimum_jerk(contact, yaw, standoff, yaw, creep, dt))
         bound = math.inf if self._offset.limit is None else self._offset.limit[0]
         shift = landing_shift(
             self.plan.trajectory.pose[0], self._landing_pose(), contact, yaw, bound
         )
-        target = contact + shift
         parts = [
-            minimum_jerk(standoff, yaw, standoff + shift, yaw, settings.creep_time, dt),
-            minimum_jerk(standoff + shift, yaw, target, yaw, settings.creep_time, dt),
+            minimum_jerk(standoff, yaw, standoff + shift, yaw, creep, dt),
+            *self._onto_face(standoff + shift, contact + shift, yaw),
         ]
-        settle_steps = round(settings.settle_time / dt)
-        if settle_steps:
-            parts.append(hold(target, yaw, settle_steps, dt))
         result = self._follow(concatenate(*parts))
         self._offset.offset = shift
         self._record(0, result, self._tau[0])
