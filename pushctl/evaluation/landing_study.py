@@ -14,6 +14,11 @@ All on the *tuning* stream (:func:`~pushctl.evaluation.tune_feedback.reset_pushe
 failed pushes with where they landed. ``python -m pushctl.evaluation.landing_study
 results/evaluation/trials.csv`` summarises an evaluation's landing offsets and its two
 force errors per plant, cell and controller (:func:`landed_summary`).
+
+``python -m pushctl.evaluation.landing_study relanding PLANT SEED PER_CASE`` compares the
+law's pushes from where the approach landed the prongs with the same pushes re-landed
+(``EnvConfig.landing``, docs/plant-unknowns.md "Re-landing"), beside PD-only, per object
+(:func:`relanding_pushes`, :func:`relanding_table`): the table of that section.
 """
 
 from __future__ import annotations
@@ -23,13 +28,16 @@ import sys
 import numpy as np
 import pandas as pd
 
-from pushctl.control.feedback import load_feedback_gains
+from pushctl.control.feedback import FeedbackGains, load_feedback_gains
 from pushctl.episode.landed import landed
 from pushctl.episode.metrics import compute_metrics
 from pushctl.evaluation.failure_study import FAILED_ANGLE_PCT, FAILED_TRANSLATION_PCT, finish_copy
 from pushctl.evaluation.tune_feedback import BELIEVED, reset_pushes, tuning_env
 from pushctl.objects import OBJECT_NAMES
 from pushctl.planning import PROFILE_NAMES
+from pushctl.rl.env import PushEnv
+from pushctl.rl.env_config import EnvConfig
+from pushctl.rl.policy import pd_only_episode
 
 NEAR_SPOT = 0.5e-3
 """[m]: a push whose prongs landed within this of the plan's spot is "on the spot"."""
@@ -64,6 +72,65 @@ def landing_pushes(plant: str, seed: int, per_case: int) -> pd.DataFrame:
                 }
             )
     return pd.DataFrame(rows)
+
+
+RELANDING_CONTROLLERS = ("PD-only", "law, approach's landing", "law, re-landed")
+"""The three pushes of every tuning scenario in :func:`relanding_pushes`, in table order."""
+
+
+def relanding_pushes(
+    plant: str, seed: int, per_case: int, gains: FeedbackGains | None = None
+) -> pd.DataFrame:
+    """Every tuning push of ``plant`` (seeds ``seed`` … ``seed + 6·per_case − 1``) three
+    times: PD-only, the law (``gains``; default the gains file's) from where the approach
+    landed the prongs (``landing = "believed"``), and the law re-landed (``"measured"``).
+    PD-only is the measured environment's comparison push, which starts where the approach
+    landed (:func:`~pushctl.rl.policy.pd_only_episode`; the same bytes under either setting).
+    Rows: controller, seed, object, profile, translation and angle error [%], force error
+    [mN], failed."""
+    gains = gains or load_feedback_gains()
+    runs: list[tuple[str, PushEnv]] = []
+    for landing, controller in (("believed", RELANDING_CONTROLLERS[1]),
+                                ("measured", RELANDING_CONTROLLERS[2])):  # fmt: skip
+        env = tuning_env(plant=plant, config=EnvConfig(landing=landing))
+        runs += [(controller, reset) for reset in
+                 reset_pushes(env, seed, OBJECT_NAMES, PROFILE_NAMES, per_case)]  # fmt: skip
+    rows = []
+    for controller, reset in runs:
+        traces = [(controller, finish_copy(reset, gains))]
+        if controller == RELANDING_CONTROLLERS[2]:
+            traces.insert(0, (RELANDING_CONTROLLERS[0], pd_only_episode(reset).finish()))
+        for name, trace in traces:
+            metrics = compute_metrics(trace)
+            rows.append(
+                {
+                    "controller": name,
+                    "seed": reset.scenario.seed,
+                    "object": reset.scenario.object,
+                    "profile": reset.scenario.profile,
+                    "translation_pct": metrics.translation_error_pct,
+                    "angle_pct": metrics.angle_error_pct,
+                    "force_mN": 1e3 * metrics.force_error,
+                    "failed": metrics.angle_error_pct > FAILED_ANGLE_PCT
+                    or metrics.translation_error_pct > FAILED_TRANSLATION_PCT,
+                }
+            )
+    return pd.DataFrame(rows)
+
+
+def relanding_table(pushes: pd.DataFrame) -> pd.DataFrame:
+    """Per object and controller of :func:`relanding_pushes`' rows: the mean translation,
+    angle and force errors over every push (failed ones included, as the evaluation's
+    tables count them), and how many pushes failed of how many."""
+    grouped = pushes.groupby(["object", "controller"], sort=False)
+    table = grouped[["translation_pct", "angle_pct", "force_mN"]].mean()
+    table["failed"] = grouped["failed"].sum()
+    table["pushes"] = grouped.size()
+    order = {name: i for i, name in enumerate(RELANDING_CONTROLLERS)}
+    return table.reset_index().sort_values(
+        ["object", "controller"], key=lambda c: c.map(order) if c.name == "controller" else c,
+        kind="stable",
+    ).reset_index(drop=True)
 
 
 def landing_fit(pushes: pd.DataFrame) -> pd.DataFrame:
@@ -130,6 +197,10 @@ def main(argv: list[str]) -> None:  # pragma: no cover - prints the table
     if len(argv) == 1:
         trials = pd.read_csv(argv[0], comment="#")
         print(landed_summary(trials).round(3).to_string(index=False))
+        return
+    if argv[0] == "relanding":
+        plant, seed, per_case = argv[1], int(argv[2]), int(argv[3])
+        print(relanding_table(relanding_pushes(plant, seed, per_case)).round(3).to_string())
         return
     plant, seed, per_case = argv[0], int(argv[1]), int(argv[2])
     pushes = landing_pushes(plant, seed, per_case)

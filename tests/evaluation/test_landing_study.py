@@ -65,3 +65,55 @@ def test_the_summary_of_an_evaluation_gives_each_group_its_landing_and_force_rat
     assert row["off_spot_share"] == 0.75  # 0.2 mm is on the spot
     assert row["r_placement"] == pytest.approx(1.0)
     assert row["landed_over_plan_spot"] == pytest.approx(0.5)
+
+
+def test_the_relanding_table_counts_failed_pushes_per_object_in_controller_order() -> None:
+    from pushctl.evaluation.landing_study import RELANDING_CONTROLLERS, relanding_table
+
+    rows = []
+    for obj in ("wedge", "cube"):
+        for controller in reversed(RELANDING_CONTROLLERS):
+            for i in range(2):
+                rows.append(
+                    {
+                        "controller": controller,
+                        "object": obj,
+                        "translation_pct": 1.0 + i,
+                        "angle_pct": 10.0 * (1 + i),
+                        "force_mN": 20.0,
+                        "failed": controller == "PD-only" and i == 1,
+                    }
+                )
+    table = relanding_table(pd.DataFrame(rows))
+    assert table["object"].tolist() == ["cube"] * 3 + ["wedge"] * 3
+    assert table["controller"].tolist() == list(RELANDING_CONTROLLERS) * 2
+    assert table["translation_pct"].tolist() == [1.5] * 6
+    assert table["angle_pct"].tolist() == [15.0] * 6
+    assert table["failed"].tolist() == [1, 0, 0] * 2
+    assert table["pushes"].tolist() == [2] * 6
+
+
+def test_the_relanding_study_pushes_pd_only_from_where_the_approach_landed(monkeypatch) -> None:
+    """One tuning push, three ways: PD-only is the push of the approach's landing (the same
+    metrics as a `believed` environment's own PD push); the law's two pushes differ, since
+    re-landing moves the prongs before the push."""
+    from pushctl.episode.metrics import compute_metrics
+    from pushctl.evaluation import landing_study
+    from pushctl.evaluation.tune_feedback import BELIEVED, tuning_env
+
+    monkeypatch.setattr(landing_study, "OBJECT_NAMES", ("wedge",))
+    monkeypatch.setattr(landing_study, "PROFILE_NAMES", ("constant",))
+    pushes = landing_study.relanding_pushes("sim", 20000, 1)
+    assert pushes["controller"].tolist() == [
+        "law, approach's landing", "PD-only", "law, re-landed",
+    ]  # fmt: skip
+    assert set(pushes["seed"]) == {20000}
+    env = tuning_env(config=BELIEVED)
+    env.reset(options={"object": "wedge", "profile": "constant", "scenario_seed": 20000})
+    assert env.episode is not None
+    expected = compute_metrics(env.episode.finish())
+    pd_only = pushes.iloc[1]
+    assert pd_only["translation_pct"] == expected.translation_error_pct
+    assert pd_only["angle_pct"] == expected.angle_error_pct
+    law = pushes.set_index("controller")["force_mN"]
+    assert law["law, approach's landing"] != law["law, re-landed"]
