@@ -31,6 +31,7 @@ import pandas as pd
 from pushctl.control.feedback import FeedbackGains, load_feedback_gains
 from pushctl.episode.landed import landed
 from pushctl.episode.metrics import compute_metrics
+from pushctl.episode.trace import Trace
 from pushctl.evaluation.failure_study import FAILED_ANGLE_PCT, FAILED_TRANSLATION_PCT, finish_copy
 from pushctl.evaluation.tune_feedback import BELIEVED, reset_pushes, tuning_env
 from pushctl.objects import OBJECT_NAMES
@@ -89,33 +90,34 @@ def relanding_pushes(
     Rows: controller, seed, object, profile, translation and angle error [%], force error
     [mN], failed."""
     gains = gains or load_feedback_gains()
-    runs: list[tuple[str, PushEnv]] = []
-    for landing, controller in (("believed", RELANDING_CONTROLLERS[1]),
-                                ("measured", RELANDING_CONTROLLERS[2])):  # fmt: skip
-        env = tuning_env(plant=plant, config=EnvConfig(landing=landing))
-        runs += [(controller, reset) for reset in
-                 reset_pushes(env, seed, OBJECT_NAMES, PROFILE_NAMES, per_case)]  # fmt: skip
+    pd_only, from_approach, relanded = RELANDING_CONTROLLERS
     rows = []
-    for controller, reset in runs:
-        traces = [(controller, finish_copy(reset, gains))]
-        if controller == RELANDING_CONTROLLERS[2]:
-            traces.insert(0, (RELANDING_CONTROLLERS[0], pd_only_episode(reset).finish()))
-        for name, trace in traces:
-            metrics = compute_metrics(trace)
-            rows.append(
-                {
-                    "controller": name,
-                    "seed": reset.scenario.seed,
-                    "object": reset.scenario.object,
-                    "profile": reset.scenario.profile,
-                    "translation_pct": metrics.translation_error_pct,
-                    "angle_pct": metrics.angle_error_pct,
-                    "force_mN": 1e3 * metrics.force_error,
-                    "failed": metrics.angle_error_pct > FAILED_ANGLE_PCT
-                    or metrics.translation_error_pct > FAILED_TRANSLATION_PCT,
-                }
-            )
+    for landing in ("believed", "measured"):
+        env = tuning_env(plant=plant, config=EnvConfig(landing=landing))
+        for reset in reset_pushes(env, seed, OBJECT_NAMES, PROFILE_NAMES, per_case):
+            if landing == "believed":
+                traces = [(from_approach, finish_copy(reset, gains))]
+            else:  # the measured environment's PD-only push starts where the approach landed
+                traces = [(pd_only, pd_only_episode(reset).finish()),
+                          (relanded, finish_copy(reset, gains))]  # fmt: skip
+            rows += [_push_row(controller, reset, trace) for controller, trace in traces]
     return pd.DataFrame(rows)
+
+
+def _push_row(controller: str, reset: PushEnv, trace: Trace) -> dict:
+    """One row of :func:`relanding_pushes`."""
+    metrics = compute_metrics(trace)
+    return {
+        "controller": controller,
+        "seed": reset.scenario.seed,
+        "object": reset.scenario.object,
+        "profile": reset.scenario.profile,
+        "translation_pct": metrics.translation_error_pct,
+        "angle_pct": metrics.angle_error_pct,
+        "force_mN": 1e3 * metrics.force_error,
+        "failed": metrics.angle_error_pct > FAILED_ANGLE_PCT
+        or metrics.translation_error_pct > FAILED_TRANSLATION_PCT,
+    }
 
 
 def relanding_table(pushes: pd.DataFrame) -> pd.DataFrame:
