@@ -41,6 +41,18 @@ from pushctl.errors import ConfigError, StateError
 SLIP_TOLERANCE = 1e-3
 """Relative slack on the friction cone: |λ_t| ≥ (1 − SLIP_TOLERANCE) μ_c λ_n counts as slip."""
 
+FAILED_ANGLE_PCT = 20.0
+"""A push fails when its angle error exceeds this [%] ..."""
+FAILED_TRANSLATION_PCT = 3.0
+"""... or its translation error this [%]: both several times PD-only's typical push."""
+
+
+def push_failed(translation_pct, angle_pct):
+    """Whether a push with these errors [%] failed (:data:`FAILED_ANGLE_PCT`,
+    :data:`FAILED_TRANSLATION_PCT`): a bool for numbers, elementwise for arrays or Series."""
+    return (angle_pct > FAILED_ANGLE_PCT) | (translation_pct > FAILED_TRANSLATION_PCT)
+
+
 METRIC_UNITS: dict[str, str] = {
     "translation_error_pct": "%",
     "angle_error_pct": "%",

@@ -40,7 +40,7 @@ import pandas as pd
 
 from pushctl.control.feedback import FeedbackGains, load_feedback_gains
 from pushctl.episode.landed import landed
-from pushctl.episode.metrics import compute_metrics
+from pushctl.episode.metrics import compute_metrics, push_failed
 from pushctl.episode.trace import Trace
 from pushctl.evaluation.controllers import FeedbackActor
 from pushctl.evaluation.tune_feedback import BELIEVED, reset_pushes, tuning_env
@@ -48,11 +48,6 @@ from pushctl.objects import OBJECT_NAMES
 from pushctl.planning import PROFILE_NAMES
 from pushctl.rl.env import PushEnv
 from pushctl.rl.policy import finish_with_policy
-
-FAILED_ANGLE_PCT = 20.0
-"""A push fails when its angle error exceeds this [%] ..."""
-FAILED_TRANSLATION_PCT = 3.0
-"""... or its translation error this [%]: both several times PD-only's typical push."""
 
 
 @dataclass(frozen=True)
@@ -193,9 +188,7 @@ def push_all(reset: list[PushEnv], setting: Setting, gains: FeedbackGains) -> pd
             }
         )
     frame = pd.DataFrame(rows)
-    frame["failed"] = (frame["angle_pct"] > FAILED_ANGLE_PCT) | (
-        frame["translation_pct"] > FAILED_TRANSLATION_PCT
-    )
+    frame["failed"] = push_failed(frame["translation_pct"], frame["angle_pct"])
     return frame
 
 

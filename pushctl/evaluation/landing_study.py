@@ -30,9 +30,9 @@ import pandas as pd
 
 from pushctl.control.feedback import FeedbackGains, load_feedback_gains
 from pushctl.episode.landed import landed
-from pushctl.episode.metrics import compute_metrics
+from pushctl.episode.metrics import compute_metrics, push_failed
 from pushctl.episode.trace import Trace
-from pushctl.evaluation.failure_study import FAILED_ANGLE_PCT, FAILED_TRANSLATION_PCT, finish_copy
+from pushctl.evaluation.failure_study import finish_copy
 from pushctl.evaluation.tune_feedback import BELIEVED, reset_pushes, tuning_env
 from pushctl.objects import OBJECT_NAMES
 from pushctl.planning import PROFILE_NAMES
@@ -57,10 +57,6 @@ def landing_pushes(plant: str, seed: int, per_case: int) -> pd.DataFrame:
         for controller in ("PD-only", "law"):
             trace = finish_copy(member, gains if controller == "law" else None)
             metrics = compute_metrics(trace)
-            failed = (
-                metrics.angle_error_pct > FAILED_ANGLE_PCT
-                or metrics.translation_error_pct > FAILED_TRANSLATION_PCT
-            )
             rows.append(
                 {
                     "controller": controller,
@@ -69,7 +65,7 @@ def landing_pushes(plant: str, seed: int, per_case: int) -> pd.DataFrame:
                     "profile": member.scenario.profile,
                     "landed_mm": 1e3 * landed(trace),
                     "force_mN": 1e3 * metrics.force_error,
-                    "failed": failed,
+                    "failed": push_failed(metrics.translation_error_pct, metrics.angle_error_pct),
                 }
             )
     return pd.DataFrame(rows)
@@ -115,8 +111,7 @@ def _push_row(controller: str, reset: PushEnv, trace: Trace) -> dict:
         "translation_pct": metrics.translation_error_pct,
         "angle_pct": metrics.angle_error_pct,
         "force_mN": 1e3 * metrics.force_error,
-        "failed": metrics.angle_error_pct > FAILED_ANGLE_PCT
-        or metrics.translation_error_pct > FAILED_TRANSLATION_PCT,
+        "failed": push_failed(metrics.translation_error_pct, metrics.angle_error_pct),
     }
 
 

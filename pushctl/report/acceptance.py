@@ -3,12 +3,14 @@ training seed, RL-assisted against PD-only (and against ``feedback``) on transla
 angle error, as paired differences over the cell's trials with their 95 % confidence
 interval, and the ratio of the means.
 
-Run ``python -m pushctl.report.acceptance results/evaluation/trials.csv``: one Markdown table
-per plant. A cell *passes* on a metric when the paired difference's whole interval is below
-zero (RL lower on these trials beyond their noise). Beside it the table gives in how many of
-the cell's trials RL was lower: the interval is a mean's, so one trial where RL rescued a
-push PD-only failed (a difference of −100 % among differences of −2 %) can widen it past
-zero while RL is lower in nearly every trial (docs/results.md §0, the `sim` wedge constant).
+Run ``python -m pushctl.report.acceptance results/evaluation/trials.csv``: Markdown tables
+per plant, then a per-cell summary (:func:`cell_summary`: RL over every policy against
+PD-only, and each controller's failed pushes). A cell *passes* on a metric when the paired
+difference's whole interval is below zero (RL lower on these trials beyond their noise).
+Beside it the table gives in how many of the cell's trials RL was lower: the interval is a
+mean's, so one trial where RL rescued a push PD-only failed (a difference of −100 % among
+differences of −2 %) can widen it past zero while RL is lower in nearly every trial
+(docs/results.md §0, the `sim` wedge constant).
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from pushctl.episode.metrics import push_failed
 from pushctl.report.tables import OBJECT_ORDER, PROFILE_ORDER, ci95_halfwidth
 
 METRICS = ("translation_error_pct", "angle_error_pct", "force_error", "force_error_landed")
@@ -101,6 +104,57 @@ def markdown(table: pd.DataFrame, other: str) -> str:
     return "\n".join(lines)
 
 
+def cell_summary(trials: pd.DataFrame, plant: str) -> pd.DataFrame:
+    """One row per (object, profile) on ``plant``: RL's mean over every policy's trials
+    against PD-only's, as the ratio of the means of each metric of :data:`METRICS` the
+    trials have (``{metric}_ratio``), and per controller the failed pushes
+    (:func:`~pushctl.episode.metrics.push_failed`) and all its pushes (``{controller}_failed``,
+    ``{controller}_pushes``)."""
+    on_plant = trials[trials["plant"] == plant].assign(
+        failed=lambda t: push_failed(t["translation_error_pct"], t["angle_error_pct"])
+    )
+    controllers = [c for c in ("pd", "feedback", "rl") if (on_plant["controller"] == c).any()]
+    rows = []
+    for obj in OBJECT_ORDER:
+        for profile in PROFILE_ORDER:
+            cell = on_plant[(on_plant["object"] == obj) & (on_plant["profile"] == profile)]
+            if not cell.empty:
+                rows.append(_cell_row(cell, obj, profile, _present(trials), controllers))
+    return pd.DataFrame(rows)
+
+
+def _cell_row(
+    cell: pd.DataFrame, obj: str, profile: str, metrics: list[str], controllers: list[str]
+) -> dict[str, object]:
+    """:func:`cell_summary`'s row of one cell's trials."""
+    by = cell.groupby("controller")
+    row: dict[str, object] = {"object": obj, "profile": profile}
+    for metric in metrics:
+        means = by[metric].mean()
+        row[f"{metric}_ratio"] = means.get("rl", np.nan) / means.get("pd", np.nan)
+    failed, pushes = by["failed"].sum(), by.size()
+    for controller in controllers:
+        row[f"{controller}_failed"] = int(failed.get(controller, 0))
+        row[f"{controller}_pushes"] = int(pushes.get(controller, 0))
+    return row
+
+
+def summary_markdown(table: pd.DataFrame) -> str:
+    """:func:`cell_summary`'s rows as Markdown: the RL/PD ratios, then failed of all pushes
+    per controller."""
+    metrics = _present(table)
+    controllers = [c[: -len("_failed")] for c in table.columns if c.endswith("_failed")]
+    header = [f"{HEADINGS[m]} RL/pd" for m in metrics] + [f"failed {c}" for c in controllers]
+    lines = ["| object | profile | " + " | ".join(header) + " |",
+             "|---|---|" + "---|" * len(header)]  # fmt: skip
+    for _, row in table.iterrows():
+        cells = [str(row["object"]), str(row["profile"])]
+        cells += [f"{row[f'{m}_ratio']:.2f}" for m in metrics]
+        cells += [f"{row[f'{c}_failed']}/{row[f'{c}_pushes']}" for c in controllers]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m pushctl.report.acceptance")
     parser.add_argument("trials", type=Path, help="an evaluation's trials.csv")
@@ -121,6 +175,8 @@ def main(argv: list[str] | None = None) -> int:
             table = paired(trials, plant, other)
             print(f"\n### {plant}: RL-assisted against {other} (paired, 95 % CI)\n")
             print(markdown(table, other))
+        print(f"\n### {plant}: per cell, RL over every policy against pd; failed pushes\n")
+        print(summary_markdown(cell_summary(trials, plant)))
     return 0
 
 

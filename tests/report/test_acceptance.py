@@ -81,3 +81,20 @@ def test_a_rescued_failure_widens_the_interval_but_not_the_count() -> None:
     assert not passes(table, "angle_error_pct").item()
     assert table["angle_error_pct_lower_in"].item() == 20
     assert table["angle_error_pct_trials"].item() == 20
+
+
+def test_the_cell_summary_pools_the_policies_and_counts_failed_pushes(tmp_path, capsys) -> None:
+    """RL's mean over both policies (halving and equal) is 0.75 of PD-only's; PD-only's
+    errors pass 3 % translation from trial 2 on, so 8 of its 10 pushes failed, and 5 + 8 of
+    RL's 20 (the halving policy's from trial 5 on, the equal one's as PD-only's)."""
+    from pushctl.report.acceptance import cell_summary
+
+    (row,) = cell_summary(_trials(), "sim").to_dict("records")
+    assert (row["object"], row["profile"]) == ("cube", "constant")
+    np.testing.assert_allclose(row["translation_error_pct_ratio"], 0.75)
+    assert (row["pd_failed"], row["pd_pushes"]) == (8, 10)
+    assert (row["rl_failed"], row["rl_pushes"]) == (8 + 5, 20)
+    path = tmp_path / "trials.csv"
+    _trials().to_csv(path, index=False)
+    assert main([str(path)]) == 0
+    assert "| cube | constant | 0.75 | 0.75 | 0.75 | 8/10 | 13/20 |" in capsys.readouterr().out
