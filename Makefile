@@ -6,7 +6,9 @@ STAMP  := $(VENV)/.installed
 
 .PHONY: install test lint bench reproduce-tables clean
 
-install: $(STAMP)
+NATIVE := pushctl/arm/native/lib/libpushctl_arm.so
+
+install: $(STAMP) $(NATIVE)
 
 # torch is pinned and installed first: `torch==2.13.0` resolves to the CPU build on disk;
 # a looser requirement would pull several GB of CUDA packages.
@@ -17,10 +19,16 @@ $(STAMP): pyproject.toml
 	$(PY) -m pip install --quiet -e ".[dev]"
 	touch $(STAMP)
 
-test: $(STAMP)
+# The arm terms' library (pushctl/arm/native): Pinocchio's pass behind one compiled call,
+# the same bits as through its Python bindings. --optional: without a C++ compiler it
+# prints a note and the bindings are used.
+$(NATIVE): $(STAMP) pushctl/arm/native/arm_terms.cpp
+	$(PY) -m pushctl.arm.native.build --optional
+
+test: install
 	$(PY) -m pytest -q
 
-lint: $(STAMP)
+lint: install
 	$(PY) -m ruff check pushctl tests
 	$(PY) -m ruff format --check pushctl tests
 	$(PY) -m mypy pushctl
@@ -30,7 +38,7 @@ lint: $(STAMP)
 # docs/reproducibility-and-speed.md); bench.evaluation: a short `pushctl evaluate` against
 # 998b653, timed and compared byte for byte (docs/evaluation-speed.md); bench.training: a
 # short paper-shaped `pushctl train` against aee9d1d, likewise (docs/training-speed.md).
-bench: $(STAMP)
+bench: install
 	$(PY) -m pushctl.bench --profile --out results/bench.csv --force
 	$(PY) -m pushctl.bench.compare --against 551bcac --out results/bench_compare.csv --force
 	$(PY) -m pushctl.bench.compare --against ac82d3c --out results/bench_compare_unknowns.csv --force
@@ -42,7 +50,7 @@ bench: $(STAMP)
 # SEEDS=0: one training seed; PRESET=quick: another training preset, full evaluation
 # (pushctl/cli/reproduce.py).
 SEEDS ?= 0,1,2
-reproduce-tables: $(STAMP)
+reproduce-tables: install
 	$(PY) -m pushctl.cli.reproduce $(if $(filter 1,$(QUICK)),--quick,) $(if $(filter 1,$(FORCE)),--force,) --seeds $(SEEDS) $(if $(PRESET),--preset $(PRESET),)
 
 clean:

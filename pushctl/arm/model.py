@@ -17,7 +17,9 @@ from typing import NamedTuple
 import numpy as np
 import pinocchio as pin
 
+from pushctl.arm import native
 from pushctl.arm.ik import IKResult, IKSettings, solve_frame_ik
+from pushctl.arm.native.kernels import native_terms, native_terms_nominal
 from pushctl.arm.pusher import (
     NOMINAL_PUSHER_FRAME,
     add_frame_on_ee,
@@ -115,8 +117,11 @@ class ArmTerms(NamedTuple):
 
 _WORLD_ALIGNED = pin.LOCAL_WORLD_ALIGNED
 _jacobian = pin.getFrameJacobian  # hot path: no attribute lookup
-_DATA_VIEWS = ("_data_M", "_data_nle", "_data_g", "_pusher_placement", "_prong_placements")
-"""ArmModel's attributes that view its Data (rebound, not copied, with the model)."""
+_DATA_VIEWS = (
+    "_data_M", "_data_nle", "_data_g", "_pusher_placement", "_prong_placements", "_native"
+)  # fmt: skip
+"""ArmModel's attributes that view its Data or hold the library's copy of the model (made
+again, not copied, with the model)."""
 _READY_POSES: dict[tuple, IKResult] = {}
 """Ready-pose IK answers by kinematics (:meth:`ArmModel._solve_ready`), oldest first."""
 _READY_POSES_KEPT = 64
@@ -180,6 +185,12 @@ class ArmModel:
         self.q_lower = model.lowerPositionLimit.copy()
         self.q_upper = model.upperPositionLimit.copy()
         self._n_prongs = len(self.prong_frame_ids)
+        self.prong_frames = np.array(self.prong_frame_ids, dtype=np.int64)
+        """The prong frames' indices as an int64 array (k,), for compiled callers."""
+        self.nominal_frame = (
+            -1 if self.nominal_pusher_frame_id is None else int(self.nominal_pusher_frame_id)
+        )
+        """``nominal_pusher_frame_id``, −1 for none, for compiled callers."""
         self._nominal_pass: tuple[np.ndarray, PusherFrame] | None = None
         self._symmetrise = not _fills_lower_triangle(model, self.data)
         self._bind_views()
@@ -228,6 +239,28 @@ class ArmModel:
         self._data_M, self._data_nle, self._data_g = self.data.M, self.data.nle, self.data.g
         self._pusher_placement = self.data.oMf[self.pusher_frame_id]
         self._prong_placements = [self.data.oMf[frame] for frame in self.prong_frame_ids]
+        self._native: native.NativeArm | None | bool = None  # made on first use
+
+    def _native_arm(self) -> native.NativeArm | bool:
+        """The library's copy of the model (:mod:`pushctl.arm.native`), or False where the
+        library is not in use."""
+        if self._native is None:
+            self._native = native.NativeArm(self.model) if native.available() else False
+        return self._native
+
+    def native_handle(self) -> int:
+        """The address of the library's copy of this model, for compiled callers that run
+        :meth:`compute`'s pass themselves (``World``'s step end); 0 where the library is
+        not in use. Such a caller reports a nominal pusher frame it placed with
+        :meth:`record_nominal_pass`."""
+        arm = self._native if self._native is not None else self._native_arm()
+        return arm.handle if arm else 0  # type: ignore[union-attr]
+
+    def record_nominal_pass(self, pusher_jacobian: np.ndarray, nominal: tuple) -> None:
+        """What :meth:`nominal_pusher` returns for the terms whose pusher Jacobian is
+        ``pusher_jacobian``: the nominal frame's (position, rotation, Jacobian) placed in
+        the same pass by a compiled caller (see :meth:`native_handle`)."""
+        self._nominal_pass = (pusher_jacobian, PusherFrame(*nominal))
 
     def __getstate__(self) -> dict:
         """Copies (``copy.deepcopy`` of an episode) rebind the views to their own Data."""
@@ -259,8 +292,13 @@ class ArmModel:
         Jacobians, in one pass.
 
         ``q`` (nq,) [rad], ``v`` (nv,) [rad/s], float64, not validated here (hot path: use
-        ``check_q``/``check_v`` at the boundary). About 9 µs for the 7-DOF arm, 2 prongs.
+        ``check_q``/``check_v`` at the boundary). One compiled call where the arm terms'
+        library is built (:mod:`pushctl.arm.native`: the same Pinocchio instances, the same
+        bits), else the same calls through Pinocchio's bindings.
         """
+        arm = self._native if self._native is not None else self._native_arm()
+        if arm:
+            return self._compute_native(arm.handle, q, v)  # type: ignore[union-attr]
         model, data = self.model, self.data
         pin.computeAllTerms(model, data, q, v)  # M, nle, joint placements and Jacobians
         # getFrameJacobian also places its frame (data.oMf, the product updateFramePlacement
@@ -295,6 +333,16 @@ class ArmModel:
             pusher_jacobian,
         )
 
+    def _compute_native(self, handle: int, q: np.ndarray, v: np.ndarray) -> ArmTerms:
+        """:meth:`compute` through the library: one compiled call, fresh arrays."""
+        if self.nominal_frame < 0:
+            return ArmTerms(*native_terms(handle, q, v, self.prong_frames, self.pusher_frame_id))
+        terms, nominal = native_terms_nominal(
+            handle, q, v, self.prong_frames, self.pusher_frame_id, self.nominal_frame
+        )
+        self.record_nominal_pass(terms[-1], nominal)
+        return ArmTerms(*terms)
+
     def nominal_pusher(self, terms: ArmTerms) -> PusherFrame | None:
         """Where the pusher frame would be without the plate's mounting yaw (the nominal
         mounting a controller believes), at the state of ``terms``: computed in the pass of
@@ -314,6 +362,7 @@ class ArmModel:
         if not np.isfinite(magnitude) or magnitude < 0.0:
             raise ConfigError(f"gravity must be a finite magnitude >= 0 m/s², got {magnitude!r}")
         self.model.gravity = pin.Motion(np.array([0.0, 0.0, -float(magnitude)]), np.zeros(3))
+        self._native = None  # the library's copy is made again from the changed model
 
     def gravity(self, q: np.ndarray) -> np.ndarray:
         """g(q) (nv,) [N·m]: joint torques that hold the arm and pusher still."""

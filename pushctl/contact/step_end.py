@@ -15,6 +15,8 @@ import math
 import numpy as np
 from numba import njit
 
+from pushctl.arm.native.kernels import _arm_integrate, _arm_terms
+
 
 @njit(cache=True)
 def arm_moved(
@@ -26,6 +28,70 @@ def arm_moved(
     ledger, energy = coriolis_energy_error(ledger, v_new, M_old, nle_old, g_old, M_new, h)
     geometry, gaps, mask = prong_geometry(edges, pose, prong_positions, margin)
     return ledger, energy, geometry, gaps, mask
+
+
+@njit(cache=True)
+def native_arm_moved(
+    handle, q, v_new, h, prongs, pusher, ledger, M_old, nle_old, g_old, edges, pose, margin
+):  # fmt: skip  # pragma: no cover - compiled
+    """The arm's whole step end in one compiled call, through the arm terms' library
+    (:mod:`pushctl.arm.native`): ``q`` moved by ``v_new`` for ``h`` (``ArmModel.integrate``),
+    the arm terms at the new state (``ArmModel.compute``, frames ``prongs`` and ``pusher``),
+    then :func:`arm_moved`. The same library calls and arithmetic as those three calls from
+    Python, so the same bits. Returns ``(q_new, terms, ledger, energy, geometry, gaps,
+    mask)``, ``terms`` the eight arrays of an :class:`~pushctl.arm.ArmTerms`."""
+    q_new, terms, nominal = _moved_terms(handle, q, v_new, h, prongs, pusher, -1)
+    ledger, energy = coriolis_energy_error(ledger, v_new, M_old, nle_old, g_old, terms[0], h)
+    geometry, gaps, mask = prong_geometry(edges, pose, terms[3], margin)
+    return q_new, terms, ledger, energy, geometry, gaps, mask
+
+
+@njit(cache=True)
+def native_arm_moved_nominal(
+    handle, q, v_new, h, prongs, pusher, nominal, ledger, M_old, nle_old, g_old, edges, pose,
+    margin,
+):  # fmt: skip  # pragma: no cover - compiled
+    """:func:`native_arm_moved` for an arm whose frame ``nominal`` (the nominal pusher) is
+    placed in the same pass: its position, rotation and Jacobian follow ``terms``."""
+    q_new, terms, nominal_frame = _moved_terms(handle, q, v_new, h, prongs, pusher, nominal)
+    ledger, energy = coriolis_energy_error(ledger, v_new, M_old, nle_old, g_old, terms[0], h)
+    geometry, gaps, mask = prong_geometry(edges, pose, terms[3], margin)
+    return q_new, terms, nominal_frame, ledger, energy, geometry, gaps, mask
+
+
+@njit(cache=True)
+def _moved_terms(handle, q, v_new, h, prongs, pusher, nominal):  # pragma: no cover
+    """q⁺ and the library's pass at (q⁺, v⁺): ``pushctl.arm.native.kernels._terms``'s
+    arrays (repeated here: numba's cache does not follow calls into another file)."""
+    q = np.ascontiguousarray(q)
+    v = np.ascontiguousarray(v_new)
+    nv = v.size
+    k = prongs.size
+    q_new = np.empty(q.size)
+    _arm_integrate(handle, q.ctypes, v.ctypes, h, q_new.ctypes)
+    M = np.empty((nv, nv))
+    nle = np.empty(nv)
+    g = np.empty(nv)
+    prong_positions = np.empty((k, 3))
+    prong_jacobians = np.empty((k, 3, nv))
+    pusher_position = np.empty(3)
+    pusher_rotation = np.empty((3, 3))
+    pusher_jacobian = np.empty((6, nv))
+    rows = 1 if nominal >= 0 else 0
+    nominal_position = np.empty(3 * rows)
+    nominal_rotation = np.empty((3 * rows, 3))
+    nominal_jacobian = np.empty((6 * rows, nv))
+    _arm_terms(
+        handle, q_new.ctypes, v.ctypes, k, prongs.ctypes, pusher, nominal,
+        M.ctypes, nle.ctypes, g.ctypes, prong_positions.ctypes, prong_jacobians.ctypes,
+        pusher_position.ctypes, pusher_rotation.ctypes, pusher_jacobian.ctypes,
+        nominal_position.ctypes, nominal_rotation.ctypes, nominal_jacobian.ctypes,
+    )  # fmt: skip
+    terms = (
+        M, nle, g, prong_positions, prong_jacobians, pusher_position, pusher_rotation,
+        pusher_jacobian,
+    )  # fmt: skip
+    return q_new, terms, (nominal_position, nominal_rotation, nominal_jacobian)
 
 
 @njit(cache=True)

@@ -32,7 +32,7 @@ from pushctl.checks import finite_vector
 from pushctl.config import GRAVITY
 from pushctl.contact.ground_field import FrictionField
 from pushctl.contact.rows import edge_array, mask_indices, prong_contacts
-from pushctl.contact.step_end import arm_moved
+from pushctl.contact.step_end import arm_moved, native_arm_moved, native_arm_moved_nominal
 from pushctl.contact.substep import (
     _NO_CONTACTS,
     MAX_SLIP_ITERATIONS,
@@ -258,16 +258,21 @@ class World(SubstepSolver):
         """
         arm, old = self.arm, self._terms
         assert arm is not None and old is not None  # only called for a world with an arm
-        self.q = arm.integrate(self.q, v_arm, h)
-        self.v = v_arm
-        self._refresh_arm_terms()
-        new = self._terms
-        assert new is not None
-        # the energy check and the prongs' geometry at the new state in one compiled call
-        self._energy_ledger, energy, self._contacts, self._gaps, mask = arm_moved(
-            self._energy_ledger, v_arm, old.M, old.nle, old.g, new.M, h, self._edges,
-            self.object_pose, new.prong_positions, self.config.contact_margin,
-        )  # fmt: skip
+        native = arm.native_handle()
+        if native:  # integrate, the arm terms, the energy check and the geometry: one call
+            self.v = v_arm
+            new, energy, mask = self._advance_arm_native(native, old, v_arm, h)
+        else:
+            self.q = arm.integrate(self.q, v_arm, h)
+            self.v = v_arm
+            self._refresh_arm_terms()
+            new = self._terms
+            assert new is not None
+            # the energy check and the prongs' geometry at the new state in one compiled call
+            self._energy_ledger, energy, self._contacts, self._gaps, mask = arm_moved(
+                self._energy_ledger, v_arm, old.M, old.nle, old.g, new.M, h, self._edges,
+                self.object_pose, new.prong_positions, self.config.contact_margin,
+            )  # fmt: skip
         self._prongs = mask_indices(mask)
         if self._energy_ledger > 0.0 and energy > 0.0:
             scale = math.sqrt(max(energy - self._energy_ledger, 0.0) / energy)
@@ -277,6 +282,27 @@ class World(SubstepSolver):
             # c(q, v) is quadratic in v: rescale it instead of recomputing the terms.
             self._terms = new._replace(nle=new.g + scale**2 * (new.nle - new.g))
             self.stats.energy_corrections += 1
+
+    def _advance_arm_native(self, handle: int, old: ArmTerms, v_arm: np.ndarray, h: float):
+        """:meth:`_advance_arm`'s integration, arm terms, energy check and geometry as one
+        call into the arm terms' library (:func:`native_arm_moved`: the same bits as the
+        calls it replaces). Sets q, the terms, the ledger, the contacts and the gaps;
+        returns (the new terms, their kinetic energy [J], the contact mask)."""
+        arm = self.arm
+        assert arm is not None
+        common = (handle, self.q, v_arm, h, arm.prong_frames, arm.pusher_frame_id)
+        tail = (self._energy_ledger, old.M, old.nle, old.g, self._edges, self.object_pose,
+                self.config.contact_margin)  # fmt: skip
+        if arm.nominal_frame < 0:
+            q, terms, ledger, energy, contacts, gaps, mask = native_arm_moved(*common, *tail)
+        else:
+            q, terms, nominal, ledger, energy, contacts, gaps, mask = native_arm_moved_nominal(
+                *common, arm.nominal_frame, *tail
+            )
+            arm.record_nominal_pass(terms[-1], nominal)
+        self.q, self._energy_ledger, self._contacts, self._gaps = q, ledger, contacts, gaps
+        self._terms = new = ArmTerms(*terms)
+        return new, energy, mask
 
     # ---------------------------------------------------------------- helpers
 
