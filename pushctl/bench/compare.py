@@ -51,6 +51,7 @@ from rich.console import Console
 from rich.table import Table
 
 import pushctl
+from pushctl.arm import native
 from pushctl.errors import ConfigError
 from pushctl.output_guard import refuse_existing_files
 from pushctl.provenance import git_commit, provenance_line, write_csv
@@ -332,9 +333,11 @@ def main(argv: list[str] | None = None) -> int:
         table.add_row(row.name, f"{row.this_us:.1f}", f"{row.reference_us:.1f}", f"{row.ratio:.2f}")
     Console().print(table)
     print(f"cold MLCP: {n_problems} problems recorded from random-action Push-v0 steps")
+    print(f"this tree's arm terms: {native.status()}")
     if args.out is not None:
         args.out.parent.mkdir(parents=True, exist_ok=True)
-        extra = f"against {args.against}; {n_problems} cold problems"
+        extra = f"against {args.against}; {n_problems} cold problems; arm terms: "
+        extra += native.status()
         write_csv(args.out, frame, provenance_line(extra=extra), float_format="%.4g")
     return 0
 

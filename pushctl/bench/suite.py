@@ -29,6 +29,7 @@ from rich.console import Console
 from rich.table import Table
 
 import pushctl
+from pushctl.arm import native
 from pushctl.bench.engines import engine_rows
 from pushctl.bench.episode import episode_rows, profile_episode
 from pushctl.bench.rl import rl_rows
@@ -214,7 +215,7 @@ def _provenance() -> str:
     command = " ".join(["python -m pushctl.bench", *sys.argv[1:]])
     machine = f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, one used"
     date = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
-    return provenance_line(command, f"{date}; {machine}")
+    return provenance_line(command, f"{date}; {machine}; arm terms: {native.status()}")
 
 
 def plan_rows(repeats: int = 7) -> list[dict[str, Any]]:

@@ -26,7 +26,7 @@ def info(
     ),
 ) -> None:
     """Show the model of an object and an arm: mass properties, supports, ready pose."""
-    from pushctl.arm import ArmConfig, load_arm
+    from pushctl.arm import ArmConfig, load_arm, native
     from pushctl.config import PusherConfig
     from pushctl.objects import resolve_object
 
@@ -60,4 +60,5 @@ def info(
     arm_table.add_row(
         "smallest eigenvalue of M (ready)", f"{np.linalg.eigvalsh(mass)[0]:.4f} kg·m²"
     )
+    arm_table.add_row("arm terms computed by", native.status())
     console.print(arm_table)

@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from pushctl.contact.kernels import active_set_step, apply_impulses, assemble
+from pushctl.contact.kernels import active_set_step, apply_impulses, assemble, refine_slip
 from pushctl.contact.pivot_kernels import cold_pivot
 
 HELD, FROM_WARM, PIVOTED, EMPTY, UNVERIFIED = 0, 1, 2, 3, -1
@@ -68,3 +68,81 @@ def cold_contact_step(
         how = FROM_WARM if which == 0 else PIVOTED
     va, vo, f = apply_impulses(p, v_arm_free, Minv_At_arm, velocity, Minv_At_obj, h)
     return how, p, w, residual, pivots, va, vo, f
+
+
+COLD_SETTLED, COLD_UNSETTLED, COLD_UNVERIFIED = 1, 2, 3
+"""Outcomes of :func:`cold_slip_step`."""
+
+
+@njit(cache=True)
+def _counts_as_warm(how, has_guess):
+    """Whether ``SubstepSolver._record`` counts a solve of ``how`` as a warm start (its
+    MLCPResult's method is ``warm-start``)."""
+    return how == HELD or how == FROM_WARM or (how == EMPTY and has_guess)
+
+
+@njit(cache=True)
+def cold_slip_step(
+    contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
+    support_points, friction_limits, slip_directions, sliding, h, stabilisation, tie_break,
+    mu_contact, guess, has_guess, tol, max_pivots, cos_tolerance, max_iterations, start,
+    has_first, first_residual, first_v_arm, first_v_obj, first_forces,
+):  # fmt: skip
+    """``World._substep``'s cold path in one compiled call: :func:`cold_contact_step` from
+    ``guess``, then the refine-and-re-solve loop of the friction boxes from loop index
+    ``start``, each re-solve a :func:`cold_contact_step` from the previous impulses: the
+    calls of ``SubstepSolver._solve_step`` and ``_settle_slip`` in the same order, so the
+    same bits (tests/contact/test_cold_step.py). In a slipping push most steps on this path
+    solve seven times; each Python round trip cost about as much as its compiled solve.
+
+    ``has_first``: the step already has the solution it keeps if the loop does not settle
+    (the warm path's first solve: ``first_residual`` and the three arrays, its iterations
+    0); otherwise the first solve here is that solution.
+
+    Returns ``(status, attempt, solves, warm_starts, worst, iterations, kept, last_p,
+    used_guess, pivots)``: ``kept`` = ``(residual, v_arm, v_obj, forces, pivots)`` of the
+    solution the step keeps; ``last_p`` the latest verified solve's impulses (the next warm
+    start; empty if none); ``solves``, ``warm_starts`` (as ``_record`` counts them),
+    ``worst`` (their largest residual) and ``iterations`` (the re-solves) of the verified
+    solves. ``status`` ``COLD_SETTLED``: ``kept`` is the latest solve;
+    ``COLD_UNSETTLED``: not settled after ``max_iterations``, ``kept`` is the first
+    solution (the caller restores its boxes); ``COLD_UNVERIFIED``: the solve at loop index
+    ``attempt`` (``start − 1``: the first one) verified nothing; it was made from
+    ``used_guess`` after ``pivots`` pivots, and ``kept`` is the first solution if there is
+    one: the caller solves it with ProxQP and continues the loop in Python.
+    """
+    how, p, w, res, pivots, va, vo, f = cold_contact_step(
+        contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
+        support_points, friction_limits, slip_directions, sliding, h, stabilisation, tie_break,
+        mu_contact, guess, has_guess, tol, max_pivots,
+    )  # fmt: skip
+    if has_first:
+        first = (first_residual, first_v_arm, first_v_obj, first_forces, 0)
+    else:
+        first = (res, va, vo, f, pivots)
+    if how == UNVERIFIED:
+        return COLD_UNVERIFIED, start - 1, 0, 0, 0.0, 0, first, p[:0], guess, pivots
+    solves, warm, worst, iterations = 1, int(_counts_as_warm(how, has_guess)), res, 0
+    solution, last_p = (res, va, vo, f, pivots), p
+    for attempt in range(start, max_iterations + 1):
+        if not refine_slip(pose, solution[2], support_points, slip_directions, sliding,
+                           cos_tolerance):  # fmt: skip
+            return COLD_SETTLED, attempt, solves, warm, worst, iterations, solution, last_p, \
+                guess, 0  # fmt: skip
+        if attempt == max_iterations:
+            break
+        iterations += 1
+        how, p, w, res, pivots, va, vo, f = cold_contact_step(
+            contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity,
+            obj_mass_inv, support_points, friction_limits, slip_directions, sliding, h,
+            stabilisation, tie_break, mu_contact, last_p, True, tol, max_pivots,
+        )  # fmt: skip
+        if how == UNVERIFIED:
+            return COLD_UNVERIFIED, attempt, solves, warm, worst, iterations, first, last_p, \
+                last_p, pivots  # fmt: skip
+        solves += 1
+        warm += _counts_as_warm(how, True)
+        worst = max(worst, res)
+        solution, last_p = (res, va, vo, f, pivots), p
+    return COLD_UNSETTLED, max_iterations, solves, warm, worst, iterations, first, last_p, \
+        guess, 0  # fmt: skip

@@ -19,11 +19,14 @@ import numpy as np
 
 from pushctl.arm import ArmModel, ArmTerms
 from pushctl.contact.cold_step import (
+    COLD_SETTLED,
+    COLD_UNSETTLED,
     FROM_WARM,
     HELD,
     PIVOTED,
     UNVERIFIED,
     cold_contact_step,
+    cold_slip_step,
 )
 from pushctl.contact.ground_field import FrictionField
 from pushctl.contact.kernels import (
@@ -104,6 +107,7 @@ step keeps its first solution (the boxes aligned with the velocity before the st
 
 _NO_CONTACTS = np.zeros((0, 5))
 _NO_GUESS = np.zeros(0)  # the guess argument of cold_contact_step without one
+_NO_FIRST = (False, 0.0, np.zeros(0), np.zeros(0), np.zeros((0, 2)))  # cold_slip_step: none
 _PIVOT_BUDGET = cold_pivot_budget()
 _METHODS = {HELD: "warm-start", FROM_WARM: "warm-start", PIVOTED: "active-set"}
 _NO_JACOBIANS = np.zeros((0, 3, 0))
@@ -248,17 +252,13 @@ class SubstepSolver:
             self.object_velocity, self.object_pose = v_obj, pose
         else:
             if status == SLIP_WARM_FAILED:
-                first = _warm_solution(solved)
+                first: tuple | None = _warm_solution(solved)
                 self.stats.slip_iterations += 1
-                # (the same warm active set fails again in _solve_step: no bits change)
-                solution = self._solve_step(h, tau, damping, inputs, last_p)
-                self._record(solution[0], prongs)
-                start = attempt + 1
+                # (the same warm active set fails again in the cold path: no bits change)
+                guess, start = last_p, attempt + 1
             else:  # no warm start, or it failed in the call above: the full MLCP
-                first = self._solve_step(h, tau, damping, inputs, guess)
-                self._record(first[0], prongs)
-                solution = first
-            solution = self._settle_slip(h, tau, damping, inputs, prongs, first, solution, start)
+                first = None
+            solution = self._cold_path(h, tau, damping, inputs, prongs, guess, first, start)
             result, v_arm, v_obj, contact_forces = solution
             residual, converged, n_iterations = result.residual, result.converged, result.iterations
             self._advance_object(v_obj, h)
@@ -273,6 +273,42 @@ class SubstepSolver:
         else:
             self._find_contacts()
         return forces, residual, converged, n_iterations
+
+    def _cold_path(self, h, tau, damping, inputs, prongs, guess, first, start: int):
+        """The step's full MLCP from ``guess`` (None: none) and the refine-and-re-solve loop
+        from loop index ``start``, in one compiled call (:func:`cold_slip_step`: the calls of
+        :meth:`_solve_step` and :meth:`_settle_slip` in the same order); only a solve that
+        the pivoting does not verify goes to ProxQP, and the loop then goes on in Python.
+        ``first``: the warm path's first solution, kept if the loop does not settle (None:
+        the first solve here). Returns the step's solution as :meth:`_solve_step` does."""
+        has_guess, has_first = guess is not None, first is not None
+        first_args = (True, first[0].residual, *first[1:]) if has_first else _NO_FIRST
+        (status, attempt, solves, warm_starts, worst, iterations, kept, last_p, used_guess,
+         pivots) = cold_slip_step(
+            *inputs, *self._model, guess if has_guess else _NO_GUESS, has_guess, DEFAULT_TOL,
+            _PIVOT_BUDGET, SLIP_COS_TOLERANCE, MAX_SLIP_ITERATIONS, start, *first_args,
+        )  # type: ignore[call-arg]  # fmt: skip
+        stats = self.stats
+        if solves:
+            stats.solves += solves
+            stats.warm_starts += warm_starts
+            stats.max_residual = max(stats.max_residual, worst)
+            self._last_prongs, self._last_p = prongs, last_p
+        stats.slip_iterations += iterations
+        residual, v_arm, v_obj, forces, kept_pivots = kept
+        kept_solution = (WarmSolve(residual, True, kept_pivots), v_arm, v_obj, forces)
+        if status == COLD_SETTLED:
+            return kept_solution
+        if status == COLD_UNSETTLED:  # the step keeps its first solution and its boxes
+            self._start_slip_state()
+            stats.slip_unsettled += 1
+            return kept_solution
+        # COLD_UNVERIFIED: the solve at loop index `attempt` goes to ProxQP
+        solution = self._proxqp_step(h, tau, damping, used_guess, pivots)
+        self._record(solution[0], prongs)
+        if not has_first:  # the first solve is the step's first solution
+            first = solution if attempt < start else kept_solution
+        return self._settle_slip(h, tau, damping, inputs, prongs, first, solution, attempt + 1)
 
     def _settle_slip(self, h, tau, damping, inputs, prongs, first, solution, start: int):
         """The refine-and-re-solve loop of :meth:`_substep` from loop index ``start``, in
@@ -311,6 +347,14 @@ class SubstepSolver:
             method = _METHODS.get(how, "warm-start" if has_guess else "proxqp+active-set")
             result = MLCPResult(p, w, float(residual), pivots, True, method)
             return result, v_arm, v_obj, contact_forces
+        return self._proxqp_step(h, tau, damping, guess, pivots)
+
+    def _proxqp_step(self, h: float, tau: np.ndarray, damping: np.ndarray, guess, pivots: int):
+        """The step's MLCP by ProxQP and pivoting (:func:`solve_after_pivoting`), after the
+        compiled pivoting from ``guess`` (None or empty: none) verified nothing in
+        ``pivots`` pivots: (MLCPResult, v_arm, v_obj, forces) as :meth:`_solve_step`."""
+        if guess is not None and len(guess) == 0:
+            guess = None
         problem = self._build_problem(h, tau, damping)
         threshold = DEFAULT_TOL * max(1.0, float(np.abs(problem.b).max()))
         result = solve_after_pivoting(

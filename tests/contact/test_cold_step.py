@@ -1,8 +1,12 @@
 """The world step's cold path in one compiled call (:func:`cold_contact_step`) gives, to the
 bit, what the separate calls it replaces gave: assemble, :func:`solve_box_mlcp` with the
-previous impulses as warm start, apply the impulses."""
+previous impulses as warm start, apply the impulses; and its refine-and-re-solve loop in one
+compiled call (:func:`cold_slip_step`) gives what the Python loop gave, ProxQP's
+continuation included."""
 
 from __future__ import annotations
+
+import hashlib
 
 import numpy as np
 import pytest
@@ -15,9 +19,19 @@ from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
 
 
+def python_cold_path(self, h, tau, damping, inputs, prongs, guess, first, start):
+    """``SubstepSolver._cold_path`` as the Python loop it compiles: one
+    ``_solve_step`` (a cold_contact_step call) per solve, then ``_settle_slip``."""
+    solution = self._solve_step(h, tau, damping, inputs, guess)
+    self._record(solution[0], prongs)
+    first = solution if first is None else first
+    return self._settle_slip(h, tau, damping, inputs, prongs, first, solution, start)
+
+
 def _recorded_calls(monkeypatch, steps: int = 60) -> list[tuple]:
     """The arguments of every cold_contact_step call of a random-action push on the training
-    environment (plant unknowns on, objects slipping), copied when made."""
+    environment (plant unknowns on, objects slipping), copied when made (the cold path run
+    as the Python loop, whose every solve is one such call)."""
     calls: list[tuple] = []
     solve = substep_module.cold_contact_step
 
@@ -26,6 +40,7 @@ def _recorded_calls(monkeypatch, steps: int = 60) -> list[tuple]:
         return solve(*args)
 
     monkeypatch.setattr(substep_module, "cold_contact_step", record)
+    monkeypatch.setattr(substep_module.SubstepSolver, "_cold_path", python_cold_path)
     env = PushEnv(EnvConfig(action_repeat=10, gate_threshold=0.0, duration=6.0))
     rng = np.random.default_rng(0)
     for seed in (0, 2):
@@ -33,6 +48,7 @@ def _recorded_calls(monkeypatch, steps: int = 60) -> list[tuple]:
         for _ in range(steps):
             env.step(rng.uniform(-1.0, 1.0, 3).astype(np.float32))
     monkeypatch.setattr(substep_module, "cold_contact_step", solve)
+    monkeypatch.undo()
     return calls
 
 
@@ -84,3 +100,48 @@ def test_nothing_verified_leaves_it_to_the_caller(monkeypatch) -> None:
     threshold = DEFAULT_TOL * max(1.0, float(np.abs(b).max()))
     result = solve_after_pivoting(D, b, lo, hi, findex, mu, args[18], threshold, 0)
     assert result.converged and result.residual <= threshold
+
+
+def _slipping_pushes() -> tuple[str, object]:
+    """Digest of two random-action pushes on the training environment (observations,
+    rewards, traces) and the last one's WorldStats."""
+    env = PushEnv(EnvConfig(action_repeat=10, gate_threshold=0.0, duration=6.0))
+    rng = np.random.default_rng(5)
+    digest = hashlib.sha256()
+    for seed in (0, 2):
+        obs, _ = env.reset(seed=seed)
+        digest.update(obs.tobytes())
+        for _ in range(40):
+            obs, reward, *_ = env.step(rng.uniform(-1.0, 1.0, 3).astype(np.float32))
+            digest.update(obs.tobytes())
+            digest.update(np.float64(reward).tobytes())
+        assert env.episode is not None
+        digest.update(env.episode.trace().to_frame().to_numpy().tobytes())
+    assert env.episode is not None
+    return digest.hexdigest(), env.episode.world.stats
+
+
+@pytest.mark.parametrize("pivot_budget", [None, 1])
+def test_the_compiled_cold_loop_is_the_python_loop_to_the_bit(monkeypatch, pivot_budget):
+    """cold_slip_step against the Python loop it replaces. With a budget of one pivot the
+    pivoting often verifies nothing, so the ProxQP continuation runs: from the first solve
+    and from a re-solve inside the loop."""
+    if pivot_budget is not None:
+        monkeypatch.setattr(substep_module, "_PIVOT_BUDGET", pivot_budget)
+    proxqp_step = substep_module.SubstepSolver._proxqp_step
+    continued: list[bool] = []
+
+    def counted(self, h, tau, damping, guess, pivots):
+        continued.append(True)
+        return proxqp_step(self, h, tau, damping, guess, pivots)
+
+    monkeypatch.setattr(substep_module.SubstepSolver, "_proxqp_step", counted)
+    compiled, stats = _slipping_pushes()
+    compiled_continuations = len(continued)
+    monkeypatch.setattr(substep_module.SubstepSolver, "_cold_path", python_cold_path)
+    python, python_stats = _slipping_pushes()
+    assert compiled == python
+    assert stats == python_stats
+    assert stats.slip_iterations > 50 and stats.slip_unsettled > 0  # the loop ran, both ends
+    if pivot_budget is not None:
+        assert compiled_continuations > 20  # ProxQP took over many times

@@ -74,6 +74,17 @@ def available() -> bool:
     return _load() is not None
 
 
+def status() -> str:
+    """One line saying which path computes the arm terms in this process, and why."""
+    if available():
+        return f"compiled ({LIBRARY.name}, Pinocchio {pin.__version__})"
+    if os.environ.get("PUSHCTL_NATIVE", "1") == "0":
+        return "Pinocchio's Python bindings (PUSHCTL_NATIVE=0)"
+    if not LIBRARY.exists():
+        return "Pinocchio's Python bindings (not built: python -m pushctl.arm.native.build)"
+    return "Pinocchio's Python bindings (built for another Pinocchio or source: rebuild it)"
+
+
 class NativeArm:
     """A copy of one Pinocchio model (and a Data of its own) inside the library.
 
