@@ -6,7 +6,7 @@ STAMP  := $(VENV)/.installed
 
 .PHONY: install test lint bench reproduce-tables clean
 
-NATIVE := pushctl/arm/native/lib/libpushctl_arm.so
+NATIVE := pushctl/native/lib/libpushctl_native.so
 
 install: $(STAMP) $(NATIVE)
 
@@ -19,11 +19,11 @@ $(STAMP): pyproject.toml
 	$(PY) -m pip install --quiet -e ".[dev]"
 	touch $(STAMP)
 
-# The arm terms' library (pushctl/arm/native): Pinocchio's pass behind one compiled call,
-# the same bits as through its Python bindings. --optional: without a C++ compiler it
-# prints a note and the bindings are used.
-$(NATIVE): $(STAMP) pushctl/arm/native/arm_terms.cpp
-	$(PY) -m pushctl.arm.native.build --optional
+# pushctl's compiled library (pushctl/native): Pinocchio's arm pass and ProxSuite's force
+# QPs behind C entry points, the same bits as through their Python bindings. --optional:
+# without a C++ compiler it prints a note and the bindings are used.
+$(NATIVE): $(STAMP) $(wildcard pushctl/native/*.cpp)
+	$(PY) -m pushctl.native.build --optional
 
 test: install
 	$(PY) -m pytest -q

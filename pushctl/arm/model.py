@@ -17,9 +17,8 @@ from typing import NamedTuple
 import numpy as np
 import pinocchio as pin
 
-from pushctl.arm import native
+from pushctl import native
 from pushctl.arm.ik import IKResult, IKSettings, solve_frame_ik
-from pushctl.arm.native.kernels import native_terms, native_terms_nominal
 from pushctl.arm.pusher import (
     NOMINAL_PUSHER_FRAME,
     add_frame_on_ee,
@@ -30,6 +29,7 @@ from pushctl.arm.specs import ARM_NAMES, ArmSpec, arm_spec, check_spec_model
 from pushctl.checks import finite_vector
 from pushctl.config import GRAVITY, PusherConfig
 from pushctl.errors import ConfigError
+from pushctl.native.arm_kernels import native_terms, native_terms_nominal
 
 __all__ = ["ARM_NAMES", "ArmConfig", "ArmModel", "ArmTerms", "PusherFrame", "load_arm"]
 
@@ -242,7 +242,7 @@ class ArmModel:
         self._native: native.NativeArm | None | bool = None  # made on first use
 
     def _native_arm(self) -> native.NativeArm | bool:
-        """The library's copy of the model (:mod:`pushctl.arm.native`), or False where the
+        """The library's copy of the model (:mod:`pushctl.native`), or False where the
         library is not in use."""
         if self._native is None:
             self._native = native.NativeArm(self.model) if native.available() else False
@@ -293,7 +293,7 @@ class ArmModel:
 
         ``q`` (nq,) [rad], ``v`` (nv,) [rad/s], float64, not validated here (hot path: use
         ``check_q``/``check_v`` at the boundary). One compiled call where the arm terms'
-        library is built (:mod:`pushctl.arm.native`: the same Pinocchio instances, the same
+        library is built (:mod:`pushctl.native`: the same Pinocchio instances, the same
         bits), else the same calls through Pinocchio's bindings.
         """
         arm = self._native if self._native is not None else self._native_arm()

@@ -51,7 +51,7 @@ from rich.console import Console
 from rich.table import Table
 
 import pushctl
-from pushctl.arm import native
+from pushctl import native
 from pushctl.errors import ConfigError
 from pushctl.output_guard import refuse_existing_files
 from pushctl.provenance import git_commit, provenance_line, write_csv
@@ -196,6 +196,10 @@ def record_cold_problems(steps: int = 1500, seed: int = 0) -> list[tuple]:
 
     recorded: list[tuple] = []
     solve = world_module.cold_contact_step
+    # every solve of the cold path as its own cold_contact_step call (the compiled loop,
+    # cold_slip_step, makes the same calls inside one)
+    cold_path = world_module.SubstepSolver._cold_path
+    python_loop = getattr(world_module.SubstepSolver, "_cold_path_in_python", cold_path)
 
     def record(*args):
         solved = solve(*args)
@@ -207,6 +211,7 @@ def record_cold_problems(steps: int = 1500, seed: int = 0) -> list[tuple]:
         return solved
 
     world_module.cold_contact_step = record  # type: ignore[assignment]
+    world_module.SubstepSolver._cold_path = python_loop  # type: ignore[method-assign]
     try:
         env = PushEnv(EnvConfig(duration=6.0, gate_threshold=0.0))
         rng = np.random.default_rng(seed)
@@ -217,6 +222,7 @@ def record_cold_problems(steps: int = 1500, seed: int = 0) -> list[tuple]:
                 env.reset(seed=seed + i + 1)
     finally:
         world_module.cold_contact_step = solve  # type: ignore[assignment]
+        world_module.SubstepSolver._cold_path = cold_path  # type: ignore[method-assign]
     return recorded
 
 

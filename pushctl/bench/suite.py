@@ -29,7 +29,7 @@ from rich.console import Console
 from rich.table import Table
 
 import pushctl
-from pushctl.arm import native
+from pushctl import native
 from pushctl.bench.engines import engine_rows
 from pushctl.bench.episode import episode_rows, profile_episode
 from pushctl.bench.rl import rl_rows

@@ -26,7 +26,8 @@ def info(
     ),
 ) -> None:
     """Show the model of an object and an arm: mass properties, supports, ready pose."""
-    from pushctl.arm import ArmConfig, load_arm, native
+    from pushctl import native
+    from pushctl.arm import ArmConfig, load_arm
     from pushctl.config import PusherConfig
     from pushctl.objects import resolve_object
 

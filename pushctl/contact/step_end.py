@@ -15,7 +15,7 @@ import math
 import numpy as np
 from numba import njit
 
-from pushctl.arm.native.kernels import _arm_integrate, _arm_terms
+from pushctl.native.arm_kernels import _arm_integrate, _arm_terms
 
 
 @njit(cache=True)
@@ -35,7 +35,7 @@ def native_arm_moved(
     handle, q, v_new, h, prongs, pusher, ledger, M_old, nle_old, g_old, edges, pose, margin
 ):  # fmt: skip  # pragma: no cover - compiled
     """The arm's whole step end in one compiled call, through the arm terms' library
-    (:mod:`pushctl.arm.native`): ``q`` moved by ``v_new`` for ``h`` (``ArmModel.integrate``),
+    (:mod:`pushctl.native`): ``q`` moved by ``v_new`` for ``h`` (``ArmModel.integrate``),
     the arm terms at the new state (``ArmModel.compute``, frames ``prongs`` and ``pusher``),
     then :func:`arm_moved`. The same library calls and arithmetic as those three calls from
     Python, so the same bits. Returns ``(q_new, terms, ledger, energy, geometry, gaps,
@@ -61,7 +61,7 @@ def native_arm_moved_nominal(
 
 @njit(cache=True)
 def _moved_terms(handle, q, v_new, h, prongs, pusher, nominal):  # pragma: no cover
-    """q⁺ and the library's pass at (q⁺, v⁺): ``pushctl.arm.native.kernels._terms``'s
+    """q⁺ and the library's pass at (q⁺, v⁺): ``pushctl.native.arm_kernels._terms``'s
     arrays (repeated here: numba's cache does not follow calls into another file)."""
     q = np.ascontiguousarray(q)
     v = np.ascontiguousarray(v_new)

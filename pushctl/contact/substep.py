@@ -310,6 +310,15 @@ class SubstepSolver:
             first = solution if attempt < start else kept_solution
         return self._settle_slip(h, tau, damping, inputs, prongs, first, solution, attempt + 1)
 
+    def _cold_path_in_python(self, h, tau, damping, inputs, prongs, guess, first, start: int):
+        """:meth:`_cold_path` as the Python loop it compiles, one :meth:`_solve_step` (one
+        :func:`cold_contact_step` call) per solve: the reference the tests compare it with,
+        and what ``python -m pushctl.bench.compare`` runs to record the cold problems."""
+        solution = self._solve_step(h, tau, damping, inputs, guess)
+        self._record(solution[0], prongs)
+        first = solution if first is None else first
+        return self._settle_slip(h, tau, damping, inputs, prongs, first, solution, start)
+
     def _settle_slip(self, h, tau, damping, inputs, prongs, first, solution, start: int):
         """The refine-and-re-solve loop of :meth:`_substep` from loop index ``start``, in
         Python (a solve on it needed the full MLCP): returns the step's solution."""

@@ -32,6 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import minimize_scalar
 
+from pushctl import native
 from pushctl.errors import ConfigError
 from pushctl.objects import ObjectSpec
 from pushctl.planning.ground import sliding_friction
@@ -168,23 +169,35 @@ class _StepQP:
         self._lower = np.full(2 * k, -_NO_BOUND)
         self._upper = np.zeros(2 * k)
         self._gradient_map = -(weighted.T * self.weights)  # g = −Gᵀ S² w
-        self._qp = proxqp.dense.QP(2 * k, 0, 2 * k)
-        self._qp.settings.eps_abs = _QP_TOLERANCE
-        self._qp.settings.eps_rel = 0.0
-        self._qp.settings.max_iter = _QP_MAX_ITER
-        self._qp.init(hessian, np.zeros(2 * k), None, None, cone, self._lower, self._upper)
-        self._qp.settings.initial_guess = _WARM
-        self._hessian = hessian
+        self._hessian = np.ascontiguousarray(hessian)  # the compiled solve reads raw memory
+        self._qp: proxqp.dense.QP | None = None  # made by the first solve through Python
+
+    def _make_qp(self) -> proxqp.dense.QP:
+        """The one QP object of this offset: warm-started from step to step."""
+        n = self._hessian.shape[0]
+        qp = proxqp.dense.QP(n, 0, n)
+        qp.settings.eps_abs = _QP_TOLERANCE
+        qp.settings.eps_rel = 0.0
+        qp.settings.max_iter = _QP_MAX_ITER
+        qp.init(self._hessian, np.zeros(n), None, None, self._cone, self._lower, self._upper)
+        qp.settings.initial_guess = _WARM
+        return qp
 
     def _solve_one(self, gradient: np.ndarray) -> np.ndarray:
         """Warm start from the previous step; on any status but SOLVED (ProxQP now and then
         reports a warm-started instance of this always-feasible QP primal infeasible after
         one iteration) solve it again from scratch. NaN if that fails too."""
+        if self._qp is None:
+            self._qp = self._make_qp()
         qp = self._qp
         qp.update(None, gradient, None, None, self._cone, self._lower, self._upper)
         qp.solve()
         if qp.results.info.status == _SOLVED:
             return qp.results.x.copy()
+        return self._solve_cold(gradient)
+
+    def _solve_cold(self, gradient: np.ndarray) -> np.ndarray:
+        """The QP of ``gradient`` solved from scratch by a QP of its own; NaN if it fails."""
         cold = proxqp.dense.solve(
             self._hessian, gradient, None, None, self._cone, self._lower, self._upper,
             eps_abs=_QP_TOLERANCE, eps_rel=0.0, max_iter=_QP_MAX_ITER,
@@ -201,9 +214,31 @@ class _StepQP:
         tolerance is relative to the plan's forces whatever their size."""
         scale = float(np.abs(wrenches).max()) or 1.0
         gradients = (wrenches / scale) @ self._gradient_map.T
-        forces = scale * np.array([self._solve_one(gradient) for gradient in gradients])
+        if self._qp is None and native.available():
+            solutions = self._solve_compiled(gradients)
+        else:
+            solutions = np.array([self._solve_one(gradient) for gradient in gradients])
+        forces = scale * solutions
         residual = np.linalg.norm((forces @ self.G.T - wrenches) * self.weights, axis=1)
         return forces, residual
+
+    def _solve_compiled(self, gradients: np.ndarray) -> np.ndarray:
+        """:meth:`_solve_one` for every gradient (N, 2k) in turn, in one call into pushctl's
+        compiled library (:mod:`pushctl.native`: the same ProxQP calls, the same bits,
+        without a Python round trip per QP); the warm solves it does not report solved
+        are solved again from scratch here, as :meth:`_solve_one` does."""
+        gradients = np.ascontiguousarray(gradients, dtype=np.float64)
+        count, n = gradients.shape
+        solutions = np.empty((count, n))
+        solved = np.empty(count, dtype=np.int8)
+        native.library().pushctl_force_qps(
+            n, len(self._lower), self._hessian.ctypes.data, self._cone.ctypes.data,
+            self._lower.ctypes.data, self._upper.ctypes.data, count, gradients.ctypes.data,
+            _QP_TOLERANCE, _QP_MAX_ITER, solutions.ctypes.data, solved.ctypes.data,
+        )  # fmt: skip
+        for row in np.flatnonzero(solved == 0):
+            solutions[row] = self._solve_cold(gradients[row])
+        return solutions
 
 
 def _prong_points(obj: ObjectSpec, prong_offsets: np.ndarray, offset: float) -> np.ndarray:

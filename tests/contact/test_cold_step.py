@@ -18,14 +18,7 @@ from pushctl.contact.mlcp import DEFAULT_TOL, solve_box_mlcp
 from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
 
-
-def python_cold_path(self, h, tau, damping, inputs, prongs, guess, first, start):
-    """``SubstepSolver._cold_path`` as the Python loop it compiles: one
-    ``_solve_step`` (a cold_contact_step call) per solve, then ``_settle_slip``."""
-    solution = self._solve_step(h, tau, damping, inputs, guess)
-    self._record(solution[0], prongs)
-    first = solution if first is None else first
-    return self._settle_slip(h, tau, damping, inputs, prongs, first, solution, start)
+python_cold_path = substep_module.SubstepSolver._cold_path_in_python
 
 
 def _recorded_calls(monkeypatch, steps: int = 60) -> list[tuple]:

@@ -1,30 +1,21 @@
-"""The compiled arm terms (pushctl.arm.native) against Pinocchio's Python bindings, to the bit.
+"""The compiled arm terms (pushctl.native) against Pinocchio's Python bindings, to the bit.
 
-The library is built by the Makefile's install; `make test` sets PUSHCTL_EXPECT_NATIVE=1, so
-there a missing or stale library fails instead of skipping.
+The library is built by the Makefile's install; CI (.ci/run) sets PUSHCTL_EXPECT_NATIVE=1,
+so there a missing or stale library fails instead of skipping (tests/native/conftest.py).
 """
 
 from __future__ import annotations
 
 import copy
-import os
 import pickle
 from dataclasses import replace
 
 import numpy as np
 import pytest
 
-from pushctl.arm import ArmConfig, ArmModel, ArmTerms, load_arm, native
+from pushctl.arm import ArmConfig, ArmModel, ArmTerms, load_arm
 from pushctl.config import PusherConfig
 from pushctl.contact.build import make_world
-
-if not native.available():
-    if os.environ.get("PUSHCTL_EXPECT_NATIVE") == "1":
-        pytest.fail(
-            "the arm terms' library is not loaded: python -m pushctl.arm.native.build",
-            pytrace=False,
-        )
-    pytest.skip("the arm terms' library is not built", allow_module_level=True)
 
 
 def _through_bindings(arm: ArmModel, q: np.ndarray, v: np.ndarray) -> ArmTerms:

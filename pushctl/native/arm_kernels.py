@@ -4,8 +4,8 @@ by its symbol; ``pushctl.contact.step_end`` calls it and ``pushctl_arm_integrate
 
 The pass lives in ``_terms``; its two callers differ only in what they return (the nominal
 pusher's frame or not). Declaring a symbol needs nothing; compiling or loading a kernel
-that calls it needs the library loaded first (:func:`pushctl.arm.native.available`), which
-is why these are called only by code that holds a :class:`~pushctl.arm.native.NativeArm`.
+that calls it needs the library loaded first (:func:`pushctl.native.available`), which
+is why these are called only by code that holds a :class:`~pushctl.native.NativeArm`.
 """
 
 from __future__ import annotations

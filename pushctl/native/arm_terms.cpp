@@ -5,10 +5,10 @@
 // Pinocchio's headers declare computeAllTerms and getFrameJacobian for double extern, so
 // this file links to the instances in the installed libpinocchio_default, the same machine
 // code the Python bindings run: every number is the bindings' to the bit
-// (tests/arm/test_native.py checks it). The model arrives
+// (tests/native/test_arm_terms.py checks it). The model arrives
 // as Pinocchio's own text serialisation of the Python model (ArmModel.model.saveToString).
 //
-// Built by `python -m pushctl.arm.native.build` (the Makefile's install does it); without
+// Built by `python -m pushctl.native.build` (the Makefile's install does it); without
 // it the project runs the same calls from Python (pushctl/arm/model.py).
 
 #include <pinocchio/algorithm/compute-all-terms.hpp>
