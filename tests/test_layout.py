@@ -52,6 +52,7 @@ LAYERS = {
     "pushctl.arm": 1,
     "pushctl.objects": 1,
     "pushctl.distributed.engine": 0,  # the Ray session and worker pool: infrastructure
+    "pushctl.native": 0,  # the compiled library (Pinocchio's, ProxSuite's calls): no pushctl
     "pushctl.types": 0,
     "pushctl.errors": 0,
     "pushctl.config": 0,
