@@ -292,7 +292,7 @@ class ArmModel:
         Jacobians, in one pass.
 
         ``q`` (nq,) [rad], ``v`` (nv,) [rad/s], float64, not validated here (hot path: use
-        ``check_q``/``check_v`` at the boundary). One compiled call where the arm terms'
+        ``check_q``/``check_v`` at the boundary). One compiled call where pushctl's compiled
         library is built (:mod:`pushctl.native`: the same Pinocchio instances, the same
         bits), else the same calls through Pinocchio's bindings.
         """

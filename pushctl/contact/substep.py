@@ -4,10 +4,11 @@ friction boxes of the ground refined against the solved slip (a mixin of
 
 The common step is one compiled call (:func:`~pushctl.contact.kernels.warm_slip_step`: the
 previous step's active set, verified, with the refine-and-re-solve loop); when the active
-set fails, the full MLCP takes over (compiled pivoting in one call,
-:func:`~pushctl.contact.cold_step.cold_contact_step`; ProxQP if that verifies nothing) and
-the loop continues in Python (:meth:`SubstepSolver._settle_slip`), with the same calls in
-the same order, so the same bits.
+set fails, the full MLCP and the rest of the loop take over, in one compiled call too
+(:func:`~pushctl.contact.cold_step.cold_slip_step`: compiled pivoting for each solve). Only
+a solve that the pivoting does not verify leaves the compiled code: ProxQP solves it and the
+loop continues in Python (:meth:`SubstepSolver._settle_slip`). Every path makes the same
+calls in the same order, so the same bits.
 """
 
 from __future__ import annotations

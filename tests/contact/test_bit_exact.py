@@ -168,8 +168,10 @@ def test_evaluate_in_two_fresh_processes_writes_the_same_bytes(tmp_path: Path) -
     command += ["--profile", "chirp", "--trials", "1", "--controller", "pd", "--plant", "both"]
     command += ["--out", str(out), "--force"]
     files = []
-    for hash_seed in ("1", "2"):  # different dict/set layouts: different heap histories
-        env = {**os.environ, "PYTHONHASHSEED": hash_seed}
+    # different dict/set layouts (different heap histories); the second run without
+    # pushctl's compiled library (pushctl/native: the bindings' bits, so the same bytes)
+    for hash_seed, native in (("1", "1"), ("2", "0")):
+        env = {**os.environ, "PYTHONHASHSEED": hash_seed, "PUSHCTL_NATIVE": native}
         done = subprocess.run(command, capture_output=True, text=True, env=env, timeout=300)
         assert done.returncode == 0, done.stderr
         files.append((out / "trials.csv").read_bytes() + (out / "steps.csv").read_bytes())

@@ -101,10 +101,11 @@ def test_non_contiguous_and_integer_states_read_correctly():
     _assert_same_bits(arm.compute(q, zeros), arm.compute(q, np.zeros(arm.nv)))
 
 
-def _pushed_world(native_on: bool, mount_yaw: float):
+def _pushed_world(native_on: bool, mount_yaw: float, arm_name: str = "kinova-gen2-7dof"):
     """A world whose arm pushes the cube with jittered torques for 300 steps: its step
     results and the nominal pusher frame of every step's terms."""
-    world = make_world(pusher=replace(PusherConfig(mass=0.03), mount_yaw=mount_yaw))
+    pusher = replace(PusherConfig(mass=0.03), mount_yaw=mount_yaw)
+    world = make_world(arm=arm_name, pusher=pusher)
     arm = world.arm
     assert arm is not None
     if not native_on:
@@ -124,10 +125,14 @@ def _pushed_world(native_on: bool, mount_yaw: float):
     return out, world
 
 
-@pytest.mark.parametrize("mount_yaw", [0.0, 0.02])
-def test_a_world_steps_to_the_same_bits_with_and_without_the_library(mount_yaw: float):
-    with_library, world = _pushed_world(True, mount_yaw)
-    without, _ = _pushed_world(False, mount_yaw)
+@pytest.mark.parametrize(
+    ("arm_name", "mount_yaw"),
+    [("kinova-gen2-7dof", 0.0), ("kinova-gen2-7dof", 0.02), ("kinova-j2s6s200", 0.0),
+     ("panda", 0.0)],
+)  # fmt: skip
+def test_a_world_steps_to_the_same_bits_with_and_without_the_library(arm_name, mount_yaw):
+    with_library, world = _pushed_world(True, mount_yaw, arm_name)
+    without, _ = _pushed_world(False, mount_yaw, arm_name)
     assert world.arm._native  # the step end ran through the library
     touching = sum(bool(np.any(r.contact_forces[:, 0] > 0)) for r, _ in with_library)
     assert touching > 100  # the push is a push
