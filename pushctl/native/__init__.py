@@ -43,6 +43,7 @@ STAMP = LIBRARY.with_suffix(".json")
 
 _loaded: ctypes.CDLL | None = None
 _checked = False
+_load_error: str | None = None
 
 
 def expected_stamp() -> dict[str, str]:
@@ -72,10 +73,15 @@ def _load() -> ctypes.CDLL | None:
         return None
     import llvmlite.binding
 
-    # numba's kernels name the entry points by their symbols: the library must be loaded
-    # into the process's global symbols before any of them is compiled or loaded.
-    llvmlite.binding.load_library_permanently(str(LIBRARY))
-    library = ctypes.CDLL(str(LIBRARY))
+    global _load_error
+    try:
+        # numba's kernels name the entry points by their symbols: the library must be
+        # loaded into the process's global symbols before any of them is compiled or loaded.
+        llvmlite.binding.load_library_permanently(str(LIBRARY))
+        library = ctypes.CDLL(str(LIBRARY))
+    except (OSError, RuntimeError) as error:  # e.g. the Pinocchio it was linked to is gone
+        _load_error = str(error).splitlines()[0] if str(error) else type(error).__name__
+        return None
     pointer, size = ctypes.c_void_p, ctypes.c_int64
     library.pushctl_arm_create.restype = pointer
     library.pushctl_arm_create.argtypes = [ctypes.c_char_p, size]
@@ -111,6 +117,8 @@ def status() -> str:
         return "Pinocchio's and ProxSuite's Python bindings (PUSHCTL_NATIVE=0)"
     if not LIBRARY.exists():
         return "the Python bindings (not built: python -m pushctl.native.build)"
+    if _load_error is not None:
+        return f"the Python bindings (the library did not load: {_load_error}; rebuild it)"
     return "the Python bindings (built for other versions or sources: rebuild it)"
 
 
