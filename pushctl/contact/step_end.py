@@ -1,5 +1,9 @@
 """Compiled kernels of the end of a world step, after the arm moved: the energy check of
-its integration and the prongs' contact geometry at the new state, in one call.
+its integration and the prongs' contact geometry at the new state, in one call
+(:func:`arm_moved`); with pushctl's compiled library, the integration and the arm's terms
+at the new state too (:func:`native_arm_moved`), whose library calls are declared in
+:mod:`pushctl.native.arm_kernels` (symbols, not kernels: nothing there is compiled into
+these).
 
 Kept in a file of their own: numba's disk cache is invalidated per source file and does not
 follow calls into other files, so a kernel and every kernel it calls live together
@@ -34,7 +38,7 @@ def arm_moved(
 def native_arm_moved(
     handle, q, v_new, h, prongs, pusher, ledger, M_old, nle_old, g_old, edges, pose, margin
 ):  # fmt: skip  # pragma: no cover - compiled
-    """The arm's whole step end in one compiled call, through the arm terms' library
+    """The arm's whole step end in one compiled call, through pushctl's compiled library
     (:mod:`pushctl.native`): ``q`` moved by ``v_new`` for ``h`` (``ArmModel.integrate``),
     the arm terms at the new state (``ArmModel.compute``, frames ``prongs`` and ``pusher``),
     then :func:`arm_moved`. The same library calls and arithmetic as those three calls from
