@@ -210,3 +210,26 @@ def test_the_command_line_loads_no_heavy_library_until_a_command_runs() -> None:
         [sys.executable, "-c", code], capture_output=True, text=True, timeout=300, check=True
     )
     assert done.stdout.strip() == ""
+
+
+def _third_party_importers(name: str) -> set[str]:
+    """The pushctl subpackages (or top-level modules) whose source imports ``name``."""
+    found = set()
+    for path in PACKAGE.rglob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            if isinstance(node, ast.Import):
+                modules = [alias.name for alias in node.names]
+            elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+                modules = [node.module]
+            else:
+                continue
+            if any(module.split(".")[0] == name for module in modules):
+                found.add(path.relative_to(PACKAGE).parts[0])
+    return found
+
+
+def test_pinocchio_has_one_importer() -> None:
+    """arm/ is the only Pinocchio importer (docs: README's layout): the compiled library
+    (native/) gets the model as Pinocchio's own serialisation and finds the wheel's files
+    without importing it."""
+    assert _third_party_importers("pinocchio") == {"arm"}

@@ -1,5 +1,4 @@
-"""Arm models (with :mod:`pushctl.native`, the only Pinocchio importers): M(q), c(q, v),
-g(q), prong Jacobians, IK.
+"""Arm models (the only Pinocchio importer): M(q), c(q, v), g(q), prong Jacobians, IK.
 
 ``load_arm(ArmConfig(name=...))`` builds one of ``ARM_NAMES`` with the pusher on its end
 effector; see :mod:`pushctl.arm.model`.

@@ -245,7 +245,8 @@ class ArmModel:
         """The library's copy of the model (:mod:`pushctl.native`), or False where the
         library is not in use."""
         if self._native is None:
-            self._native = native.NativeArm(self.model) if native.available() else False
+            available = native.available()
+            self._native = native.NativeArm(self.model.saveToString()) if available else False
         return self._native
 
     def native_handle(self) -> int:

@@ -29,8 +29,6 @@ import os
 from importlib import metadata
 from pathlib import Path
 
-import pinocchio as pin
-
 SOURCES = (
     Path(__file__).with_name("arm_terms.cpp"),
     Path(__file__).with_name("force_qps.cpp"),
@@ -53,7 +51,7 @@ def expected_stamp() -> dict[str, str]:
     for source in SOURCES:
         digest.update(source.read_bytes())
     return {
-        "pinocchio": pin.__version__,
+        "pinocchio": metadata.version("pin"),
         "proxsuite": metadata.version("proxsuite"),
         "sources_sha256": digest.hexdigest(),
     }
@@ -112,7 +110,7 @@ def library() -> ctypes.CDLL:
 def status() -> str:
     """One line saying whether the compiled library is in use in this process, and why."""
     if available():
-        return f"compiled ({LIBRARY.name}, Pinocchio {pin.__version__})"
+        return f"compiled ({LIBRARY.name}, Pinocchio {metadata.version('pin')})"
     if os.environ.get("PUSHCTL_NATIVE", "1") == "0":
         return "Pinocchio's and ProxSuite's Python bindings (PUSHCTL_NATIVE=0)"
     if not LIBRARY.exists():
@@ -125,13 +123,14 @@ def status() -> str:
 class NativeArm:
     """A copy of one Pinocchio model (and a Data of its own) inside the library.
 
-    ``handle``: its address, the first argument of the arm kernels. Made from the model's
-    text serialisation, so it must be made again if the model changes
-    (:meth:`pushctl.arm.ArmModel.set_gravity` does); freed with this object."""
+    Made from the model's text serialisation (``pin.Model.saveToString()``: this package
+    does not import Pinocchio, :mod:`pushctl.arm` does), so it must be made again if the
+    model changes (:meth:`pushctl.arm.ArmModel.set_gravity` does). ``handle``: its
+    address, the first argument of the arm kernels. Freed with this object."""
 
-    def __init__(self, model: pin.Model) -> None:
+    def __init__(self, serialised_model: str) -> None:
         loaded = library()
-        text = model.saveToString().encode()
+        text = serialised_model.encode()
         handle = loaded.pushctl_arm_create(text, len(text))
         if not handle:
             raise RuntimeError("pushctl's compiled library could not load the model")

@@ -16,6 +16,7 @@ bindings, to the same bits, slower. About 45 s here (the sources side by side).
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import json
 import os
 import shutil
@@ -46,13 +47,14 @@ class BuildError(Exception):
 def cmeel_prefix() -> Path:
     """The ``cmeel.prefix`` directory that holds the installed Pinocchio's headers and
     libraries."""
-    import pinocchio
-
-    for parent in Path(pinocchio.__file__).resolve().parents:
+    spec = importlib.util.find_spec("pinocchio")  # found, not imported: arm/ imports it
+    if spec is None or spec.origin is None:
+        raise BuildError("Pinocchio is not installed (pip install pin)")
+    for parent in Path(spec.origin).resolve().parents:
         if parent.name == "cmeel.prefix":
             return parent
     raise BuildError(
-        f"Pinocchio at {pinocchio.__file__} is not a cmeel wheel (pip install pin): "
+        f"Pinocchio at {spec.origin} is not a cmeel wheel (pip install pin): "
         "its headers and libraries were not found"
     )
 
