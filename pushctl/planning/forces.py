@@ -211,7 +211,10 @@ class _StepQP:
         QP fails gets NaN forces and a NaN residual.
 
         The QP runs on wrenches divided by their largest magnitude, so its absolute
-        tolerance is relative to the plan's forces whatever their size."""
+        tolerance is relative to the plan's forces whatever their size. Each instance
+        solves one sequence (its offset's steps, warm-started one from the next): the
+        compiled path's QP object lives for one call, so a second call on an instance that
+        solved compiled would not warm-start from the first (no caller makes one)."""
         scale = float(np.abs(wrenches).max()) or 1.0
         gradients = (wrenches / scale) @ self._gradient_map.T
         if self._qp is None and native.available():
