@@ -297,9 +297,9 @@ class ArmModel:
         library is built (:mod:`pushctl.native`: the same Pinocchio instances, the same
         bits), else the same calls through Pinocchio's bindings.
         """
-        arm = self._native if self._native is not None else self._native_arm()
-        if arm:
-            return self._compute_native(arm.handle, q, v)  # type: ignore[union-attr]
+        handle = self.native_handle()
+        if handle:
+            return self._compute_native(handle, q, v)
         model, data = self.model, self.data
         pin.computeAllTerms(model, data, q, v)  # M, nle, joint placements and Jacobians
         # getFrameJacobian also places its frame (data.oMf, the product updateFramePlacement

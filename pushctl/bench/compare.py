@@ -199,7 +199,7 @@ def record_cold_problems(steps: int = 1500, seed: int = 0) -> list[tuple]:
     # every solve of the cold path as its own cold_contact_step call (the compiled loop,
     # cold_slip_step, makes the same calls inside one)
     cold_path = world_module.SubstepSolver._cold_path
-    python_loop = getattr(world_module.SubstepSolver, "_cold_path_in_python", cold_path)
+    python_loop = world_module.SubstepSolver._cold_path_in_python
 
     def record(*args):
         solved = solve(*args)

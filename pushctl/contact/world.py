@@ -259,12 +259,11 @@ class World(SubstepSolver):
         arm, old = self.arm, self._terms
         assert arm is not None and old is not None  # only called for a world with an arm
         native = arm.native_handle()
+        self.v = v_arm
         if native:  # integrate, the arm terms, the energy check and the geometry: one call
-            self.v = v_arm
             new, energy, mask = self._advance_arm_native(native, old, v_arm, h)
         else:
             self.q = arm.integrate(self.q, v_arm, h)
-            self.v = v_arm
             self._refresh_arm_terms()
             new = self._terms
             assert new is not None

@@ -3,8 +3,11 @@ same QPs through ProxSuite's Python bindings, to the bit."""
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
+
 import numpy as np
-import pytest
 
 import pushctl.planning.forces as forces
 from pushctl import native
@@ -95,18 +98,14 @@ def test_the_compiled_path_runs_where_the_library_is_in_use(monkeypatch):
     assert calls == [1]
 
 
-@pytest.mark.parametrize("setting", ["0"])
-def test_pushctl_native_0_keeps_to_the_bindings(setting):
+def test_pushctl_native_0_keeps_to_the_bindings():
     """PUSHCTL_NATIVE=0 is read once per process: a fresh process with it reports the
     bindings."""
-    import subprocess
-    import sys
-
     done = subprocess.run(
         [sys.executable, "-c", "from pushctl import native; print(native.status())"],
         capture_output=True,
         text=True,
-        env={**__import__("os").environ, "PUSHCTL_NATIVE": setting},
+        env={**os.environ, "PUSHCTL_NATIVE": "0"},
         check=True,
     )
     assert "PUSHCTL_NATIVE=0" in done.stdout
