@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 from pushctl.arm import ArmConfig, ArmModel, load_arm
 from pushctl.config import GRAVITY, PusherConfig
 from pushctl.contact.ground_field import FrictionField
-from pushctl.contact.world import World, WorldConfig
+from pushctl.contact.world import MAX_SLIP_ITERATIONS, World, WorldConfig
 from pushctl.errors import ConfigError
 from pushctl.objects import ObjectSpec, resolve_object, with_masses
 
@@ -33,6 +33,7 @@ def make_world(
     gravity: float = GRAVITY,
     friction_field: FrictionField | None = None,
     engine: str = "ours",
+    slip_iterations: int = MAX_SLIP_ITERATIONS,
 ) -> World | MujocoWorld:
     """Build a world. Every argument is validated; bad ones raise a ``ConfigError``.
 
@@ -52,11 +53,18 @@ def make_world(
     engine: ``ours`` (default: the box-friction MLCP world, a :class:`World`) or ``mujoco``
         (the same scene in MuJoCo, a :class:`pushctl.mujoco.MujocoWorld`, same interface;
         ``substeps`` are then MuJoCo steps per ``dt``; see docs/mujoco.md).
+    slip_iterations: re-solves of a step for its ground friction directions (our engine;
+        see :class:`WorldConfig`). The default, 6, is what ``results/`` was made with.
     """
     if engine not in ENGINES:
         raise ConfigError(f"unknown engine {engine!r}; choose one of {', '.join(ENGINES)}")
     config = WorldConfig(
-        dt=dt, mu_ground=mu_ground, mu_contact=mu_contact, substeps=substeps, gravity=gravity
+        dt=dt,
+        mu_ground=mu_ground,
+        mu_contact=mu_contact,
+        substeps=substeps,
+        gravity=gravity,
+        slip_iterations=slip_iterations,
     )
     if isinstance(object, ObjectSpec):
         spec = object if object_mass is None else with_masses(object, mass=object_mass)

@@ -103,8 +103,9 @@ SLIP_COS_TOLERANCE = math.cos(math.radians(5.0))
 box was built on by more than 5° gets a corrected box and the step is solved again."""
 
 MAX_SLIP_ITERATIONS = 6
-"""Re-solves of one step for its friction directions. If they have not settled by then, the
-step keeps its first solution (the boxes aligned with the velocity before the step)."""
+"""Re-solves of one step for its friction directions (``WorldConfig.slip_iterations``'s
+default). If they have not settled by then, the step keeps its first solution (the boxes
+aligned with the velocity before the step)."""
 
 _NO_CONTACTS = np.zeros((0, 5))
 _NO_GUESS = np.zeros(0)  # the guess argument of cold_contact_step without one
@@ -216,7 +217,7 @@ class SubstepSolver:
         again, until the directions agree. Without this a turning object's rotation rate
         alternated step by step between stuck and twice its true value (a lagging box is
         frictionless across the motion). Near stick–slip transitions the iteration may
-        not settle within ``MAX_SLIP_ITERATIONS``: the step then keeps its first solution,
+        not settle within ``config.slip_iterations``: the step then keeps its first solution,
         the one-step-lag model, whose friction is dissipative whatever the directions.
         """
         if self.friction_field is not None:
@@ -234,7 +235,7 @@ class SubstepSolver:
                 guess,
                 DEFAULT_TOL,
                 SLIP_COS_TOLERANCE,
-                MAX_SLIP_ITERATIONS,
+                self.config.slip_iterations,
             )  # type: ignore[call-arg]  # numba's Dispatcher hides the signature
         if status:
             stats = self.stats
@@ -287,7 +288,7 @@ class SubstepSolver:
         (status, attempt, solves, warm_starts, worst, iterations, kept, last_p, used_guess,
          pivots) = cold_slip_step(
             *inputs, *self._model, guess if has_guess else _NO_GUESS, has_guess, DEFAULT_TOL,
-            _PIVOT_BUDGET, SLIP_COS_TOLERANCE, MAX_SLIP_ITERATIONS, start, *first_args,
+            _PIVOT_BUDGET, SLIP_COS_TOLERANCE, self.config.slip_iterations, start, *first_args,
         )  # type: ignore[call-arg]  # fmt: skip
         stats = self.stats
         if solves:
@@ -323,13 +324,14 @@ class SubstepSolver:
     def _settle_slip(self, h, tau, damping, inputs, prongs, first, solution, start: int):
         """The refine-and-re-solve loop of :meth:`_substep` from loop index ``start``, in
         Python (a solve on it needed the full MLCP): returns the step's solution."""
-        for attempt in range(start, MAX_SLIP_ITERATIONS + 1):
+        max_iterations = self.config.slip_iterations
+        for attempt in range(start, max_iterations + 1):
             if not refine_slip(
                 self.object_pose, solution[2], self._support_points, self._slip_directions,
                 self._sliding, SLIP_COS_TOLERANCE,
             ):  # fmt: skip
                 break
-            if attempt == MAX_SLIP_ITERATIONS:  # not settled: keep the first solution
+            if attempt == max_iterations:  # not settled: keep the first solution
                 solution = first
                 self._start_slip_state()  # and its boxes (the velocity is still the old one)
                 self.stats.slip_unsettled += 1

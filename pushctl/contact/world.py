@@ -64,6 +64,10 @@ class WorldConfig:
     positive gap the row only acts if the step would close it: speculative contact).
     ``stabilisation`` (0, 1]: fraction of a penetration removed per (sub)step.
     ``gravity`` [m/s²]: magnitude, for the arm and the object's support loads.
+    ``slip_iterations``: re-solves of a step whose ground friction directions move (see
+    ``World._substep``); a step not settled after them keeps its first solution. 6, the
+    default, is what ``results/`` was made with; fewer is faster where objects slip
+    (docs/reproducibility-and-speed.md, *The slip loop's length*).
     """
 
     dt: float = 0.01
@@ -73,6 +77,7 @@ class WorldConfig:
     contact_margin: float = 0.01
     stabilisation: float = 0.3
     gravity: float = GRAVITY
+    slip_iterations: int = MAX_SLIP_ITERATIONS
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.dt) and self.dt > 0.0):
@@ -83,6 +88,9 @@ class WorldConfig:
                 raise ConfigError(f"{name} must be a finite number >= 0, got {value!r}")
         if not (isinstance(self.substeps, int) and self.substeps >= 1):
             raise ConfigError(f"substeps must be an integer >= 1, got {self.substeps!r}")
+        iterations = self.slip_iterations
+        if isinstance(iterations, bool) or not (isinstance(iterations, int) and iterations >= 0):
+            raise ConfigError(f"slip_iterations must be an integer >= 0, got {iterations!r}")
         if not (math.isfinite(self.contact_margin) and self.contact_margin > 0.0):
             raise ConfigError(f"contact_margin must be > 0 m, got {self.contact_margin!r}")
         if not (0.0 < self.stabilisation <= 1.0):

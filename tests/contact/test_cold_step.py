@@ -7,6 +7,7 @@ continuation included."""
 from __future__ import annotations
 
 import hashlib
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -15,6 +16,7 @@ import pushctl.contact.substep as substep_module
 from pushctl.contact.cold_step import HELD, PIVOTED, UNVERIFIED, cold_contact_step
 from pushctl.contact.kernels import apply_impulses, assemble
 from pushctl.contact.mlcp import DEFAULT_TOL, solve_box_mlcp
+from pushctl.contact.world import MAX_SLIP_ITERATIONS
 from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
 
@@ -95,14 +97,18 @@ def test_nothing_verified_leaves_it_to_the_caller(monkeypatch) -> None:
     assert result.converged and result.residual <= threshold
 
 
-def _slipping_pushes() -> tuple[str, object]:
+def _slipping_pushes(slip_iterations: int = MAX_SLIP_ITERATIONS) -> tuple[str, object]:
     """Digest of two random-action pushes on the training environment (observations,
-    rewards, traces) and the last one's WorldStats."""
+    rewards, traces) and the last one's WorldStats; the pushes' worlds with at most
+    ``slip_iterations`` re-solves a step (the resets with the default)."""
     env = PushEnv(EnvConfig(action_repeat=10, gate_threshold=0.0, duration=6.0))
     rng = np.random.default_rng(5)
     digest = hashlib.sha256()
     for seed in (0, 2):
         obs, _ = env.reset(seed=seed)
+        assert env.episode is not None
+        world = env.episode.world
+        world.config = replace(world.config, slip_iterations=slip_iterations)  # type: ignore[union-attr]
         digest.update(obs.tobytes())
         for _ in range(40):
             obs, reward, *_ = env.step(rng.uniform(-1.0, 1.0, 3).astype(np.float32))
@@ -114,11 +120,17 @@ def _slipping_pushes() -> tuple[str, object]:
     return digest.hexdigest(), env.episode.world.stats
 
 
-@pytest.mark.parametrize("pivot_budget", [None, 1])
-def test_the_compiled_cold_loop_is_the_python_loop_to_the_bit(monkeypatch, pivot_budget):
+@pytest.mark.parametrize(
+    ("pivot_budget", "slip_iterations"),
+    [(None, MAX_SLIP_ITERATIONS), (1, MAX_SLIP_ITERATIONS), (None, 2)],
+)
+def test_the_compiled_cold_loop_is_the_python_loop_to_the_bit(
+    monkeypatch, pivot_budget, slip_iterations
+):
     """cold_slip_step against the Python loop it replaces. With a budget of one pivot the
     pivoting often verifies nothing, so the ProxQP continuation runs: from the first solve
-    and from a re-solve inside the loop."""
+    and from a re-solve inside the loop. With a shorter loop (``slip_iterations`` 2) the
+    two still agree."""
     if pivot_budget is not None:
         monkeypatch.setattr(substep_module, "_PIVOT_BUDGET", pivot_budget)
     proxqp_step = substep_module.SubstepSolver._proxqp_step
@@ -129,10 +141,10 @@ def test_the_compiled_cold_loop_is_the_python_loop_to_the_bit(monkeypatch, pivot
         return proxqp_step(self, h, tau, damping, guess, pivots)
 
     monkeypatch.setattr(substep_module.SubstepSolver, "_proxqp_step", counted)
-    compiled, stats = _slipping_pushes()
+    compiled, stats = _slipping_pushes(slip_iterations)
     compiled_continuations = len(continued)
     monkeypatch.setattr(substep_module.SubstepSolver, "_cold_path", python_cold_path)
-    python, python_stats = _slipping_pushes()
+    python, python_stats = _slipping_pushes(slip_iterations)
     assert compiled == python
     assert stats == python_stats
     assert stats.slip_iterations > 50 and stats.slip_unsettled > 0  # the loop ran, both ends

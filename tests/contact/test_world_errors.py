@@ -23,6 +23,9 @@ from pushctl.errors import ConfigError, PushctlError, StateError
         ({"object_mass": -1.0}, "mass"),
         ({"armature": [0.01] * 3}, "armature"),
         ({"substeps": 0}, "substeps"),
+        ({"slip_iterations": -1}, "slip_iterations"),
+        ({"slip_iterations": 2.0}, "slip_iterations"),
+        ({"slip_iterations": True}, "slip_iterations"),
     ],
 )
 def test_make_world_rejects_bad_configuration(kwargs, fragment):

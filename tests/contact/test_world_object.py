@@ -142,3 +142,43 @@ def test_ground_friction_opposes_the_slip_after_the_step(velocity):
     assert world.stats.slip_iterations > 0 and world.stats.slip_unsettled == 0
     assert np.linalg.norm(simulated[:2] - at_new[:2]) < 0.09 * scale
     assert np.linalg.norm(simulated[:2] - at_old[:2]) > np.linalg.norm(simulated[:2] - at_new[:2])
+
+
+@pytest.mark.parametrize("iterations", [0, 1, 2])
+def test_slip_iterations_bound_the_re_solves(iterations):
+    """``slip_iterations`` caps the re-solves of each step. This first step settles after two
+    (by default at most six): capped below that it keeps the friction boxes of the velocity
+    before it (the one-step-lag model), whose friction is further from the sliding friction
+    at the new velocity; capped at two it is the default's step to the bit."""
+    from pushctl.planning.ground import sliding_friction
+
+    h, mu, velocity = 0.01, 0.3, (0.08, 0.02, 1.5)
+    pose = np.array([0.4, 0.0, 0.3])
+
+    def first_step(slip_iterations):
+        world = pushctl.make_world(
+            object="cube", arm=None, mu_ground=mu, dt=h, slip_iterations=slip_iterations
+        )
+        world.reset(object_pose=pose, object_velocity=velocity)
+        return world, world.step().object_velocity
+
+    default_world, default_after = first_step(6)
+    assert default_world.stats.slip_iterations == 2 and default_world.stats.slip_unsettled == 0
+    world, after = first_step(iterations)
+    assert world.stats.slip_iterations == iterations
+    for _ in range(30):  # sliding and spinning down: every step within the cap
+        before = world.stats.slip_iterations
+        world.step()
+        assert world.stats.slip_iterations - before <= iterations
+    if iterations == 2:
+        assert after.tobytes() == default_after.tobytes()
+        return
+    obj = world.object
+    scale = np.array([obj.mass, obj.mass, obj.inertia_z]) / h
+
+    def miss(velocity_after):  # distance to the sliding friction at the new velocity [N]
+        simulated = (velocity_after - velocity) * scale
+        at_new = sliding_friction(obj, mu, pose[None], velocity_after[None])[0]
+        return np.linalg.norm(simulated[:2] - at_new[:2])
+
+    assert miss(after) > 2 * miss(default_after)
