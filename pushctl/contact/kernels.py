@@ -310,10 +310,16 @@ def warm_contact_step(
 
 
 @njit(cache=True)
-def _kept(solve):
-    """What the world reads of a kept :func:`warm_contact_step` solve ``(p, w, residual,
-    v_arm, v_obj, forces)``: ``(residual, v_arm, v_obj, forces)``."""
-    return solve[2], solve[3], solve[4], solve[5]
+def _write(solve, last_p, next_pose, out_v_arm, out_v_obj, out_forces, out_last_p, out_pose):
+    """Write what the world reads of a kept :func:`warm_contact_step` solve ``(p, w,
+    residual, v_arm, v_obj, forces)`` (its velocities and forces), the next warm start and
+    the object's next pose into the caller's arrays; return the solve's residual."""
+    out_v_arm[:] = solve[3]
+    out_v_obj[:] = solve[4]
+    out_forces[:] = solve[5]
+    out_last_p[:] = last_p
+    out_pose[:] = next_pose
+    return solve[2]
 
 
 SLIP_SETTLED, SLIP_UNSETTLED, SLIP_WARM_FAILED = 1, 2, 3
@@ -324,7 +330,8 @@ SLIP_SETTLED, SLIP_UNSETTLED, SLIP_WARM_FAILED = 1, 2, 3
 def warm_slip_step(
     contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
     support_points, friction_limits, slip_directions, sliding, h, stabilisation, tie_break,
-    mu_contact, guess, tol, cos_tolerance, max_iterations,
+    mu_contact, guess, tol, cos_tolerance, max_iterations, out_v_arm, out_v_obj, out_forces,
+    out_last_p, out_pose,
 ):  # fmt: skip
     """``World._substep``'s solve-and-refine loop of the friction boxes, compiled, while
     every solve is a verified :func:`warm_contact_step` (the same calls in the same order as
@@ -334,24 +341,25 @@ def warm_slip_step(
     The step's friction boxes are set first (:func:`slip_state`, from ``velocity``; one
     compiled call fewer per step than calling it from Python).
 
-    Returns ``(status, solves, solution, last_p, attempt, iterations, worst, next_pose)``:
-    ``solution`` is ``(residual, v_arm, v_obj, forces)`` of the solve the step keeps
-    (see ``status``; its p and w are not returned: nothing reads them), ``last_p`` the
-    impulses of the latest verified solve (the next warm start), ``solves`` how many
-    verified solves ran, ``iterations`` the re-solves for the slip directions, ``worst``
-    the largest residual of the verified solves, ``next_pose`` (3,) the object's pose
-    after the step, ``pose + h v_obj`` with ``solution``'s velocity
-    (the semi-implicit Euler of ``World._advance_object``; ``pose`` itself when the caller
-    goes on in Python). ``status`` 0: the first warm solve failed (the boxes are as
-    :func:`slip_state` set them; ``solution`` is that failed solve); ``SLIP_SETTLED``:
-    ``solution`` is the latest solve; ``SLIP_UNSETTLED``: not settled after
-    ``max_iterations``, ``solution`` is the first solve (the caller restores its boxes);
+    Returns ``(status, solves, residual, attempt, iterations, worst)`` and writes into the
+    caller's arrays (made by ``np.empty`` in Python: numba's boxing of a returned array
+    cost more than making one and passing it in, measured): ``out_v_arm`` (nv,),
+    ``out_v_obj`` (3,) and ``out_forces`` (p, 2) [N] of the solve the step keeps (see
+    ``status``; its impulses are not written: nothing reads them) and ``residual`` is its
+    residual; ``out_last_p`` (m,) the impulses of the latest verified solve (the next warm
+    start); ``out_pose`` (3,) the object's pose after the step, ``pose + h v_obj`` with the
+    kept velocity (the semi-implicit Euler of ``World._advance_object``; ``pose`` itself
+    when the caller goes on in Python). ``solves`` counts the verified solves,
+    ``iterations`` the re-solves for the slip directions, ``worst`` is the largest
+    residual of the verified solves. ``status`` 0: the first warm solve failed (the boxes
+    are as :func:`slip_state` set them; the arrays hold that failed solve); ``SLIP_SETTLED``:
+    the kept solve is the latest; ``SLIP_UNSETTLED``: not settled after
+    ``max_iterations``, the kept solve is the first (the caller restores its boxes);
     ``SLIP_WARM_FAILED``: the boxes were refined at loop index ``attempt`` (< max) and the
-    warm re-solve from ``last_p`` failed: the caller continues the loop from there, with
-    ``solution`` (the first solve) as the one to keep if it does not settle. Each array
-    returned costs about 0.4 µs of boxing, so only these are (five, where returning the
-    kept solve's p and w as well took seven: 0.8 µs more per step, measured).
+    warm re-solve from the written ``out_last_p`` failed: the caller continues the loop
+    from there, with the kept (first) solve as the one to keep if it does not settle.
     """
+    outs = (out_v_arm, out_v_obj, out_forces, out_last_p, out_pose)
     slip_state(pose, velocity, support_points, slip_directions, sliding)
     inputs_velocity = velocity
     ok, p, w, res, va, vo, f = warm_contact_step(
@@ -361,13 +369,13 @@ def warm_slip_step(
     )  # fmt: skip
     first = (p, w, res, va, vo, f)
     if not ok:
-        return 0, 0, _kept(first), p, 0, 0, 0.0, pose
+        return 0, 0, _write(first, p, pose, *outs), 0, 0, 0.0
     last = first
     solves, iterations, worst = 1, 0, res
     for attempt in range(max_iterations + 1):
         if not refine_slip(pose, last[4], support_points, slip_directions, sliding, cos_tolerance):
-            next_pose = pose + h * last[4]
-            return SLIP_SETTLED, solves, _kept(last), last[0], attempt, iterations, worst, next_pose
+            residual = _write(last, last[0], pose + h * last[4], *outs)
+            return SLIP_SETTLED, solves, residual, attempt, iterations, worst
         if attempt == max_iterations:
             break
         iterations += 1
@@ -377,11 +385,10 @@ def warm_slip_step(
             stabilisation, tie_break, mu_contact, last[0], tol,
         )  # fmt: skip
         if not ok:
-            kept, last_p = _kept(first), last[0]
-            return SLIP_WARM_FAILED, solves, kept, last_p, attempt, iterations - 1, worst, pose
+            residual = _write(first, last[0], pose, *outs)
+            return SLIP_WARM_FAILED, solves, residual, attempt, iterations - 1, worst
         last = (p, w, res, va, vo, f)
         solves += 1
         worst = max(worst, res)
-    next_pose = pose + h * first[4]  # the step keeps its first solution
-    kept, last_p = _kept(first), last[0]
-    return SLIP_UNSETTLED, solves, kept, last_p, max_iterations, iterations, worst, next_pose
+    residual = _write(first, last[0], pose + h * first[4], *outs)  # the step keeps its first
+    return SLIP_UNSETTLED, solves, residual, max_iterations, iterations, worst

@@ -36,66 +36,70 @@ def arm_moved(
 
 @njit(cache=True)
 def native_arm_moved(
-    handle, q, v_new, h, prongs, pusher, ledger, M_old, nle_old, g_old, edges, pose, margin
+    handle, q, v_new, h, prongs, pusher, ledger, M_old, nle_old, g_old, edges, pose, margin,
+    q_new, M, nle, g, prong_positions, prong_jacobians, pusher_position, pusher_rotation,
+    pusher_jacobian, geometry, gaps,
 ):  # fmt: skip  # pragma: no cover - compiled
     """The arm's whole step end in one compiled call, through pushctl's compiled library
     (:mod:`pushctl.native`): ``q`` moved by ``v_new`` for ``h`` (``ArmModel.integrate``),
     the arm terms at the new state (``ArmModel.compute``, frames ``prongs`` and ``pusher``),
     then :func:`arm_moved`. The same library calls and arithmetic as those three calls from
-    Python, so the same bits. Returns ``(q_new, terms, ledger, energy, geometry, gaps,
-    mask)``, ``terms`` the eight arrays of an :class:`~pushctl.arm.ArmTerms`."""
-    q_new, terms, nominal = _moved_terms(handle, q, v_new, h, prongs, pusher, -1)
-    ledger, energy = coriolis_energy_error(ledger, v_new, M_old, nle_old, g_old, terms[0], h)
-    geometry, gaps, mask = prong_geometry(edges, pose, terms[3], margin)
-    return q_new, terms, ledger, energy, geometry, gaps, mask
+    Python, so the same bits.
+
+    Writes into the arrays the caller passes (``q_new`` (nq,), the eight of an
+    :class:`~pushctl.arm.ArmTerms` and ``geometry`` (k, 5), ``gaps`` (k,)) instead of
+    returning new ones: numba's boxing of a returned array cost about 0.4–0.8 µs each, an
+    array made by ``np.empty`` in Python and passed in about 0.25 (eleven a step; measured
+    in ``python -m pushctl.bench.compare``). Returns ``(ledger, energy, contacts, mask)``:
+    the first ``contacts`` rows of ``geometry`` are the prongs in contact."""
+    _moved_terms(
+        handle, q, v_new, h, prongs, pusher, -1, q_new, M, nle, g, prong_positions,
+        prong_jacobians, pusher_position, pusher_rotation, pusher_jacobian, np.empty(0),
+        np.empty((0, 3)), np.empty((0, M.shape[0])),
+    )  # fmt: skip
+    ledger, energy = coriolis_energy_error(ledger, v_new, M_old, nle_old, g_old, M, h)
+    contacts, mask = prong_geometry_into(edges, pose, prong_positions, margin, geometry, gaps)
+    return ledger, energy, contacts, mask
 
 
 @njit(cache=True)
 def native_arm_moved_nominal(
     handle, q, v_new, h, prongs, pusher, nominal, ledger, M_old, nle_old, g_old, edges, pose,
-    margin,
+    margin, q_new, M, nle, g, prong_positions, prong_jacobians, pusher_position,
+    pusher_rotation, pusher_jacobian, nominal_position, nominal_rotation, nominal_jacobian,
+    geometry, gaps,
 ):  # fmt: skip  # pragma: no cover - compiled
     """:func:`native_arm_moved` for an arm whose frame ``nominal`` (the nominal pusher) is
-    placed in the same pass: its position, rotation and Jacobian follow ``terms``."""
-    q_new, terms, nominal_frame = _moved_terms(handle, q, v_new, h, prongs, pusher, nominal)
-    ledger, energy = coriolis_energy_error(ledger, v_new, M_old, nle_old, g_old, terms[0], h)
-    geometry, gaps, mask = prong_geometry(edges, pose, terms[3], margin)
-    return q_new, terms, nominal_frame, ledger, energy, geometry, gaps, mask
+    placed in the same pass: its position (3,), rotation (3, 3) and Jacobian (6, nv) are
+    written too."""
+    _moved_terms(
+        handle, q, v_new, h, prongs, pusher, nominal, q_new, M, nle, g, prong_positions,
+        prong_jacobians, pusher_position, pusher_rotation, pusher_jacobian, nominal_position,
+        nominal_rotation, nominal_jacobian,
+    )  # fmt: skip
+    ledger, energy = coriolis_energy_error(ledger, v_new, M_old, nle_old, g_old, M, h)
+    contacts, mask = prong_geometry_into(edges, pose, prong_positions, margin, geometry, gaps)
+    return ledger, energy, contacts, mask
 
 
 @njit(cache=True)
-def _moved_terms(handle, q, v_new, h, prongs, pusher, nominal):  # pragma: no cover
-    """q⁺ and the library's pass at (q⁺, v⁺): ``pushctl.native.arm_kernels._terms``'s
-    arrays (repeated here: numba's cache does not follow calls into another file)."""
+def _moved_terms(
+    handle, q, v_new, h, prongs, pusher, nominal, q_new, M, nle, g, prong_positions,
+    prong_jacobians, pusher_position, pusher_rotation, pusher_jacobian, nominal_position,
+    nominal_rotation, nominal_jacobian,
+):  # fmt: skip  # pragma: no cover - compiled
+    """q⁺ into ``q_new`` and the library's pass at (q⁺, v⁺) into the arrays after it (the
+    nominal frame's empty when ``nominal`` is −1): ``pushctl.native.arm_kernels._terms``'s
+    calls (repeated here: numba's cache does not follow calls into another file)."""
     q = np.ascontiguousarray(q)
     v = np.ascontiguousarray(v_new)
-    nv = v.size
-    k = prongs.size
-    q_new = np.empty(q.size)
     _arm_integrate(handle, q.ctypes, v.ctypes, h, q_new.ctypes)
-    M = np.empty((nv, nv))
-    nle = np.empty(nv)
-    g = np.empty(nv)
-    prong_positions = np.empty((k, 3))
-    prong_jacobians = np.empty((k, 3, nv))
-    pusher_position = np.empty(3)
-    pusher_rotation = np.empty((3, 3))
-    pusher_jacobian = np.empty((6, nv))
-    rows = 1 if nominal >= 0 else 0
-    nominal_position = np.empty(3 * rows)
-    nominal_rotation = np.empty((3 * rows, 3))
-    nominal_jacobian = np.empty((6 * rows, nv))
     _arm_terms(
-        handle, q_new.ctypes, v.ctypes, k, prongs.ctypes, pusher, nominal,
+        handle, q_new.ctypes, v.ctypes, prongs.size, prongs.ctypes, pusher, nominal,
         M.ctypes, nle.ctypes, g.ctypes, prong_positions.ctypes, prong_jacobians.ctypes,
         pusher_position.ctypes, pusher_rotation.ctypes, pusher_jacobian.ctypes,
         nominal_position.ctypes, nominal_rotation.ctypes, nominal_jacobian.ctypes,
     )  # fmt: skip
-    terms = (
-        M, nle, g, prong_positions, prong_jacobians, pusher_position, pusher_rotation,
-        pusher_jacobian,
-    )  # fmt: skip
-    return q_new, terms, (nominal_position, nominal_rotation, nominal_jacobian)
 
 
 @njit(cache=True)
@@ -115,11 +119,19 @@ def prong_geometry(edges, pose, prong_positions, margin):
     """The geometry (p, 5) of the prongs nearer than ``margin`` (see :func:`prong_contacts`),
     every prong's gap (k,) and the bit mask of the prongs in contact, in one compiled call:
     the same arithmetic as :meth:`ConvexPolygon.query`, per prong."""
+    k = prong_positions.shape[0]
+    geometry, gaps = np.empty((k, 5)), np.empty(k)
+    contacts, mask = prong_geometry_into(edges, pose, prong_positions, margin, geometry, gaps)
+    return geometry[:contacts].copy(), gaps, mask
+
+
+@njit(cache=True)
+def prong_geometry_into(edges, pose, prong_positions, margin, geometry, gaps):
+    """:func:`prong_geometry` into ``geometry`` (k, 5) and ``gaps`` (k,): returns (the
+    number p of prongs in contact, whose rows come first in ``geometry``, the mask)."""
     x0, y0, theta = pose[0], pose[1], pose[2]
     c, s = math.cos(theta), math.sin(theta)
     k = prong_positions.shape[0]
-    geometry = np.empty((k, 5))
-    gaps = np.empty(k)
     for i in range(k):
         px, py = prong_positions[i, 0] - x0, prong_positions[i, 1] - y0
         gap, n_lx, n_ly, cl_x, cl_y = _query(edges, c * px + s * py, -s * px + c * py)
@@ -135,7 +147,7 @@ def prong_geometry(edges, pose, prong_positions, margin):
             mask |= 1 << i
             geometry[p] = geometry[i]
             p += 1
-    return geometry[:p].copy(), gaps, mask
+    return p, mask
 
 
 @njit(cache=True)

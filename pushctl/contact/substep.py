@@ -131,6 +131,7 @@ class SubstepSolver:
     _prongs: tuple[int, ...]
     _contacts: np.ndarray
     _n_prongs: int
+    _nv: int
     _M_obj_inv: np.ndarray
     _support_points: np.ndarray
     _friction_limits: np.ndarray
@@ -229,14 +230,15 @@ class SubstepSolver:
             slip_state(self.object_pose, self.object_velocity, self._support_points,
                        self._slip_directions, self._sliding)  # fmt: skip
         else:  # the common case: the whole loop in one compiled call
-            status, solves, solved, last_p, attempt, iterations, worst, pose = warm_slip_step(
-                *inputs,
-                *self._model,
-                guess,
-                DEFAULT_TOL,
-                SLIP_COS_TOLERANCE,
-                self.config.slip_iterations,
-            )  # type: ignore[call-arg]  # numba's Dispatcher hides the signature
+            # its outputs, made here: numba's boxing of returned arrays cost more
+            empty = np.empty
+            v_arm, v_obj = empty(self._nv), empty(3)
+            contact_forces, last_p = empty((len(prongs), 2)), empty(guess.size)
+            pose = empty(3)
+            status, solves, residual, attempt, iterations, worst = warm_slip_step(
+                *inputs, *self._model, guess, DEFAULT_TOL, SLIP_COS_TOLERANCE,
+                self.config.slip_iterations, v_arm, v_obj, contact_forces, last_p, pose,
+            )  # type: ignore[call-arg]  # fmt: skip  # numba's Dispatcher hides the signature
         if status:
             stats = self.stats
             stats.solves += solves
@@ -249,12 +251,11 @@ class SubstepSolver:
             if status == SLIP_UNSETTLED:  # the step keeps its first solution and its boxes
                 self._start_slip_state()
                 self.stats.slip_unsettled += 1
-            residual, v_arm, v_obj, contact_forces = solved
             converged, n_iterations = True, 0
             self.object_velocity, self.object_pose = v_obj, pose
         else:
             if status == SLIP_WARM_FAILED:
-                first: tuple | None = _warm_solution(solved)
+                first: tuple | None = (WarmSolve(residual), v_arm, v_obj, contact_forces)
                 self.stats.slip_iterations += 1
                 # (the same warm active set fails again in the cold path: no bits change)
                 guess, start = last_p, attempt + 1
@@ -396,10 +397,3 @@ class WarmSolve(NamedTuple):
     residual: float
     converged: bool = True
     iterations: int = 0
-
-
-def _warm_solution(solved: tuple) -> tuple:
-    """(WarmSolve, v_arm, v_obj, forces) of a verified compiled warm solve's
-    ``(residual, v_arm, v_obj, forces)``."""
-    residual, v_arm, v_obj, forces = solved
-    return WarmSolve(residual), v_arm, v_obj, forces

@@ -293,21 +293,29 @@ class World(SubstepSolver):
     def _advance_arm_native(self, handle: int, old: ArmTerms, v_arm: np.ndarray, h: float):
         """:meth:`_advance_arm`'s integration, arm terms, energy check and geometry as one
         call into the arm terms' library (:func:`native_arm_moved`: the same bits as the
-        calls it replaces). Sets q, the terms, the ledger, the contacts and the gaps;
-        returns (the new terms, their kinetic energy [J], the contact mask)."""
+        calls it replaces), into arrays made here. Sets q, the terms, the ledger, the
+        contacts and the gaps; returns (the new terms, their kinetic energy [J], the
+        contact mask)."""
         arm = self.arm
         assert arm is not None
+        empty, nv, k = np.empty, self._nv, self._n_prongs
+        q = empty(self.q.size)
+        terms = (empty((nv, nv)), empty(nv), empty(nv), empty((k, 3)), empty((k, 3, nv)),
+                 empty(3), empty((3, 3)), empty((6, nv)))  # fmt: skip
+        geometry, gaps = empty((k, 5)), empty(k)
         common = (handle, self.q, v_arm, h, arm.prong_frames, arm.pusher_frame_id)
         tail = (self._energy_ledger, old.M, old.nle, old.g, self._edges, self.object_pose,
-                self.config.contact_margin)  # fmt: skip
+                self.config.contact_margin, q, *terms)  # fmt: skip
         if arm.nominal_frame < 0:
-            q, terms, ledger, energy, contacts, gaps, mask = native_arm_moved(*common, *tail)
+            ledger, energy, contacts, mask = native_arm_moved(*common, *tail, geometry, gaps)
         else:
-            q, terms, nominal, ledger, energy, contacts, gaps, mask = native_arm_moved_nominal(
-                *common, arm.nominal_frame, *tail
+            nominal = (empty(3), empty((3, 3)), empty((6, nv)))
+            ledger, energy, contacts, mask = native_arm_moved_nominal(
+                *common, arm.nominal_frame, *tail, *nominal, geometry, gaps
             )
             arm.record_nominal_pass(terms[-1], nominal)
-        self.q, self._energy_ledger, self._contacts, self._gaps = q, ledger, contacts, gaps
+        self.q, self._energy_ledger, self._gaps = q, ledger, gaps
+        self._contacts = geometry if contacts == k else geometry[:contacts]
         self._terms = new = ArmTerms(*terms)
         return new, energy, mask
 

@@ -108,7 +108,7 @@ def test_compiled_slip_loop_matches_the_python_loop_bit_for_bit(monkeypatch):
     def never(*args):  # the kernel's first warm solve fails: only the boxes are set
         pose, velocity, model = args[7], args[8], substep_module.ContactModel(*args[9:18])
         slip_state(pose, velocity, model.support_points, model.slip_directions, model.sliding)
-        return (0, 0, None, None, 0, 0, 0.0, pose)  # status 0: nothing else is read
+        return (0, 0, 0.0, 0, 0, 0.0)  # status 0: nothing else is read
 
     monkeypatch.setattr(substep_module, "warm_slip_step", never)
     monkeypatch.setattr(world_module.World, "_solve_step", python_solve)
