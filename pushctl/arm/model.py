@@ -335,13 +335,17 @@ class ArmModel:
         )
 
     def _compute_native(self, handle: int, q: np.ndarray, v: np.ndarray) -> ArmTerms:
-        """:meth:`compute` through the library: one compiled call, fresh arrays."""
+        """:meth:`compute` through the library: one compiled call into fresh arrays."""
+        empty, nv, k = np.empty, self.nv, len(self.prong_frame_ids)
+        terms = (empty((nv, nv)), empty(nv), empty(nv), empty((k, 3)), empty((k, 3, nv)),
+                 empty(3), empty((3, 3)), empty((6, nv)))  # fmt: skip
+        frames = (handle, q, v, self.prong_frames, self.pusher_frame_id)
         if self.nominal_frame < 0:
-            return ArmTerms(*native_terms(handle, q, v, self.prong_frames, self.pusher_frame_id))
-        terms, nominal = native_terms_nominal(
-            handle, q, v, self.prong_frames, self.pusher_frame_id, self.nominal_frame
-        )
-        self.record_nominal_pass(terms[-1], nominal)
+            native_terms(*frames, *terms)
+        else:
+            nominal = (empty(3), empty((3, 3)), empty((6, nv)))
+            native_terms_nominal(*frames, self.nominal_frame, *terms, *nominal)
+            self.record_nominal_pass(terms[-1], nominal)
         return ArmTerms(*terms)
 
     def nominal_pusher(self, terms: ArmTerms) -> PusherFrame | None:

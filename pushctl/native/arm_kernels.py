@@ -2,7 +2,7 @@
 :func:`native_terms_nominal` call the library's ``pushctl_arm_terms`` (``arm_terms.cpp``)
 by its symbol; ``pushctl.contact.step_end`` calls it and ``pushctl_arm_integrate`` too.
 
-The pass lives in ``_terms``; its two callers differ only in what they return (the nominal
+The pass lives in ``_terms``; its two callers differ only in what they write (the nominal
 pusher's frame or not). Declaring a symbol needs nothing; compiling or loading a kernel
 that calls it needs the library loaded first (:func:`pushctl.native.available`), which
 is why these are called only by code that holds a :class:`~pushctl.native.NativeArm`.
@@ -30,51 +30,50 @@ _arm_integrate = types.ExternalFunction(
 
 
 @njit(cache=True)
-def native_terms(handle, q, v, prongs, pusher):  # pragma: no cover - compiled
+def native_terms(
+    handle, q, v, prongs, pusher, M, nle, g, prong_positions, prong_jacobians, pusher_position,
+    pusher_rotation, pusher_jacobian,
+):  # fmt: skip  # pragma: no cover - compiled
     """Arm terms at (q (nq,), v (nv,)) [rad, rad/s] of the model at ``handle``, its frames
-    ``prongs`` (k,) int64 and ``pusher``. Returns fresh arrays: M (nv, nv), nle (nv,),
-    g (nv,), prong positions (k, 3), prong Jacobians (k, 3, nv), pusher position (3,),
-    rotation (3, 3), Jacobian (6, nv); units as in :class:`~pushctl.arm.ArmTerms`.
+    ``prongs`` (k,) int64 and ``pusher``, written into the caller's arrays: M (nv, nv),
+    nle (nv,), g (nv,), prong positions (k, 3), prong Jacobians (k, 3, nv), pusher position
+    (3,), rotation (3, 3), Jacobian (6, nv); units as in :class:`~pushctl.arm.ArmTerms`.
 
-    Eight arrays, not eleven with the nominal pusher's empty ones: each returned array
-    costs about half a microsecond of boxing (measured)."""
-    terms, nominal = _terms(handle, q, v, prongs, pusher, -1)
-    return terms
+    Written into arrays made by ``np.empty`` in Python, not returned: numba's boxing of a
+    returned array cost more than making one and passing it in (measured)."""
+    _terms(
+        handle, q, v, prongs, pusher, -1, M, nle, g, prong_positions, prong_jacobians,
+        pusher_position, pusher_rotation, pusher_jacobian, np.empty(0), np.empty((0, 3)),
+        np.empty((0, M.shape[0])),
+    )  # fmt: skip
 
 
 @njit(cache=True)
-def native_terms_nominal(handle, q, v, prongs, pusher, nominal):  # pragma: no cover
+def native_terms_nominal(
+    handle, q, v, prongs, pusher, nominal, M, nle, g, prong_positions, prong_jacobians,
+    pusher_position, pusher_rotation, pusher_jacobian, nominal_position, nominal_rotation,
+    nominal_jacobian,
+):  # fmt: skip  # pragma: no cover - compiled
     """:func:`native_terms` and the frame ``nominal``'s position (3,), rotation (3, 3) and
-    Jacobian (6, nv): a tuple of the eight, then a tuple of those three."""
-    return _terms(handle, q, v, prongs, pusher, nominal)
+    Jacobian (6, nv), written into the three arrays after the eight."""
+    _terms(
+        handle, q, v, prongs, pusher, nominal, M, nle, g, prong_positions, prong_jacobians,
+        pusher_position, pusher_rotation, pusher_jacobian, nominal_position, nominal_rotation,
+        nominal_jacobian,
+    )  # fmt: skip
 
 
 @njit(cache=True)
-def _terms(handle, q, v, prongs, pusher, nominal):  # pragma: no cover - compiled
+def _terms(
+    handle, q, v, prongs, pusher, nominal, M, nle, g, prong_positions, prong_jacobians,
+    pusher_position, pusher_rotation, pusher_jacobian, nominal_position, nominal_rotation,
+    nominal_jacobian,
+):  # fmt: skip  # pragma: no cover - compiled
     q = np.ascontiguousarray(q).astype(np.float64)  # the library reads raw float64 memory
     v = np.ascontiguousarray(v).astype(np.float64)
-    nv = v.size
-    k = prongs.size
-    M = np.empty((nv, nv))
-    nle = np.empty(nv)
-    g = np.empty(nv)
-    prong_positions = np.empty((k, 3))
-    prong_jacobians = np.empty((k, 3, nv))
-    pusher_position = np.empty(3)
-    pusher_rotation = np.empty((3, 3))
-    pusher_jacobian = np.empty((6, nv))
-    rows = 1 if nominal >= 0 else 0
-    nominal_position = np.empty(3 * rows)
-    nominal_rotation = np.empty((3 * rows, 3))
-    nominal_jacobian = np.empty((6 * rows, nv))
     _arm_terms(
-        handle, q.ctypes, v.ctypes, k, prongs.ctypes, pusher, nominal,
+        handle, q.ctypes, v.ctypes, prongs.size, prongs.ctypes, pusher, nominal,
         M.ctypes, nle.ctypes, g.ctypes, prong_positions.ctypes, prong_jacobians.ctypes,
         pusher_position.ctypes, pusher_rotation.ctypes, pusher_jacobian.ctypes,
         nominal_position.ctypes, nominal_rotation.ctypes, nominal_jacobian.ctypes,
     )  # fmt: skip
-    terms = (
-        M, nle, g, prong_positions, prong_jacobians, pusher_position, pusher_rotation,
-        pusher_jacobian,
-    )  # fmt: skip
-    return terms, (nominal_position, nominal_rotation, nominal_jacobian)
