@@ -10,17 +10,21 @@ The stable Python API (docs/model.md):
       env = gym.make("pushctl/Push-v0")
 """
 
-from pushctl.contact.build import make_world
-from pushctl.contact.mlcp import MLCPResult, solve_box_mlcp
-from pushctl.contact.world import StepResult, World, WorldConfig
-from pushctl.errors import ConfigError, MLCPInputError, PushctlError, StateError
+from pushctl.kernel_cache import drop_stale
+
+drop_stale()  # before any kernel loads: numba's cache does not follow calls across files
+
+from pushctl.contact.build import make_world  # noqa: E402
+from pushctl.contact.mlcp import MLCPResult, solve_box_mlcp  # noqa: E402
+from pushctl.contact.world import StepResult, World, WorldConfig  # noqa: E402
+from pushctl.errors import ConfigError, MLCPInputError, PushctlError, StateError  # noqa: E402
 
 # Importing pushctl.rl registers "pushctl/Push-v0" with a string entry point, so neither the
 # environment module nor torch loads until gymnasium.make. Registration at import is what
 # Gymnasium's own plugin packages do (ale_py, shimmy): Gymnasium 1.0 removed the entry-point
 # plugin loader ("gymnasium.envs" group), so pyproject.toml declares none. Without an import,
 # gymnasium.make("pushctl:pushctl/Push-v0") imports pushctl first (Gymnasium's module prefix).
-from pushctl.rl import ENV_ID
+from pushctl.rl import ENV_ID  # noqa: E402
 
 __version__ = "0.1.0"
 

@@ -28,6 +28,7 @@ TOP_LEVEL = {
     "toml_files.py",
     "proxqp_build.py",  # ProxQP from its portable build, for planning and contact alike
     "machine.py",  # the kind of machine a run's last bits belong to (its manifest says)
+    "kernel_cache.py",  # numba's cached kernels dropped when a file they compile in changed
 }
 
 # Layer of each subpackage (and of the few modules that sit above their package's layer):
@@ -62,6 +63,7 @@ LAYERS = {
     "pushctl.toml_files": 0,
     "pushctl.proxqp_build": 0,
     "pushctl.machine": 0,
+    "pushctl.kernel_cache": 0,
 }
 
 
