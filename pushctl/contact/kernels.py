@@ -9,7 +9,9 @@ compiled once and cached on disk (``cache=True``).
 
 Every compiled function, and every constant they read, lives in this one file: numba's disk
 cache is invalidated per source file and does not follow calls or globals into other files,
-so a kernel calling a kernel elsewhere could run stale code after an edit.
+so a kernel calling a kernel elsewhere could run stale code after an edit. Where a file
+does call another's (:mod:`pushctl.contact.cold_step` calls these), :mod:`pushctl.kernel_cache`
+drops its cached kernels at import once a file it imports from has changed.
 
 The step's kernels (:func:`assemble`, :func:`warm_contact_step`, :func:`warm_slip_step`)
 take the step's state and then the world's contact model, named by
