@@ -391,7 +391,7 @@ class SubstepSolver:
 
 class WarmSolve(NamedTuple):
     """What the step reads of a verified compiled warm solve it may keep (its impulses are
-    not returned by :func:`warm_slip_step`): the fields of an :class:`MLCPResult` that
+    not written by :func:`warm_slip_step`): the fields of an :class:`MLCPResult` that
     :meth:`SubstepSolver._substep` reads."""
 
     residual: float

@@ -66,8 +66,9 @@ class WorldConfig:
     ``gravity`` [m/s²]: magnitude, for the arm and the object's support loads.
     ``slip_iterations``: re-solves of a step whose ground friction directions move (see
     ``World._substep``); a step not settled after them keeps its first solution. 6, the
-    default, is what ``results/`` was made with; fewer is faster where objects slip
-    (docs/reproducibility-and-speed.md, *The slip loop's length*).
+    default, is what ``results/`` was made with; fewer saves solves where objects slip, but
+    under a tenth of a training push step's time (docs/reproducibility-and-speed.md, *The
+    slip loop's length*).
     """
 
     dt: float = 0.01
