@@ -116,6 +116,11 @@ class ArmTerms(NamedTuple):
 
 
 _WORLD_ALIGNED = pin.LOCAL_WORLD_ALIGNED
+
+TermArrays = tuple[
+    np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray
+]
+"""The eight arrays of an :class:`ArmTerms`, in its field order (:meth:`ArmModel.empty_terms`)."""
 _jacobian = pin.getFrameJacobian  # hot path: no attribute lookup
 _DATA_VIEWS = (
     "_data_M", "_data_nle", "_data_g", "_pusher_placement", "_prong_placements", "_native"
@@ -336,17 +341,29 @@ class ArmModel:
 
     def _compute_native(self, handle: int, q: np.ndarray, v: np.ndarray) -> ArmTerms:
         """:meth:`compute` through the library: one compiled call into fresh arrays."""
-        empty, nv, k = np.empty, self.nv, len(self.prong_frame_ids)
-        terms = (empty((nv, nv)), empty(nv), empty(nv), empty((k, 3)), empty((k, 3, nv)),
-                 empty(3), empty((3, 3)), empty((6, nv)))  # fmt: skip
+        terms = self.empty_terms()
         frames = (handle, q, v, self.prong_frames, self.pusher_frame_id)
         if self.nominal_frame < 0:
             native_terms(*frames, *terms)
         else:
-            nominal = (empty(3), empty((3, 3)), empty((6, nv)))
+            nominal = self.empty_nominal()
             native_terms_nominal(*frames, self.nominal_frame, *terms, *nominal)
             self.record_nominal_pass(terms[-1], nominal)
         return ArmTerms(*terms)
+
+    def empty_terms(self) -> TermArrays:
+        """Eight new uninitialised arrays for a compiled pass to write an :class:`ArmTerms`
+        into, in its field order: M (nv, nv), nle (nv,), g (nv,), prong positions (k, 3),
+        prong Jacobians (k, 3, nv), pusher position (3,), rotation (3, 3), Jacobian
+        (6, nv). Made in Python: numba's boxing of returned arrays costs more."""
+        empty, nv, k = np.empty, self.nv, self.prong_frames.size
+        return (empty((nv, nv)), empty(nv), empty(nv), empty((k, 3)), empty((k, 3, nv)),
+                empty(3), empty((3, 3)), empty((6, nv)))  # fmt: skip
+
+    def empty_nominal(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """New arrays for the nominal pusher frame a compiled pass writes: position (3,),
+        rotation (3, 3), Jacobian (6, nv)."""
+        return np.empty(3), np.empty((3, 3)), np.empty((6, self.nv))
 
     def nominal_pusher(self, terms: ArmTerms) -> PusherFrame | None:
         """Where the pusher frame would be without the plate's mounting yaw (the nominal

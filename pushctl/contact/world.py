@@ -299,18 +299,16 @@ class World(SubstepSolver):
         contact mask)."""
         arm = self.arm
         assert arm is not None
-        empty, nv, k = np.empty, self._nv, self._n_prongs
-        q = empty(self.q.size)
-        terms = (empty((nv, nv)), empty(nv), empty(nv), empty((k, 3)), empty((k, 3, nv)),
-                 empty(3), empty((3, 3)), empty((6, nv)))  # fmt: skip
-        geometry, gaps = empty((k, 5)), empty(k)
+        k = self._n_prongs
+        q, terms = np.empty(self.q.size), arm.empty_terms()
+        geometry, gaps = np.empty((k, 5)), np.empty(k)
         common = (handle, self.q, v_arm, h, arm.prong_frames, arm.pusher_frame_id)
         tail = (self._energy_ledger, old.M, old.nle, old.g, self._edges, self.object_pose,
                 self.config.contact_margin, q, *terms)  # fmt: skip
         if arm.nominal_frame < 0:
             ledger, energy, contacts, mask = native_arm_moved(*common, *tail, geometry, gaps)
         else:
-            nominal = (empty(3), empty((3, 3)), empty((6, nv)))
+            nominal = arm.empty_nominal()
             ledger, energy, contacts, mask = native_arm_moved_nominal(
                 *common, arm.nominal_frame, *tail, *nominal, geometry, gaps
             )
