@@ -3,6 +3,7 @@ training files, and a manifest written whether the steps succeed or fail."""
 
 from __future__ import annotations
 
+import gzip
 import sys
 from dataclasses import replace
 from pathlib import Path
@@ -191,6 +192,8 @@ def test_a_tiny_reproduction_times_every_stage(
     manifest = (setup.results / MANIFEST).read_text()
     assert "## Budgets" in manifest and "budgets met" in manifest
     assert "this run: preset" in manifest
+    steps = setup.results / "evaluation" / "steps.csv"
+    assert gzip.decompress(steps.with_name("steps.csv.gz").read_bytes()) == steps.read_bytes()
 
 
 def test_the_manifest_names_the_command_that_gave_the_setup() -> None:
@@ -206,3 +209,44 @@ def test_the_manifest_names_the_command_that_gave_the_setup() -> None:
         "python -m pushctl.cli.reproduce --preset quick --force",
     )
     assert _commands(replace(FULL, seeds=(0,)))[0] == "make reproduce-tables SEEDS=0"
+
+
+def test_the_steps_are_compressed_from_this_run_s_file_to_the_same_bytes_each_time(
+    tmp_path: Path,
+) -> None:
+    setup = replace(QUICK, results=tmp_path / "results")
+    steps = setup.results / "evaluation" / "steps.csv"
+    steps.parent.mkdir(parents=True)
+    stale = steps.with_name("steps.csv.gz")
+    stale.write_bytes(gzip.compress(b"# made by: an earlier run\n"))
+    steps.write_text("# made by: this run\nobject,step\n" + "cube,1\n" * 1000)
+    assert reproduce.compress_steps(setup) == stale
+    first = stale.read_bytes()
+    assert gzip.decompress(first) == steps.read_bytes()
+    assert len(first) < steps.stat().st_size / 10
+    reproduce.compress_steps(setup)  # no name or time in the header: the same bytes
+    assert stale.read_bytes() == first
+    assert sorted(p.name for p in steps.parent.iterdir()) == ["steps.csv", "steps.csv.gz"]
+
+
+def test_every_shipped_file_of_the_reproduction_names_its_commit() -> None:
+    """Each file ``make reproduce-tables`` wrote into the shipped ``results/`` (the tables,
+    trials, per-step means, curves, bench) names the commit of ``results/provenance.md``:
+    none is left over from an earlier run (a hand-compressed ``steps.csv.gz`` once was)."""
+    import re
+
+    results = Path(__file__).resolve().parents[2] / "results"
+    manifest = (results / MANIFEST).read_text()
+    commit = re.search(r"commit ([0-9a-f]{7,})", manifest)
+    assert commit is not None
+    made_here = [
+        *(results / name for name in ("table3.csv", "table4.csv", "behaviour.csv", "bench.csv")),
+        results / "evaluation" / "trials.csv",
+        results / "evaluation" / "steps.csv.gz",
+        *sorted((results / "training").rglob("*.csv")),
+    ]
+    for path in made_here:
+        raw = path.read_bytes()
+        head = (gzip.decompress(raw) if path.suffix == ".gz" else raw)[:4000].decode()
+        assert head.startswith("# made by:"), path
+        assert f"commit {commit.group(1)}" in head.splitlines()[0], path
