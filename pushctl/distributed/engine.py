@@ -3,8 +3,8 @@
 A *session* (:func:`session`) connects this process to Ray once: to the cluster at
 ``address`` (or ``RAY_ADDRESS``), else to a local instance started on this machine's cores
 with no dashboard and warnings only (on a 2-core laptop Ray's own processes should cost
-little). A session opened inside another (a test's, a command's) reuses it and leaves it
-running.
+little), whose workers run at the command's own priority (:data:`WORKER_NICENESS`). A
+session opened inside another (a test's, a command's) reuses it and leaves it running.
 
 A :class:`WorkerPool` is ``n`` Ray actors, each holding one object built from a factory
 (an evaluation context, a training collector), so that per-process set-up (environments,
@@ -33,6 +33,13 @@ CONNECT_TIMEOUT = 5.0
 LOCAL_OBJECT_STORE = 256 * 1024**2
 """Object-store bytes of a local instance: results here are episodes' transitions and trial
 rows (kilobytes to a few MB), and Ray's default (30 % of the RAM) only reserves /dev/shm."""
+WORKER_NICENESS = 0
+"""How much lower than this process's priority a local instance's workers run (Ray's
+``worker_niceness``, an increment to the niceness they inherit). Ray's default, 15, keeps a
+cluster's driver responsive; here the workers do all of a command's work while the driver
+waits, and at 15 any process of normal priority on the machine took about 28 times their
+share of a core it wanted (docs/ray.md, *Ray on a laptop*). At 0 they run at the priority of
+the command that started them: ``nice pushctl train`` still runs it all niced."""
 AHEAD = 4
 """Items per worker that :meth:`WorkerPool.ordered` lets run, or wait finished, beyond the
 first result not yet yielded."""
@@ -80,6 +87,7 @@ def connect(address: str | None = None, num_cpus: int | None = None) -> None:
         num_cpus=num_cpus or os.cpu_count() or 1,
         include_dashboard=False,
         object_store_memory=LOCAL_OBJECT_STORE,
+        _system_config={"worker_niceness": WORKER_NICENESS},
         **quiet,
     )
 

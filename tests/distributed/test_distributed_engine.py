@@ -1,5 +1,6 @@
 """The worker pool: results in input order, a worker killed with SIGKILL restarted and the
-calls sent to it run again, and the CPU share of more workers than cores."""
+calls sent to it run again, the CPU share of more workers than cores, and the workers'
+priority."""
 
 from __future__ import annotations
 
@@ -47,3 +48,10 @@ def test_a_killed_worker_is_restarted_and_its_calls_rerun(ray_local: None) -> No
 def test_more_workers_than_cores_share_them(ray_local: None) -> None:
     assert cpus_per_worker(1) == 1.0
     assert cpus_per_worker(8) == 0.25  # the test instance has 2 CPUs
+
+
+def test_local_workers_run_at_the_priority_of_the_command(ray_local: None) -> None:
+    # Ray's default would renice them by 15 (a command at 0 gets workers at 15), so that any
+    # process of normal priority took nearly all of a core they shared.
+    with WorkerPool(2, importlib.import_module, ("os",)) as pool:
+        assert list(pool.ordered("nice", [0, 0])) == [os.nice(0)] * 2
