@@ -111,7 +111,9 @@ def rl_rows(preset_name: str = "paper", updates: int = 300) -> list[dict[str, An
     ]
 
 
-def collection_rows(episodes: int = 4, repeats: int = 3, preset_name: str = "paper"):
+def collection_rows(
+    episodes: int = 4, repeats: int = 3, preset_name: str = "paper", acting_repeats: int = 9
+):
     """Training collection beside raw stepping, side by side on one core (pinned), the
     repeats interleaved, medians of the per-repeat ratios:
 
@@ -122,7 +124,10 @@ def collection_rows(episodes: int = 4, repeats: int = 3, preset_name: str = "pap
     - an acting step (uniform random actions, gate open: prongs slip) against a zero-residual
       step of the same push, resets excluded: in the preset's environment (a decision every
       ``action_repeat`` push steps), and in ``Push-v0``'s defaults (a decision every step),
-      where the actions jolt the prongs most often.
+      where the actions jolt the prongs most often. One push each way per repeat,
+      alternating, ``acting_repeats`` times (each repeat's actions from its own seed), after
+      one untimed push each way (numba loads the cold path's kernels at its first use); the
+      note gives the quartiles: three repeats of whole pushes spread by 1.7× between runs.
     """
     configure_torch(1)
     preset = load_preset(preset_name)
@@ -137,8 +142,7 @@ def collection_rows(episodes: int = 4, repeats: int = 3, preset_name: str = "pap
     alone = PushVectorEnv(1, config, gains)
     gate_open = PushEnv(replace(config, gate_threshold=0.0), gains)
     every_step = PushEnv(EnvConfig(gate_threshold=0.0), gains)  # Push-v0's defaults
-    rng = np.random.default_rng(0)
-    ratios: dict[str, list[float]] = {"together": [], "alone": [], "acting": [], "every": []}
+    ratios: dict[str, list[float]] = {"together": [], "alone": []}
     rates: dict[str, list[float]] = {"raw": [], "together": [], "alone": []}
     with _one_core():
         for repeat in range(repeats):
@@ -150,12 +154,8 @@ def collection_rows(episodes: int = 4, repeats: int = 3, preset_name: str = "pap
                 rates[key].append(value)
             ratios["together"].append(batched / raw)
             ratios["alone"].append(single / raw)
-            zero = _env_steps_per_s(gate_open, lambda obs: np.zeros(3))
-            acting = _env_steps_per_s(gate_open, lambda obs: rng.uniform(-1.0, 1.0, 3))
-            ratios["acting"].append(zero / acting)
-            zero = _env_steps_per_s(every_step, lambda obs: np.zeros(3))
-            acting = _env_steps_per_s(every_step, lambda obs: rng.uniform(-1.0, 1.0, 3))
-            ratios["every"].append(zero / acting)
+        ratios["acting"] = _acting_ratios(gate_open, acting_repeats)
+        ratios["every"] = _acting_ratios(every_step, acting_repeats)
     median = statistics.median
     where = f"{preset_name} preset env, {episodes} episodes a round, one core, {repeats} repeats"
     return [
@@ -183,15 +183,43 @@ def collection_rows(episodes: int = 4, repeats: int = 3, preset_name: str = "pap
             "value": median(ratios["acting"]),
             "unit": "ratio",
             "note": f"cube chirp, gate open, uniform random actions vs zeros, {preset_name} "
-            f"preset env (a decision every {config.action_repeat} push steps; goal <= 1.3)",
+            f"preset env (a decision every {config.action_repeat} push steps; goal <= 1.3); "
+            + _quartiles(ratios["acting"]),
         },
         {
             "name": "rl acting step / zero-residual step, Push-v0 defaults",
             "value": median(ratios["every"]),
             "unit": "ratio",
-            "note": "as above, a decision every push step (goal <= 1.3)",
+            "note": "as above, a decision every push step (goal <= 1.3); "
+            + _quartiles(ratios["every"]),
         },
     ]
+
+
+def _acting_ratios(env: PushEnv, repeats: int) -> list[float]:
+    """Per repeat, a zero-residual push's step rate over an acting push's (uniform random
+    actions from the repeat's own seed), the two pushed one after the other; one untimed
+    push each way first."""
+    zero = np.zeros(3)
+
+    def still(obs: np.ndarray) -> np.ndarray:
+        return zero
+
+    def acting(seed: int):
+        rng = np.random.default_rng(seed)
+        return lambda obs: rng.uniform(-1.0, 1.0, 3)
+
+    _env_steps_per_s(env, still)
+    _env_steps_per_s(env, acting(repeats))
+    return [
+        _env_steps_per_s(env, still) / _env_steps_per_s(env, acting(repeat))
+        for repeat in range(repeats)
+    ]
+
+
+def _quartiles(values: list[float]) -> str:
+    low, high = np.percentile(values, [25, 75])
+    return f"quartiles {low:.2f}-{high:.2f} of {len(values)} alternating repeats"
 
 
 def _raw_steps(env: PushEnv, episodes: list[int]) -> int:
