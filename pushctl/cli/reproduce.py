@@ -26,7 +26,9 @@ and ``runs/quick`` (the committed ``results/`` stays as it is). The manifest
 the seeds and the date; it is written atomically before the first step ("running"), after
 each step, and at the end, also when a step fails (then naming it). Its budgets table sets
 each stage's wall time (training per seed, evaluation, report, the whole run) beside issue
-15's budgets on this machine and says which were met (:func:`budgets`).
+15's budgets on this machine and says which were met (:func:`budgets`); when the bench ran,
+a line sets MuJoCo's step on this machine beside its time on the machine the budgets were
+set on, whose speed was about 4 times this one's in late 2026-11.
 
 Nothing it did not make is overwritten: the steps overwrite the results directory's files
 (``--force``) only when that directory is absent, empty, or holds a manifest of an earlier
@@ -39,6 +41,7 @@ if the manifest names it as this reproduction's run (stopped before its first ch
 from __future__ import annotations
 
 import argparse
+import csv
 import gzip
 import shutil
 import subprocess
@@ -63,6 +66,11 @@ TRAINING_BUDGET = 20 * 60.0
 """Issue 15's budget for one training run of the ``paper`` preset on this machine [s]."""
 EVALUATION_BUDGET = 3 * 60.0 / 1200
 """Issue 15's budget for the evaluation, 3 min for its 1200 episodes, per episode [s]."""
+BUDGET_MACHINE_MJ_STEP = 10.4
+"""MuJoCo's step of the arm pushing the cube on the machine issue 15's budgets were set on
+(its table, 2026-11-23) [µs]: the manifest sets this run's own beside it."""
+MJ_STEP_ROW = "world step arm+cube [mujoco mj_step alone]"
+"""The bench row (:mod:`pushctl.bench.engines`) with MuJoCo's step alone [µs]."""
 TOTAL_BUDGETS = {1: 30 * 60.0, 3: 60 * 60.0}
 """The whole ``make reproduce-tables`` by training seeds [s] (other counts: interpolated):
 60 min with issue 16's three seeds, 30 min with one (the project's figures, which replaced
@@ -386,8 +394,42 @@ def _budget_lines(setup: Setup, records: list[StepRecord]) -> list[str]:
         ),
         "",
         f"- {summary}",
+        *_machine_speed_lines(setup, records),
         "",
     ]
+
+
+def _machine_speed_lines(setup: Setup, records: list[StepRecord]) -> list[str]:
+    """The machine's speed beside that of the machine the budgets were set on, as MuJoCo's
+    step alone in this run's bench (none if the bench did not run and succeed here)."""
+    if not any(r.name == "bench" and r.returncode == 0 for r in records):
+        return []
+    step = _bench_value(setup.results / "bench.csv", MJ_STEP_ROW)
+    if step is None:
+        return []
+    return [
+        f"- this machine's speed: MuJoCo's `mj_step` alone took {step:.1f} µs in this run's "
+        f"bench, {BUDGET_MACHINE_MJ_STEP} µs on the machine the budgets were set on (issue "
+        f"15, 2026-11-23): {step / BUDGET_MACHINE_MJ_STEP:.1f} times as long. The budgets "
+        "above are not scaled by it; the machine's speed also swings between and within "
+        "runs (docs/reproducibility-and-speed.md)."
+    ]
+
+
+def _bench_value(bench: Path, name: str) -> float | None:
+    """The value of the row ``name`` of a bench CSV (``# made by:`` line, then name, value,
+    unit, note), None if the file or the row is missing or unreadable."""
+    try:
+        lines = [line for line in bench.read_text().splitlines() if not line.startswith("#")]
+    except (OSError, UnicodeDecodeError):
+        return None
+    for row in csv.DictReader(lines):
+        if row.get("name") == name:
+            try:
+                return float(row["value"])
+            except (TypeError, ValueError):
+                return None
+    return None
 
 
 def _maybe_minutes(seconds: float | None) -> str:

@@ -250,3 +250,24 @@ def test_every_shipped_file_of_the_reproduction_names_its_commit() -> None:
         head = (gzip.decompress(raw) if path.suffix == ".gz" else raw)[:4000].decode()
         assert head.startswith("# made by:"), path
         assert f"commit {commit.group(1)}" in head.splitlines()[0], path
+
+
+def test_the_manifest_sets_the_machine_s_speed_beside_the_budgets_machine(tmp_path: Path) -> None:
+    setup = replace(FULL, run=tmp_path / "run", results=tmp_path / "results", seeds=(0,))
+    setup.results.mkdir()
+    (setup.results / "bench.csv").write_text(
+        "# made by: test\nname,value,unit,note\n"
+        f'{reproduce.MJ_STEP_ROW},41.6,us,"MuJoCo, one core"\n'
+    )
+    started = reproduce.datetime.now(reproduce.timezone.utc)
+    before_bench = [reproduce.StepRecord("report", "pushctl report", 0, 10.0)]
+    reproduce.write_manifest(setup, before_bench, started)  # an earlier run's bench.csv
+    assert "this machine's speed" not in (setup.results / MANIFEST).read_text()
+    bench = reproduce.StepRecord("bench", "python -m pushctl.bench", 0, 60.0)
+    reproduce.write_manifest(setup, [*before_bench, bench], started)
+    manifest = (setup.results / MANIFEST).read_text()
+    assert "`mj_step` alone took 41.6 µs in this run's bench, 10.4 µs" in manifest
+    assert "4.0 times as long" in manifest
+    (setup.results / "bench.csv").write_text("name,value\nother,1\n")
+    reproduce.write_manifest(setup, [*before_bench, bench], started)
+    assert "this machine's speed" not in (setup.results / MANIFEST).read_text()
