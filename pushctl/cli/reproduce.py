@@ -28,7 +28,7 @@ each step, and at the end, also when a step fails (then naming it). Its budgets 
 each stage's wall time (training per seed, evaluation, report, the whole run) beside issue
 15's budgets on this machine and says which were met (:func:`budgets`); when the bench ran,
 a line sets MuJoCo's step on this machine beside its time on the machine the budgets were
-set on, whose speed was about 4 times this one's in late 2026-11.
+set on (:func:`_machine_speed_lines`).
 
 Nothing it did not make is overwritten: the steps overwrite the results directory's files
 (``--force``) only when that directory is absent, empty, or holds a manifest of an earlier
