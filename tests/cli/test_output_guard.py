@@ -201,6 +201,7 @@ def test_reproduce_resumes_into_what_it_made(
     fake = _fake_steps(record)
     monkeypatch.setattr(reproduce, "steps", fake)
     monkeypatch.setattr(reproduce, "copy_training", lambda setup: None)
+    monkeypatch.setattr(reproduce, "compress_steps", lambda setup: None)  # no steps.csv here
     reproduce.reproduce(setup)
     monkeypatch.undo()
     manifest = (setup.results / MANIFEST).read_text()
