@@ -12,6 +12,7 @@ half of the core).
 from __future__ import annotations
 
 import argparse
+import logging
 import os
 import statistics
 import subprocess
@@ -55,7 +56,7 @@ def slowdowns(nicenesses: list[int], work: float, repeats: int) -> list[dict[str
             num_cpus=1,
             include_dashboard=False,
             object_store_memory=LOCAL_OBJECT_STORE,
-            logging_level="ERROR",
+            logging_level=logging.ERROR,
             log_to_driver=False,
             _system_config={"worker_niceness": niceness},
         )
