@@ -27,20 +27,24 @@ SPIN = "import os; os.sched_setaffinity(0, {%d})\nwhile True: pass"
 """A normal-priority process that wants all of core %d."""
 
 
-@ray.remote(num_cpus=1)
-def _timed_work(loops: int, core: int) -> tuple[float, int]:
-    """Wall time [s] of ``loops`` iterations of arithmetic on ``core``, and the niceness."""
-    os.sched_setaffinity(0, {core})
+def _arithmetic(loops: int) -> float:
+    """Wall time [s] of ``loops`` iterations of pure-Python arithmetic."""
     start, total = time.perf_counter(), 0
     for i in range(loops):
         total += i * i % 7
-    return time.perf_counter() - start, os.nice(0)
+    return time.perf_counter() - start
 
 
-def _loops_for(seconds: float, core: int) -> int:
-    """Iterations that take about ``seconds`` on ``core`` now (measured here, not in Ray)."""
-    elapsed, _ = _timed_work._function(200_000, core)  # type: ignore[attr-defined]
-    return max(1, int(200_000 * seconds / elapsed))
+@ray.remote(num_cpus=1)
+def _timed_work(loops: int, core: int) -> tuple[float, int]:
+    """:func:`_arithmetic` in a worker pinned to ``core``, and the worker's niceness."""
+    os.sched_setaffinity(0, {core})
+    return _arithmetic(loops), os.nice(0)
+
+
+def _loops_for(seconds: float) -> int:
+    """Iterations that take about ``seconds`` now (measured in this process)."""
+    return max(1, int(200_000 * seconds / _arithmetic(200_000)))
 
 
 def slowdowns(nicenesses: list[int], work: float, repeats: int) -> list[dict[str, float]]:
@@ -49,7 +53,7 @@ def slowdowns(nicenesses: list[int], work: float, repeats: int) -> list[dict[str
     if ray.is_initialized():
         raise RuntimeError("run on its own: it starts Ray with each niceness itself")
     core = min(os.sched_getaffinity(0))
-    loops = _loops_for(work, core)
+    loops = _loops_for(work)
     rows = []
     for niceness in nicenesses:
         ray.init(
