@@ -12,7 +12,6 @@ half of the core).
 from __future__ import annotations
 
 import argparse
-import logging
 import os
 import statistics
 import subprocess
@@ -21,7 +20,7 @@ import time
 
 import ray
 
-from pushctl.distributed.engine import LOCAL_OBJECT_STORE, WORKER_NICENESS
+from pushctl.distributed.engine import WORKER_NICENESS, connect
 
 SPIN = "import os; os.sched_setaffinity(0, {%d})\nwhile True: pass"
 """A normal-priority process that wants all of core %d."""
@@ -56,14 +55,7 @@ def slowdowns(nicenesses: list[int], work: float, repeats: int) -> list[dict[str
     loops = _loops_for(work)
     rows = []
     for niceness in nicenesses:
-        ray.init(
-            num_cpus=1,
-            include_dashboard=False,
-            object_store_memory=LOCAL_OBJECT_STORE,
-            logging_level=logging.ERROR,
-            log_to_driver=False,
-            _system_config={"worker_niceness": niceness},
-        )
+        connect(num_cpus=1, worker_niceness=niceness)  # the local instance pushctl starts
         try:
             _, worker_nice = ray.get(_timed_work.remote(1000, core))  # the worker starts
             alone, shared = [], []
@@ -103,7 +95,6 @@ def main(argv: list[str] | None = None) -> int:
         message = "--work must be in 0.01..60 s and --repeats in 1..50"
         print(f"worker_priority: {message}, got {args.work} and {args.repeats}", file=sys.stderr)
         return 2
-    os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")
     for row in slowdowns([15, WORKER_NICENESS], args.work, args.repeats):
         print(
             f"worker_niceness {row['ray_worker_niceness']:>2} (worker at nice "

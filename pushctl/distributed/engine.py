@@ -67,9 +67,14 @@ def session(address: str | None = None) -> Iterator[None]:
         ray.shutdown()
 
 
-def connect(address: str | None = None, num_cpus: int | None = None) -> None:
+def connect(
+    address: str | None = None,
+    num_cpus: int | None = None,
+    worker_niceness: int = WORKER_NICENESS,
+) -> None:
     """Connect this process to Ray (see :func:`session`); ``num_cpus`` of a local instance
-    defaults to the machine's cores."""
+    defaults to the machine's cores, ``worker_niceness`` is its workers' (Ray's
+    ``worker_niceness``; a cluster joined at an address keeps its own)."""
     os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")
     quiet: dict[str, Any] = {"logging_level": "ERROR", "log_to_driver": False}
     target = address_from(address)
@@ -88,7 +93,7 @@ def connect(address: str | None = None, num_cpus: int | None = None) -> None:
         num_cpus=num_cpus or os.cpu_count() or 1,
         include_dashboard=False,
         object_store_memory=LOCAL_OBJECT_STORE,
-        _system_config={"worker_niceness": WORKER_NICENESS},
+        _system_config={"worker_niceness": worker_niceness},
         **quiet,
     )
 
