@@ -2,17 +2,20 @@
 physics, side by side in one process (docs/reproducibility-and-speed.md, *The slip loop's
 length*).
 
-Run as ``python -m pushctl.bench.slip_loop [--pushes 12] [--iterations 6,2,1] [--out FILE]
-[--force]``. A step whose ground friction directions move is solved again, at most
-``WorldConfig.slip_iterations`` times (default 6, what ``results/`` was made with); a step
-not settled by then keeps its first solution. In the training environment most re-solves
-are spent on steps that never settle. This bench pushes the training environment with the
-plant unknowns (``EnvConfig(action_repeat=10, observe_offset=True)``, the ``sim`` plant,
-training-stream scenario seeds 0…N−1) once per setting, the settings interleaved push by
-push, on one core (pinned), with the gate ``shut`` (zero actions: the base law alone) and
-``open`` (uniform random actions every decision, prongs slipping). The world's setting is
-changed after each reset, so the approach and the re-landing are the same in every run and
-only the push differs.
+Run as ``python -m pushctl.bench.slip_loop [--pushes 12] [--iterations 6,2,1]
+[--env training|push-v0] [--out FILE] [--force]``. A step whose ground friction directions
+move is solved again, at most ``WorldConfig.slip_iterations`` times (default 6, what
+``results/`` was made with); a step not settled by then keeps its first solution. In the
+training environment most re-solves are spent on steps that never settle.
+
+This bench pushes an environment once per setting, the settings interleaved push by push,
+on one core (pinned): ``--env training``, the training environment with the plant unknowns
+(``EnvConfig(action_repeat=10, observe_offset=True)``, the ``sim`` plant), or ``--env
+push-v0``, ``pushctl/Push-v0`` on its defaults (a new action every 10 ms step: what issue
+15 times its acting step on); training-stream scenario seeds 0…N−1. It pushes with the gate
+``shut`` (zero actions: the base law alone) and ``open`` (uniform random actions every
+decision, prongs slipping). The world's setting is changed after each reset, so the
+approach and the re-landing are the same in every run and only the push differs.
 
 Per setting and gate it reports: push-step time [µs] (median of the pushes) and the median
 of each push's time over the default's; MLCP solves and steps kept unsettled per push step;
@@ -83,15 +86,22 @@ def push_once(env: PushEnv, seed: int, iterations: int, nudge: float, gate: str)
     }
 
 
-def study(pushes: int, settings: list[int]) -> pd.DataFrame:
-    """The table described in the module docstring."""
+ENVIRONMENTS = {
+    "training": EnvConfig(action_repeat=10, observe_offset=True),
+    "push-v0": EnvConfig(),
+}
+"""``--env``'s environments (their gates set by :data:`GATES`)."""
+
+
+def study(pushes: int, settings: list[int], environment: str = "training") -> pd.DataFrame:
+    """The table described in the module docstring, for ``environment`` (a key of
+    :data:`ENVIRONMENTS`)."""
     names: list[str | int] = [MAX_SLIP_ITERATIONS, CHAOS]
     names += [k for k in settings if k != MAX_SLIP_ITERATIONS]
     rows = []
     with _one_core():
         for gate, threshold in GATES.items():
-            env = PushEnv(EnvConfig(action_repeat=10, observe_offset=True,
-                                    gate_threshold=threshold))  # fmt: skip
+            env = PushEnv(replace(ENVIRONMENTS[environment], gate_threshold=threshold))
             push_once(env, pushes, MAX_SLIP_ITERATIONS, 0.0, gate)  # numba's caches, untimed
             runs: dict[str | int, list[dict]] = {name: [] for name in names}
             for seed in range(pushes):
@@ -137,6 +147,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m pushctl.bench.slip_loop", description=doc)
     parser.add_argument("--pushes", type=int, default=12, help="scenario seeds 0…N−1")
     parser.add_argument("--iterations", default="6,2,1", help="settings of slip_iterations")
+    parser.add_argument("--env", default="training", help="training or push-v0")
     parser.add_argument("--out", type=Path, default=None, help="also write the table as CSV")
     parser.add_argument("--force", action="store_true", help="overwrite an existing --out file")
     args = parser.parse_args(argv)
@@ -148,18 +159,22 @@ def main(argv: list[str] | None = None) -> int:
             file=sys.stderr,
         )
         return 2
+    if args.env not in ENVIRONMENTS:
+        print(f"error: --env must be one of {', '.join(ENVIRONMENTS)}, got {args.env!r}",
+              file=sys.stderr)  # fmt: skip
+        return 2
     settings = [int(part) for part in parts]
     try:
         refuse_existing_files("--out", [args.out], args.force)
     except ConfigError as error:
         print(f"error: {error}", file=sys.stderr)
         return 2
-    table = study(args.pushes, settings)
+    table = study(args.pushes, settings, args.env)
     with pd.option_context("display.width", 160, "display.max_columns", 20):
         print(table.to_string(index=False, float_format=lambda v: f"{v:.4g}"))
     if args.out is not None:
         command = f"python -m pushctl.bench.slip_loop --pushes {args.pushes} " \
-            f"--iterations {args.iterations}"  # fmt: skip
+            f"--iterations {args.iterations} --env {args.env}"  # fmt: skip
         write_csv(args.out, table, provenance_line(command))
     return 0
 

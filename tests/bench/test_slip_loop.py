@@ -18,6 +18,12 @@ def test_bad_arguments_are_one_line_errors(capsys, argv) -> None:
     assert err.startswith("error: --pushes must be") and err.count("\n") == 1
 
 
+def test_an_unknown_environment_is_a_one_line_error(capsys) -> None:
+    assert main(["--env", "Push-v1"]) == 2
+    err = capsys.readouterr().err
+    assert err == "error: --env must be one of training, push-v0, got 'Push-v1'\n"
+
+
 def test_an_existing_output_is_refused(capsys, tmp_path) -> None:
     out = tmp_path / "study.csv"
     out.write_text("kept\n")
@@ -26,8 +32,10 @@ def test_an_existing_output_is_refused(capsys, tmp_path) -> None:
     assert out.read_text() == "kept\n"
 
 
-def test_one_push_study_counts_fewer_solves_with_a_shorter_loop() -> None:
-    table = study(1, [MAX_SLIP_ITERATIONS, 0]).set_index(["gate", "slip_iterations"])
+@pytest.mark.parametrize("environment", ["training", "push-v0"])
+def test_one_push_study_counts_fewer_solves_with_a_shorter_loop(environment) -> None:
+    table = study(1, [MAX_SLIP_ITERATIONS, 0], environment)
+    table = table.set_index(["gate", "slip_iterations"])
     for gate in ("shut", "open"):
         default, none = table.loc[(gate, MAX_SLIP_ITERATIONS)], table.loc[(gate, 0)]
         assert default["time_ratio"] == 1.0 and default["final_distance_mm"] == 0.0
