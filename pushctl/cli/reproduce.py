@@ -244,7 +244,9 @@ def compress_steps(setup: Setup) -> Path:
 
     Written by the reproduction itself because a copy compressed by hand once fell behind:
     the ``results/`` of 1d7a74e shipped the ``steps.csv.gz`` of the run before it."""
-    source = setup.results / "evaluation" / "steps.csv"  # as `pushctl report` reads it
+    from pushctl.evaluation.columns import STEPS_FILE  # imports nothing
+
+    source = setup.results / "evaluation" / STEPS_FILE
     target = source.with_name(source.name + ".gz")
     write_atomic(target, lambda tmp: _gzip(source, tmp))
     return target

@@ -59,3 +59,8 @@ STEP_COLUMNS = (
 )
 """The per-step quantities of ``steps.csv``
 (see :func:`~pushctl.evaluation.trials.step_quantities`)."""
+
+TRIALS_FILE = "trials.csv"
+"""The evaluation's per-trial table, in its output directory."""
+STEPS_FILE = "steps.csv"
+"""The evaluation's per-step means, in its output directory."""

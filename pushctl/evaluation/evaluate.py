@@ -29,7 +29,7 @@ from pushctl.control.feedback import FeedbackGains, load_feedback_gains
 from pushctl.control.gains import PDGains, load_gains
 from pushctl.episode.metrics import EpisodeMetrics
 from pushctl.errors import ConfigError
-from pushctl.evaluation.columns import STEP_COLUMNS, TRIAL_COLUMNS
+from pushctl.evaluation.columns import STEP_COLUMNS, STEPS_FILE, TRIAL_COLUMNS, TRIALS_FILE
 from pushctl.evaluation.controllers import feedback_config
 from pushctl.evaluation.trials import (
     Job,
@@ -49,8 +49,6 @@ DEFAULT_POLICY = Path(__file__).resolve().parents[2] / "results" / "training" / 
 """The shipped policy (``results/training/policy.pt`` of the checkout)."""
 MAX_WORKERS = 8
 """Worker processes at most (this machine has 2 cores; more only queue)."""
-TRIALS_FILE = "trials.csv"
-STEPS_FILE = "steps.csv"
 STEPS_FLOAT_FORMAT = "%.6g"
 """``steps.csv`` holds per-step means for figures: 6 significant figures keep the 1200-episode
 file under 5 MB (9 made it 6.2 MB) and are far finer than any figure draws."""
