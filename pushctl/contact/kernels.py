@@ -7,11 +7,15 @@ the package does not also do in plain numpy (:mod:`pushctl.contact.active_set` h
 reference implementation of the active-set solve; the tests compare the two), and they are
 compiled once and cached on disk (``cache=True``).
 
-Every compiled function, and every constant they read, lives in this one file: numba's disk
-cache is invalidated per source file and does not follow calls or globals into other files,
-so a kernel calling a kernel elsewhere could run stale code after an edit. Where a file
-does call another's (:mod:`pushctl.contact.cold_step` calls these), :mod:`pushctl.kernel_cache`
-drops its cached kernels at import once a file it imports from has changed.
+The algebra is loops, not numba's BLAS and LAPACK calls (:mod:`pushctl.small_algebra`); a singular
+active-set system is solved by LAPACK's dgelsy, the routine of the reference and of the
+cold path's pivoting (:func:`pushctl.contact.pivot_kernels._min_norm`).
+
+numba's disk cache is invalidated per source file and does not follow calls or globals into
+other files, so a kernel calling a kernel elsewhere could run stale code after an edit.
+Where a file calls another's (:mod:`pushctl.contact.cold_step` calls these, these call the
+minimum-norm solve), :mod:`pushctl.kernel_cache` drops its cached kernels at import once a
+file it imports from has changed.
 
 The step's kernels (:func:`assemble`, :func:`warm_contact_step`, :func:`warm_slip_step`)
 take the step's state and then the world's contact model, named by
@@ -26,7 +30,9 @@ import math
 import numpy as np
 from numba import njit
 
+from pushctl.contact.pivot_kernels import _min_norm
 from pushctl.contact.step_end import coriolis_energy_error  # noqa: F401  (its old home)
+from pushctl.small_algebra import matmul, matvec, spd_solve
 
 SINGULAR_PIVOT = 1e-11
 """An LU pivot below this fraction of the largest one marks an active-set system singular."""
@@ -117,8 +123,8 @@ def active_set_step(D, b, lo, hi, findex, mu, guess, threshold):
             rhs[i] = lo[i] if label < 0 else hi[i]
     p, ok = _lu_solve(A, rhs)
     if not ok:
-        p = np.linalg.lstsq(A, rhs, rcond=RANK_RCOND)[0]
-    w = D @ p + b
+        p = _min_norm(A, rhs)
+    w = matvec(D, p) + b
     residual = 0.0
     for i in range(n):
         f = findex[i]
@@ -201,21 +207,21 @@ def assemble(
         cross = 0.0 if sliding[j] else bound
         lo[row], hi[row], lo[row + 1], hi[row + 1] = -bound, bound, -cross, cross
     Minv_At_obj = A_obj.T * obj_mass_inv.reshape(3, 1)
-    D = A_obj @ Minv_At_obj
-    b = A_obj @ velocity + bias
+    D = matmul(A_obj, Minv_At_obj)
+    b = matvec(A_obj, velocity) + bias
     v_arm_free = np.zeros(nv)
     Minv_At_arm = np.zeros((nv, n_prong))
     if nv:
         M_tilde = M + np.diag(h * joint_damping)
         rhs = np.empty((nv, 1 + n_prong))
-        rhs[:, 0] = M @ v_arm + h * (tau - nle)
+        rhs[:, 0] = matvec(M, v_arm) + h * (tau - nle)
         rhs[:, 1:] = A_arm.T
-        solution = np.linalg.solve(M_tilde, rhs)
+        solution = spd_solve(M_tilde, rhs)
         v_arm_free = solution[:, 0].copy()
         Minv_At_arm = np.ascontiguousarray(solution[:, 1:])
         if n_prong:
-            D[:n_prong, :n_prong] += A_arm @ Minv_At_arm
-            b[:n_prong] += A_arm @ v_arm_free
+            D[:n_prong, :n_prong] += matmul(A_arm, Minv_At_arm)
+            b[:n_prong] += matvec(A_arm, v_arm_free)
     for i in range(n_prong):
         D[i, i] *= 1.0 + tie_break
     return D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, A_arm
@@ -281,8 +287,8 @@ def apply_impulses(p, v_arm_free, Minv_At_arm, velocity, Minv_At_obj, h):
     ``(v_arm (nv,), v_obj (3,), forces (n_contacts, 2) [N])``."""
     n_prong = Minv_At_arm.shape[1]
     p_prong = p[:n_prong].copy()
-    v_arm = v_arm_free + Minv_At_arm @ p_prong
-    v_obj = velocity + Minv_At_obj @ p
+    v_arm = v_arm_free + matvec(Minv_At_arm, p_prong)
+    v_obj = velocity + matvec(Minv_At_obj, p)
     return v_arm, v_obj, p_prong.reshape(-1, 2) / h
 
 
