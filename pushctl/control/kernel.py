@@ -1,10 +1,9 @@
 """The PD baseline's per-step arithmetic as one compiled call (numba).
 
-:func:`pd_torque` computes what :meth:`pushctl.control.pd.PDController.reference_command`
-does in plain numpy, to rounding (the tests compare the two); compiled, it costs a few µs
-instead of the ~60 µs of the dozens of small numpy calls. Its products and the solve with
-the damped 6 × 6 Gram matrix are :mod:`pushctl.small_algebra`'s loops, not BLAS and LAPACK
-calls (see there why).
+:func:`pd_torque` computes exactly what :meth:`pushctl.control.pd.PDController.reference_command`
+does in plain numpy (the tests compare the two); compiled, it costs a few µs instead of the
+~60 µs of the dozens of small numpy calls. Self-contained on purpose: numba's disk cache is
+invalidated per source file, so this kernel calls nothing outside this file.
 """
 
 from __future__ import annotations
@@ -13,8 +12,6 @@ import math
 
 import numpy as np
 from numba import njit
-
-from pushctl.small_algebra import matmul, matvec, spd_solve
 
 
 @njit(cache=True)
@@ -60,11 +57,10 @@ def pd_torque(
     twist[1] += residual[1]
     twist[5] += residual[2]
     posture = posture_gain * (q_posture - q)
-    gram = matmul(jacobian, jacobian.T)
+    gram = jacobian @ jacobian.T
     for i in range(6):
         gram[i, i] += damping_sq
-    rhs = (twist - matvec(jacobian, posture)).reshape(6, 1)
-    q_dot = posture + matvec(jacobian.T, spd_solve(gram, rhs)[:, 0])
+    q_dot = posture + jacobian.T @ np.linalg.solve(gram, twist - jacobian @ posture)
     ratio = 0.0
     for j in range(nv):
         ratio = max(ratio, abs(q_dot[j]) / v_limit[j])

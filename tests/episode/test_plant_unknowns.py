@@ -117,15 +117,15 @@ def test_a_ranges_file_without_unknowns_has_none_and_a_bad_key_is_named(tmp_path
 # scenarios: a plant with every range zero must give the same bits. (First recorded at
 # 551bcac; recorded again at the h15s branch, whose deterministic cold MLCP path picks
 # another valid solution of some non-unique problems; again when ProxQP came from its
-# portable build, pushctl.proxqp_build; and again when the step's kernels and the PD law
-# left BLAS and LAPACK for loops, pushctl.small_algebra.) Until then OpenBLAS's kernels, which
+# portable build, pushctl.proxqp_build; and again when the step's kernels left BLAS and
+# LAPACK for loops, pushctl.contact.small_algebra.) Until then OpenBLAS's kernels, which
 # it picks by CPU, rounded the step's sums differently on a machine with AVX-512 and on one
 # with its Haswell kernels (an AMD EPYC): pushctl kept a set for each. Recorded on the AMD
-# EPYC only: whether the AVX-512 machine still differs (numpy's own calls in the
+# EPYC only: whether the AVX-512 machine still differs (the PD law and numpy in the
 # planner and the IK still reach OpenBLAS) is not known, and it is held to the same set.
 BEFORE_UNKNOWNS = {
-    ("cube", "chirp", 3): "c780d16a9c17ebcd",
-    ("wedge", "constant", 5): "3ad8a4355afe09ad",
+    ("cube", "chirp", 3): "a0aaa5875ce685ac",
+    ("wedge", "constant", 5): "0a8d5ef18a86d643",
 }
 
 

@@ -1,5 +1,5 @@
-"""Small dense algebra by loops, compiled (numba): what the step's kernels and the PD law
-need at their sizes (n ≈ 8–16 rows, nv = 7, the 6 × 6 task Gram matrix).
+"""Small dense algebra by loops, compiled (numba): what the step's kernels need at their
+sizes (n ≈ 8–16 rows, nv = 7).
 
 Not numba's BLAS and LAPACK calls (``@``, ``np.linalg.solve``): at these sizes a library
 call costs more than its arithmetic (OpenBLAS and LAPACK took about a fifth of a world
@@ -45,9 +45,8 @@ def matmul(A, B):
 
 @njit(cache=True)
 def spd_solve(A, B):
-    """X (n, m) with A X = B for A (n, n) symmetric positive definite (a mass matrix with
-    implicit damping, a damped Gram matrix): Cholesky, then two triangular solves per
-    column of B."""
+    """X (n, m) with A X = B for A (n, n) symmetric positive definite (the arm's mass matrix
+    with implicit damping): Cholesky, then two triangular solves per column of B."""
     n = A.shape[0]
     L = np.zeros((n, n))
     for j in range(n):
