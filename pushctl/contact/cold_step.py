@@ -17,7 +17,13 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from pushctl.contact.kernels import active_set_step, apply_impulses, assemble, refine_slip
+from pushctl.contact.kernels import (
+    active_set_step,
+    apply_impulses,
+    arm_part,
+    assemble_on,
+    refine_slip,
+)
 from pushctl.contact.pivot_kernels import cold_pivot
 
 HELD, FROM_WARM, PIVOTED, EMPTY, UNVERIFIED = 0, 1, 2, 3, -1
@@ -43,10 +49,25 @@ def cold_contact_step(
     :data:`UNVERIFIED` (then p is the
     pivoting's best point, not the step's: the caller solves on).
     """
-    D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, _ = assemble(
-        contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
-        support_points, friction_limits, slip_directions, sliding, h, stabilisation, tie_break,
-        mu_contact,
+    arm = arm_part(contacts, jacobians, M, nle, v_arm, tau, joint_damping, h)
+    return cold_solve(
+        arm, contacts, pose, velocity, obj_mass_inv, support_points, friction_limits,
+        slip_directions, sliding, h, stabilisation, tie_break, mu_contact, guess, has_guess,
+        tol, max_pivots,
+    )  # fmt: skip
+
+
+@njit(cache=True)
+def cold_solve(
+    arm, contacts, pose, velocity, obj_mass_inv, support_points, friction_limits,
+    slip_directions, sliding, h, stabilisation, tie_break, mu_contact, guess, has_guess, tol,
+    max_pivots,
+):  # fmt: skip
+    """:func:`cold_contact_step` from the step's
+    :func:`~pushctl.contact.kernels.arm_part` ``arm``."""
+    D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, _ = assemble_on(
+        arm, contacts, pose, velocity, obj_mass_inv, support_points, friction_limits,
+        slip_directions, sliding, h, stabilisation, tie_break, mu_contact,
     )  # fmt: skip
     n = b.shape[0]
     if n == 0:
@@ -111,10 +132,11 @@ def cold_slip_step(
     ``used_guess`` after ``pivots`` pivots, and ``kept`` is the first solution if there is
     one: the caller solves it with ProxQP and continues the loop in Python.
     """
-    how, p, w, res, pivots, va, vo, f = cold_contact_step(
-        contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
-        support_points, friction_limits, slip_directions, sliding, h, stabilisation, tie_break,
-        mu_contact, guess, has_guess, tol, max_pivots,
+    arm = arm_part(contacts, jacobians, M, nle, v_arm, tau, joint_damping, h)
+    how, p, w, res, pivots, va, vo, f = cold_solve(
+        arm, contacts, pose, velocity, obj_mass_inv, support_points, friction_limits,
+        slip_directions, sliding, h, stabilisation, tie_break, mu_contact, guess, has_guess,
+        tol, max_pivots,
     )  # fmt: skip
     if has_first:
         first = (first_residual, first_v_arm, first_v_obj, first_forces, 0)
@@ -132,10 +154,10 @@ def cold_slip_step(
         if attempt == max_iterations:
             break
         iterations += 1
-        how, p, w, res, pivots, va, vo, f = cold_contact_step(
-            contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity,
-            obj_mass_inv, support_points, friction_limits, slip_directions, sliding, h,
-            stabilisation, tie_break, mu_contact, last_p, True, tol, max_pivots,
+        how, p, w, res, pivots, va, vo, f = cold_solve(
+            arm, contacts, pose, velocity, obj_mass_inv, support_points, friction_limits,
+            slip_directions, sliding, h, stabilisation, tie_break, mu_contact, last_p, True,
+            tol, max_pivots,
         )  # fmt: skip
         if how == UNVERIFIED:
             return COLD_UNVERIFIED, attempt, solves, warm, worst, iterations, first, last_p, \

@@ -7,11 +7,15 @@ the package does not also do in plain numpy (:mod:`pushctl.contact.active_set` h
 reference implementation of the active-set solve; the tests compare the two), and they are
 compiled once and cached on disk (``cache=True``).
 
-Every compiled function, and every constant they read, lives in this one file: numba's disk
-cache is invalidated per source file and does not follow calls or globals into other files,
-so a kernel calling a kernel elsewhere could run stale code after an edit. Where a file
-does call another's (:mod:`pushctl.contact.cold_step` calls these), :mod:`pushctl.kernel_cache`
-drops its cached kernels at import once a file it imports from has changed.
+The algebra is loops (:mod:`pushctl.contact.small_algebra`), not numba's BLAS and LAPACK
+calls; a singular active-set system is solved by LAPACK's dgelsy, the routine of the
+reference and of the cold path's pivoting (:func:`pushctl.contact.pivot_kernels._min_norm`).
+
+numba's disk cache is invalidated per source file and does not follow calls or globals into
+other files, so a kernel calling a kernel elsewhere could run stale code after an edit.
+Where a file calls another's (:mod:`pushctl.contact.cold_step` calls these, these call the
+minimum-norm solve), :mod:`pushctl.kernel_cache` drops its cached kernels at import once a
+file it imports from has changed.
 
 The step's kernels (:func:`assemble`, :func:`warm_contact_step`, :func:`warm_slip_step`)
 take the step's state and then the world's contact model, named by
@@ -26,6 +30,8 @@ import math
 import numpy as np
 from numba import njit
 
+from pushctl.contact.pivot_kernels import _min_norm
+from pushctl.contact.small_algebra import matmul, matvec, spd_solve
 from pushctl.contact.step_end import coriolis_energy_error  # noqa: F401  (its old home)
 
 SINGULAR_PIVOT = 1e-11
@@ -117,8 +123,8 @@ def active_set_step(D, b, lo, hi, findex, mu, guess, threshold):
             rhs[i] = lo[i] if label < 0 else hi[i]
     p, ok = _lu_solve(A, rhs)
     if not ok:
-        p = np.linalg.lstsq(A, rhs, rcond=RANK_RCOND)[0]
-    w = D @ p + b
+        p = _min_norm(A, rhs)
+    w = matvec(D, p) + b
     residual = 0.0
     for i in range(n):
         f = findex[i]
@@ -163,11 +169,58 @@ def assemble(
     term ``tie_break``: the prongs' tangential rows are identical, and it makes their split
     of the friction unique (the minimum-norm one) whichever path solves the MLCP.
     """
-    n_contacts, n_support, nv = contacts.shape[0], support_points.shape[0], M.shape[0]
+    arm = arm_part(contacts, jacobians, M, nle, v_arm, tau, joint_damping, h)
+    return assemble_on(
+        arm, contacts, pose, velocity, obj_mass_inv, support_points, friction_limits,
+        slip_directions, sliding, h, stabilisation, tie_break, mu_contact,
+    )  # fmt: skip
+
+
+@njit(cache=True)
+def arm_part(contacts, jacobians, M, nle, v_arm, tau, joint_damping, h):
+    """The arm's part of :func:`assemble`, the same for every solve of one step (refining
+    the friction boxes changes only the ground rows): ``(A_arm (2p, nv), v_arm_free (nv,),
+    Minv_At_arm (nv, 2p), A_arm Minv_At_arm (2p, 2p), A_arm v_arm_free (2p,))`` (arguments
+    as in :func:`assemble`). The step's loops compute it once, not once per solve: it was
+    more than half of a solve's assembly."""
+    n_contacts, nv = contacts.shape[0], M.shape[0]
+    n_prong = 2 * n_contacts
+    A_arm = np.zeros((n_prong, nv))
+    for i in range(n_contacts):
+        nx, ny = contacts[i, 1], contacts[i, 2]
+        row = 2 * i
+        for j in range(nv):
+            A_arm[row, j] = -(nx * jacobians[i, 0, j] + ny * jacobians[i, 1, j])
+            A_arm[row + 1, j] = ny * jacobians[i, 0, j] - nx * jacobians[i, 1, j]
+    v_arm_free = np.zeros(nv)
+    Minv_At_arm = np.zeros((nv, n_prong))
+    arm_D, arm_b = np.zeros((n_prong, n_prong)), np.zeros(n_prong)
+    if nv:
+        M_tilde = M + np.diag(h * joint_damping)
+        rhs = np.empty((nv, 1 + n_prong))
+        rhs[:, 0] = matvec(M, v_arm) + h * (tau - nle)
+        rhs[:, 1:] = A_arm.T
+        solution = spd_solve(M_tilde, rhs)
+        v_arm_free = solution[:, 0].copy()
+        Minv_At_arm = np.ascontiguousarray(solution[:, 1:])
+        if n_prong:
+            arm_D = matmul(A_arm, Minv_At_arm)
+            arm_b = matvec(A_arm, v_arm_free)
+    return A_arm, v_arm_free, Minv_At_arm, arm_D, arm_b
+
+
+@njit(cache=True)
+def assemble_on(
+    arm, contacts, pose, velocity, obj_mass_inv, support_points, friction_limits,
+    slip_directions, sliding, h, stabilisation, tie_break, mu_contact,
+):  # fmt: skip
+    """:func:`assemble` from the step's :func:`arm_part` ``arm`` (the other arguments as
+    there): the object's and the ground's rows, then the arm's blocks added."""
+    A_arm, v_arm_free, Minv_At_arm, arm_D, arm_b = arm
+    n_contacts, n_support = contacts.shape[0], support_points.shape[0]
     n_prong = 2 * n_contacts
     m = n_prong + 2 * n_support
     A_obj = np.zeros((m, 3))
-    A_arm = np.zeros((n_prong, nv))
     bias = np.zeros(m)
     lo, hi = np.zeros(m), np.zeros(m)
     findex, mu = np.full(m, -1, dtype=np.int64), np.zeros(m)
@@ -183,9 +236,6 @@ def assemble(
         # Velocity of the object's contact point relative to the prong along e_n, e_t.
         _set_row(A_obj, row, nx, ny, rx, ry)
         _set_row(A_obj, row + 1, -ny, nx, rx, ry)
-        for j in range(nv):
-            A_arm[row, j] = -(nx * jacobians[i, 0, j] + ny * jacobians[i, 1, j])
-            A_arm[row + 1, j] = ny * jacobians[i, 0, j] - nx * jacobians[i, 1, j]
         bias[row] = gap / h if gap >= 0.0 else stabilisation * gap / h
         hi[row] = np.inf
         findex[row + 1], mu[row + 1] = row, mu_contact
@@ -201,21 +251,11 @@ def assemble(
         cross = 0.0 if sliding[j] else bound
         lo[row], hi[row], lo[row + 1], hi[row + 1] = -bound, bound, -cross, cross
     Minv_At_obj = A_obj.T * obj_mass_inv.reshape(3, 1)
-    D = A_obj @ Minv_At_obj
-    b = A_obj @ velocity + bias
-    v_arm_free = np.zeros(nv)
-    Minv_At_arm = np.zeros((nv, n_prong))
-    if nv:
-        M_tilde = M + np.diag(h * joint_damping)
-        rhs = np.empty((nv, 1 + n_prong))
-        rhs[:, 0] = M @ v_arm + h * (tau - nle)
-        rhs[:, 1:] = A_arm.T
-        solution = np.linalg.solve(M_tilde, rhs)
-        v_arm_free = solution[:, 0].copy()
-        Minv_At_arm = np.ascontiguousarray(solution[:, 1:])
-        if n_prong:
-            D[:n_prong, :n_prong] += A_arm @ Minv_At_arm
-            b[:n_prong] += A_arm @ v_arm_free
+    D = matmul(A_obj, Minv_At_obj)
+    b = matvec(A_obj, velocity) + bias
+    if v_arm_free.shape[0] and n_prong:
+        D[:n_prong, :n_prong] += arm_D
+        b[:n_prong] += arm_b
     for i in range(n_prong):
         D[i, i] *= 1.0 + tie_break
     return D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, A_arm
@@ -281,8 +321,8 @@ def apply_impulses(p, v_arm_free, Minv_At_arm, velocity, Minv_At_obj, h):
     ``(v_arm (nv,), v_obj (3,), forces (n_contacts, 2) [N])``."""
     n_prong = Minv_At_arm.shape[1]
     p_prong = p[:n_prong].copy()
-    v_arm = v_arm_free + Minv_At_arm @ p_prong
-    v_obj = velocity + Minv_At_obj @ p
+    v_arm = v_arm_free + matvec(Minv_At_arm, p_prong)
+    v_obj = velocity + matvec(Minv_At_obj, p)
     return v_arm, v_obj, p_prong.reshape(-1, 2) / h
 
 
@@ -300,10 +340,22 @@ def warm_contact_step(
     between Python and compiled code costs about a microsecond each, so the step's matrices
     stay in here.
     """
-    D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, _ = assemble(
-        contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
-        support_points, friction_limits, slip_directions, sliding, h, stabilisation, tie_break,
-        mu_contact,
+    arm = arm_part(contacts, jacobians, M, nle, v_arm, tau, joint_damping, h)
+    return warm_solve(
+        arm, contacts, pose, velocity, obj_mass_inv, support_points, friction_limits,
+        slip_directions, sliding, h, stabilisation, tie_break, mu_contact, guess, tol,
+    )  # fmt: skip
+
+
+@njit(cache=True)
+def warm_solve(
+    arm, contacts, pose, velocity, obj_mass_inv, support_points, friction_limits,
+    slip_directions, sliding, h, stabilisation, tie_break, mu_contact, guess, tol,
+):  # fmt: skip
+    """:func:`warm_contact_step` from the step's :func:`arm_part` ``arm``."""
+    D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, _ = assemble_on(
+        arm, contacts, pose, velocity, obj_mass_inv, support_points, friction_limits,
+        slip_directions, sliding, h, stabilisation, tie_break, mu_contact,
     )  # fmt: skip
     threshold = tol * max(1.0, np.max(np.abs(b)))
     p, w, residual, verified = active_set_step(D, b, lo, hi, findex, mu, guess, threshold)
@@ -364,10 +416,10 @@ def warm_slip_step(
     outs = (out_v_arm, out_v_obj, out_forces, out_last_p, out_pose)
     slip_state(pose, velocity, support_points, slip_directions, sliding)
     inputs_velocity = velocity
-    ok, p, w, res, va, vo, f = warm_contact_step(
-        contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, inputs_velocity,
-        obj_mass_inv, support_points, friction_limits, slip_directions, sliding, h,
-        stabilisation, tie_break, mu_contact, guess, tol,
+    arm = arm_part(contacts, jacobians, M, nle, v_arm, tau, joint_damping, h)
+    ok, p, w, res, va, vo, f = warm_solve(
+        arm, contacts, pose, inputs_velocity, obj_mass_inv, support_points, friction_limits,
+        slip_directions, sliding, h, stabilisation, tie_break, mu_contact, guess, tol,
     )  # fmt: skip
     first = (p, w, res, va, vo, f)
     if not ok:
@@ -381,10 +433,10 @@ def warm_slip_step(
         if attempt == max_iterations:
             break
         iterations += 1
-        ok, p, w, res, va, vo, f = warm_contact_step(
-            contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, inputs_velocity,
-            obj_mass_inv, support_points, friction_limits, slip_directions, sliding, h,
-            stabilisation, tie_break, mu_contact, last[0], tol,
+        ok, p, w, res, va, vo, f = warm_solve(
+            arm, contacts, pose, inputs_velocity, obj_mass_inv, support_points,
+            friction_limits, slip_directions, sliding, h, stabilisation, tie_break,
+            mu_contact, last[0], tol,
         )  # fmt: skip
         if not ok:
             residual = _write(first, last[0], pose, *outs)

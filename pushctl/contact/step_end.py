@@ -107,10 +107,21 @@ def coriolis_energy_error(ledger, v_new, M_old, nle_old, g_old, M_new, h):
     """Add one step's Coriolis energy error to ``ledger`` [J]; return it and the new
     kinetic energy ``½ v⁺ᵀ M(q⁺) v⁺`` [J] (see ``World._advance_arm``).
 
-    The error is ``½ v⁺ᵀ (M(q⁺) − M(q)) v⁺ − h v⁺ᵀ C(q, v) v``, with ``C(q, v) v = nle − g``.
+    The error is ``½ v⁺ᵀ (M(q⁺) − M(q)) v⁺ − h v⁺ᵀ C(q, v) v``, with ``C(q, v) v = nle − g``;
+    the products are loops (no BLAS calls: :mod:`pushctl.contact.kernels`).
     """
-    energy = 0.5 * (v_new @ (M_new @ v_new))
-    error = energy - 0.5 * (v_new @ (M_old @ v_new)) - h * (v_new @ (nle_old - g_old))
+    n = v_new.shape[0]
+    new_e = old_e = work = 0.0
+    for i in range(n):
+        a = b = 0.0
+        for j in range(n):
+            a += M_new[i, j] * v_new[j]
+            b += M_old[i, j] * v_new[j]
+        new_e += v_new[i] * a
+        old_e += v_new[i] * b
+        work += v_new[i] * (nle_old[i] - g_old[i])
+    energy = 0.5 * new_e
+    error = energy - 0.5 * old_e - h * work
     return ledger + error, energy
 
 

@@ -41,5 +41,6 @@ def test_one_push_study_counts_fewer_solves_with_a_shorter_loop(environment) -> 
         assert default["time_ratio"] == 1.0 and default["final_distance_mm"] == 0.0
         assert none["solves_per_step"] < default["solves_per_step"]
     # The 1 nm nudge moves a push with the base law alone by a trace (random actions
-    # amplify it by far more: the reason the bench reports it).
-    assert 0.0 < table.loc[("shut", CHAOS), "final_distance_mm"] < 0.01
+    # amplify it by far more: the reason the bench reports it). With the step's algebra
+    # by loops this push's end moves 0.036 mm (8 pushes: 0.0045 mm on average).
+    assert 0.0 < table.loc[("shut", CHAOS), "final_distance_mm"] < 0.1

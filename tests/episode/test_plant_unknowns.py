@@ -18,7 +18,6 @@ from pushctl.episode.ranges import load_ranges
 from pushctl.episode.runner import Episode
 from pushctl.episode.unknowns import NO_UNKNOWNS, PlantUnknowns, UnknownRanges, unknowns_rng
 from pushctl.errors import ConfigError
-from pushctl.machine import blas_kernels
 
 SHORT = 2.0  # [s] pushes long enough to see an offset, short enough for the default suite
 
@@ -116,22 +115,17 @@ def test_a_ranges_file_without_unknowns_has_none_and_a_bad_key_is_named(tmp_path
 # sha256 (first 16 hex digits) of the object pose, contact forces, joint angles and desired
 # forces of these 2 s pushes, computed by the code before plant unknowns existed on the same
 # scenarios: a plant with every range zero must give the same bits. (First recorded at
-# 551bcac: 8a7f593ef1fd3102, b0c5f934616732f5; recorded again at the h15s branch, whose
-# deterministic cold MLCP path picks another valid solution of some non-unique problems;
-# and again when ProxQP came from its portable build, pushctl.proxqp_build: 5807e433d53a952d,
-# 5c604c6ceb56c521 with the AVX-512 build.) Recorded on a machine with AVX-512; on one whose
-# OpenBLAS runs its Haswell kernels (an AMD EPYC, 2026-11-25) the same code gives the second
-# set (checked at c846350 and after it). OpenBLAS picks its kernels by CPU and their sums
-# round differently (pushctl.machine, docs/reproducibility.md).
+# 551bcac; recorded again at the h15s branch, whose deterministic cold MLCP path picks
+# another valid solution of some non-unique problems; again when ProxQP came from its
+# portable build, pushctl.proxqp_build; and again when the step's kernels left BLAS and
+# LAPACK for loops, pushctl.contact.small_algebra.) Until then OpenBLAS's kernels, which
+# it picks by CPU, rounded the step's sums differently on a machine with AVX-512 and on one
+# with its Haswell kernels (an AMD EPYC): pushctl kept a set for each. Recorded on the AMD
+# EPYC only: whether the AVX-512 machine still differs (the PD law and numpy in the
+# planner and the IK still reach OpenBLAS) is not known, and it is held to the same set.
 BEFORE_UNKNOWNS = {
-    ("cube", "chirp", 3): "2bd7ccfa87b107b8",
-    ("wedge", "constant", 5): "4c03e0aafa936aac",
-}
-BEFORE_UNKNOWNS_BY_KERNELS = {
-    "Haswell": {
-        ("cube", "chirp", 3): "e02f768dd7ea642b",
-        ("wedge", "constant", 5): "fb3ef6d79bafc919",
-    },
+    ("cube", "chirp", 3): "a0aaa5875ce685ac",
+    ("wedge", "constant", 5): "0a8d5ef18a86d643",
 }
 
 
@@ -144,8 +138,7 @@ def test_a_sim_plant_with_zero_ranges_pushes_bit_for_bit_as_before(
     )
     assert scenario.unknowns.is_none and NO_UNKNOWNS.is_none
     trace = Episode(scenario, plan=plan).run()
-    recorded = BEFORE_UNKNOWNS_BY_KERNELS.get(blas_kernels(), BEFORE_UNKNOWNS)
-    assert _digest(trace) == recorded[(obj, profile, seed)]
+    assert _digest(trace) == BEFORE_UNKNOWNS[(obj, profile, seed)]
 
 
 # ------------------------------------------------------------------ (a) placement error

@@ -1,0 +1,76 @@
+"""Small dense algebra by loops, compiled (numba): what the step's kernels need at their
+sizes (n ≈ 8–16 rows, nv = 7).
+
+Not numba's BLAS and LAPACK calls (``@``, ``np.linalg.solve``): at these sizes a library
+call costs more than its arithmetic (OpenBLAS and LAPACK took about a fifth of a world
+step's time, perf-sampled: docs/reproducibility-and-speed.md), and OpenBLAS picks its
+kernels by CPU, so its sums rounded differently from one machine to another
+(:mod:`pushctl.machine`). A loop's sum has one order everywhere.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True)
+def matvec(A, x):
+    """A (n, k) @ x (k,), summed in column order."""
+    n, k = A.shape
+    out = np.empty(n)
+    for i in range(n):
+        total = 0.0
+        for j in range(k):
+            total += A[i, j] * x[j]
+        out[i] = total
+    return out
+
+
+@njit(cache=True)
+def matmul(A, B):
+    """A (n, k) @ B (k, m), each entry summed in the order of k."""
+    n, k = A.shape
+    m = B.shape[1]
+    out = np.zeros((n, m))
+    for i in range(n):
+        for t in range(k):
+            a = A[i, t]
+            for j in range(m):
+                out[i, j] += a * B[t, j]
+    return out
+
+
+@njit(cache=True)
+def spd_solve(A, B):
+    """X (n, m) with A X = B for A (n, n) symmetric positive definite (the arm's mass matrix
+    with implicit damping): Cholesky, then two triangular solves per column of B."""
+    n = A.shape[0]
+    L = np.zeros((n, n))
+    for j in range(n):
+        d = A[j, j]
+        for k in range(j):
+            d -= L[j, k] * L[j, k]
+        d = math.sqrt(d)
+        L[j, j] = d
+        for i in range(j + 1, n):
+            t = A[i, j]
+            for k in range(j):
+                t -= L[i, k] * L[j, k]
+            L[i, j] = t / d
+    X = B.copy()
+    m = B.shape[1]
+    for c in range(m):
+        for i in range(n):
+            t = X[i, c]
+            for k in range(i):
+                t -= L[i, k] * X[k, c]
+            X[i, c] = t / L[i, i]
+        for i in range(n - 1, -1, -1):
+            t = X[i, c]
+            for k in range(i + 1, n):
+                t -= L[k, i] * X[k, c]
+            X[i, c] = t / L[i, i]
+    return X
