@@ -132,3 +132,15 @@ def test_the_tour_evaluates_and_reports_with_real_options() -> None:
         help_text = CliRunner().invoke(app, [name, "--help"]).output
         for option in (a for a in arguments if a.startswith("--")):
             assert option in help_text, f"pushctl {name} has no {option}"
+
+
+def test_readme_table_is_the_shipped_results(tmp_path: Path) -> None:
+    """The *Does it work?* table shows the committed `results/` as
+    `python -m pushctl.report.readme_table results` renders them, so a regenerated run
+    that leaves the README behind fails here; a missing table is a one-line error."""
+    from pushctl.report.readme_table import main, readme_rows
+
+    section = README.read_text().split("\n## Does it work?\n")[1].split("\n## ")[0]
+    shown = [line for line in section.splitlines() if line.startswith(("| cube", "| wedge"))]
+    assert shown == readme_rows(ROOT / "results")
+    assert main([str(tmp_path)]) == 2

@@ -53,6 +53,7 @@ from datetime import datetime, timezone
 from pathlib import Path
 
 import pushctl
+from pushctl.evaluation.columns import STEPS_FILE
 from pushctl.machine import machine_description
 from pushctl.provenance import git_commit, write_atomic
 
@@ -244,8 +245,6 @@ def compress_steps(setup: Setup) -> Path:
 
     Written by the reproduction itself because a copy compressed by hand once fell behind:
     the ``results/`` of 1d7a74e shipped the ``steps.csv.gz`` of the run before it."""
-    from pushctl.evaluation.columns import STEPS_FILE  # imports nothing
-
     source = setup.results / "evaluation" / STEPS_FILE
     target = source.with_name(source.name + ".gz")
     write_atomic(target, lambda tmp: _gzip(source, tmp))
