@@ -18,11 +18,16 @@ import numpy as np
 from numba import njit
 
 from pushctl.contact.kernels import (
+    SLIP_SETTLED,
+    SLIP_UNSETTLED,
+    SLIP_WARM_FAILED,
     active_set_step,
     apply_impulses,
     arm_part,
     assemble_on,
     refine_slip,
+    warm_slip_loop,
+    write_solve,
 )
 from pushctl.contact.pivot_kernels import cold_pivot
 
@@ -65,10 +70,11 @@ def cold_solve(
 ):  # fmt: skip
     """:func:`cold_contact_step` from the step's
     :func:`~pushctl.contact.kernels.arm_part` ``arm``."""
-    D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, _ = assemble_on(
+    problem = assemble_on(
         arm, contacts, pose, velocity, obj_mass_inv, support_points, friction_limits,
         slip_directions, sliding, h, stabilisation, tie_break, mu_contact,
     )  # fmt: skip
+    D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, _ = problem
     n = b.shape[0]
     if n == 0:
         p = np.zeros(0)
@@ -80,7 +86,17 @@ def cold_solve(
         if verified:
             va, vo, f = apply_impulses(p, v_arm_free, Minv_At_arm, velocity, Minv_At_obj, h)
             return HELD, p, w, residual, 0, va, vo, f
-    start = guess if has_guess else np.zeros(n)
+    return pivoted_solve(problem, velocity, h, guess, has_guess, tol, max_pivots)
+
+
+@njit(cache=True)
+def pivoted_solve(problem, velocity, h, guess, has_guess, tol, max_pivots):
+    """The rest of :func:`cold_solve` once the active set of ``guess`` failed (or there is
+    none): the compiled pivoting on the :func:`~pushctl.contact.kernels.assemble_on` output
+    ``problem`` (n ≥ 1 rows), then :func:`apply_impulses`. Returns as :func:`cold_solve`."""
+    D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, _ = problem
+    threshold = tol * max(1.0, np.max(np.abs(b)))
+    start = guess if has_guess else np.zeros(b.shape[0])
     p, w, residual, verified, pivots, which = cold_pivot(
         D, b, lo, hi, findex, mu, start, has_guess, threshold, max_pivots
     )
@@ -133,7 +149,7 @@ def cold_slip_step(
     one: the caller solves it with ProxQP and continues the loop in Python.
     """
     arm = arm_part(contacts, jacobians, M, nle, v_arm, tau, joint_damping, h)
-    how, p, w, res, pivots, va, vo, f = cold_solve(
+    solve = cold_solve(
         arm, contacts, pose, velocity, obj_mass_inv, support_points, friction_limits,
         slip_directions, sliding, h, stabilisation, tie_break, mu_contact, guess, has_guess,
         tol, max_pivots,
@@ -141,7 +157,25 @@ def cold_slip_step(
     if has_first:
         first = (first_residual, first_v_arm, first_v_obj, first_forces, 0)
     else:
-        first = (res, va, vo, f, pivots)
+        first = (solve[3], solve[5], solve[6], solve[7], solve[4])
+    return cold_slip_loop(
+        arm, contacts, pose, velocity, obj_mass_inv, support_points, friction_limits,
+        slip_directions, sliding, h, stabilisation, tie_break, mu_contact, guess, has_guess,
+        tol, max_pivots, cos_tolerance, max_iterations, start, solve, first,
+    )  # fmt: skip
+
+
+@njit(cache=True)
+def cold_slip_loop(
+    arm, contacts, pose, velocity, obj_mass_inv, support_points, friction_limits,
+    slip_directions, sliding, h, stabilisation, tie_break, mu_contact, guess, has_guess, tol,
+    max_pivots, cos_tolerance, max_iterations, start, solve, first,
+):  # fmt: skip
+    """The loop of :func:`cold_slip_step` after its first solve ``solve`` (what
+    :func:`cold_solve` returned, from ``guess`` if ``has_guess``), with ``first``
+    ``(residual, v_arm, v_obj, forces, pivots)`` the solution the step keeps if the loop
+    does not settle. Returns as :func:`cold_slip_step`."""
+    how, p, w, res, pivots, va, vo, f = solve
     if how == UNVERIFIED:
         return COLD_UNVERIFIED, start - 1, 0, 0, 0.0, 0, first, p[:0], guess, pivots
     solves, warm, worst, iterations = 1, int(_counts_as_warm(how, has_guess)), res, 0
@@ -168,3 +202,81 @@ def cold_slip_step(
         solution, last_p = (res, va, vo, f, pivots), p
     return COLD_UNSETTLED, max_iterations, solves, warm, worst, iterations, first, last_p, \
         guess, 0  # fmt: skip
+
+
+STEP_SETTLED, STEP_UNSETTLED, STEP_UNVERIFIED = 1, 2, 3
+"""Outcomes of :func:`slip_step`: the step's solution is the latest solve; not settled, it is
+the first (the caller restores its boxes); a solve that the pivoting did not verify was met
+(nothing is written: the caller makes the step again, in parts)."""
+
+
+@njit(cache=True)
+def slip_step(
+    contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
+    support_points, friction_limits, slip_directions, sliding, h, stabilisation, tie_break,
+    mu_contact, guess, tol, cos_tolerance, max_iterations, max_pivots, out_v_arm, out_v_obj,
+    out_forces, out_last_p, out_pose,
+):  # fmt: skip
+    """A whole step from the previous impulses ``guess`` (m,) in one compiled call: the warm
+    loop of :func:`~pushctl.contact.kernels.warm_slip_step` and, where one of its warm
+    solves fails, :func:`cold_slip_step`'s loop from there: the calls of the two kernels in
+    the same order, so the same bits (tests/contact/test_cold_step.py).
+
+    What it saves over the two calls: :func:`cold_slip_step` began by computing again the
+    arm's part, the problem and the warm active set's solve that had just failed, and the
+    round trip through Python cost about as much. Half of a random-action training push's
+    steps take this path.
+
+    Writes into the caller's arrays as :func:`~pushctl.contact.kernels.warm_slip_step`
+    (``out_pose``: the pose after the step with the kept velocity) and returns ``(status,
+    solves, warm_starts, residual, iterations, worst, pivots, cold)``: ``status`` one of
+    :data:`STEP_SETTLED`, :data:`STEP_UNSETTLED`, :data:`STEP_UNVERIFIED`; the counts of
+    verified solves, warm starts among them (as ``SubstepSolver._record`` counts them) and
+    re-solves, the largest residual of the verified solves, ``residual`` and ``pivots`` of
+    the kept solve, and whether the cold loop ran.
+    """
+    outs = (out_v_arm, out_v_obj, out_forces, out_last_p, out_pose)
+    status, solves, attempt, iterations, worst, first, last, arm, problem = warm_slip_loop(
+        contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
+        support_points, friction_limits, slip_directions, sliding, h, stabilisation,
+        tie_break, mu_contact, guess, tol, cos_tolerance, max_iterations,
+    )  # fmt: skip
+    if status == SLIP_SETTLED:
+        residual = write_solve(last, last[0], pose + h * last[4], *outs)
+        return STEP_SETTLED, solves, solves, residual, iterations, worst, 0, False
+    if status == SLIP_UNSETTLED:
+        residual = write_solve(first, last[0], pose + h * first[4], *outs)
+        return STEP_UNSETTLED, solves, solves, residual, iterations, worst, 0, False
+    # a warm solve failed on `problem`: the cold loop, its first solve pivoting on it
+    if status == SLIP_WARM_FAILED:
+        failed_guess, start, iterations = last[0], attempt + 1, iterations + 1
+    else:
+        failed_guess, start = guess, 0
+    solve = pivoted_solve(problem, velocity, h, failed_guess, True, tol, max_pivots)
+    if status == SLIP_WARM_FAILED:  # the step keeps its first warm solve if not settled
+        kept_first = (first[2], first[3], first[4], first[5], 0)
+    else:
+        kept_first = (solve[3], solve[5], solve[6], solve[7], solve[4])
+    cold_status, _, cold_solves, cold_warm, cold_worst, cold_iterations, kept, last_p, _, _ = (
+        cold_slip_loop(
+            arm, contacts, pose, velocity, obj_mass_inv, support_points, friction_limits,
+            slip_directions, sliding, h, stabilisation, tie_break, mu_contact, failed_guess,
+            True, tol, max_pivots, cos_tolerance, max_iterations, start, solve, kept_first,
+        )
+    )  # fmt: skip
+    if cold_status == COLD_UNVERIFIED:
+        return STEP_UNVERIFIED, 0, 0, 0.0, 0, 0.0, 0, True
+    residual, v_arm_kept, v_obj_kept, forces_kept, pivots = kept
+    out_v_arm[:] = v_arm_kept
+    out_v_obj[:] = v_obj_kept
+    out_forces[:] = forces_kept
+    out_last_p[:] = last_p
+    out_pose[:] = pose + h * v_obj_kept
+    if solves:
+        worst = max(worst, cold_worst)
+    else:
+        worst = cold_worst
+    status = STEP_SETTLED if cold_status == COLD_SETTLED else STEP_UNSETTLED
+    iterations += cold_iterations
+    return status, solves + cold_solves, solves + cold_warm, residual, iterations, worst, \
+        pivots, True  # fmt: skip

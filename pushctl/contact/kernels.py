@@ -353,10 +353,17 @@ def warm_solve(
     slip_directions, sliding, h, stabilisation, tie_break, mu_contact, guess, tol,
 ):  # fmt: skip
     """:func:`warm_contact_step` from the step's :func:`arm_part` ``arm``."""
-    D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, _ = assemble_on(
+    problem = assemble_on(
         arm, contacts, pose, velocity, obj_mass_inv, support_points, friction_limits,
         slip_directions, sliding, h, stabilisation, tie_break, mu_contact,
     )  # fmt: skip
+    return warm_solve_on(problem, velocity, h, guess, tol)
+
+
+@njit(cache=True)
+def warm_solve_on(problem, velocity, h, guess, tol):
+    """:func:`warm_solve` of the :func:`assemble_on` output ``problem``."""
+    D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, _ = problem
     threshold = tol * max(1.0, np.max(np.abs(b)))
     p, w, residual, verified = active_set_step(D, b, lo, hi, findex, mu, guess, threshold)
     v_arm_new, v_obj, forces = apply_impulses(p, v_arm_free, Minv_At_arm, velocity, Minv_At_obj, h)
@@ -364,7 +371,7 @@ def warm_solve(
 
 
 @njit(cache=True)
-def _write(solve, last_p, next_pose, out_v_arm, out_v_obj, out_forces, out_last_p, out_pose):
+def write_solve(solve, last_p, next_pose, out_v_arm, out_v_obj, out_forces, out_last_p, out_pose):
     """Write what the world reads of a kept :func:`warm_contact_step` solve ``(p, w,
     residual, v_arm, v_obj, forces)`` (its velocities and forces), the next warm start and
     the object's next pose into the caller's arrays; return the solve's residual."""
@@ -414,35 +421,66 @@ def warm_slip_step(
     from there, with the kept (first) solve as the one to keep if it does not settle.
     """
     outs = (out_v_arm, out_v_obj, out_forces, out_last_p, out_pose)
+    status, solves, attempt, iterations, worst, first, last, _, _ = warm_slip_loop(
+        contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
+        support_points, friction_limits, slip_directions, sliding, h, stabilisation,
+        tie_break, mu_contact, guess, tol, cos_tolerance, max_iterations,
+    )  # fmt: skip
+    if status == 0:
+        return 0, 0, write_solve(first, first[0], pose, *outs), 0, 0, 0.0
+    if status == SLIP_SETTLED:
+        residual = write_solve(last, last[0], pose + h * last[4], *outs)
+    elif status == SLIP_WARM_FAILED:
+        residual = write_solve(first, last[0], pose, *outs)
+    else:  # the step keeps its first solve
+        residual = write_solve(first, last[0], pose + h * first[4], *outs)
+    return status, solves, residual, attempt, iterations, worst
+
+
+@njit(cache=True)
+def warm_slip_loop(
+    contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
+    support_points, friction_limits, slip_directions, sliding, h, stabilisation, tie_break,
+    mu_contact, guess, tol, cos_tolerance, max_iterations,
+):  # fmt: skip
+    """The loop of :func:`warm_slip_step` (arguments as there), for the compiled callers:
+    returns ``(status, solves, attempt, iterations, worst, first, last, arm, problem)`` with
+    ``status``, ``solves``, ``attempt``, ``iterations`` and ``worst`` as
+    :func:`warm_slip_step` returns them, ``first`` and ``last`` the first and the latest
+    verified solves ``(p, w, residual, v_arm, v_obj, forces)`` (on status 0, ``first`` is the
+    failed solve), ``arm`` the step's :func:`arm_part` and ``problem`` the
+    :func:`assemble_on` output of the latest solve: when a warm solve failed, the problem it
+    failed on (from ``guess`` on status 0, from ``last``'s impulses on ``SLIP_WARM_FAILED``),
+    with the boxes it was built on left in ``slip_directions`` and ``sliding``."""
     slip_state(pose, velocity, support_points, slip_directions, sliding)
     inputs_velocity = velocity
     arm = arm_part(contacts, jacobians, M, nle, v_arm, tau, joint_damping, h)
-    ok, p, w, res, va, vo, f = warm_solve(
+    problem = assemble_on(
         arm, contacts, pose, inputs_velocity, obj_mass_inv, support_points, friction_limits,
-        slip_directions, sliding, h, stabilisation, tie_break, mu_contact, guess, tol,
+        slip_directions, sliding, h, stabilisation, tie_break, mu_contact,
     )  # fmt: skip
+    ok, p, w, res, va, vo, f = warm_solve_on(problem, inputs_velocity, h, guess, tol)
     first = (p, w, res, va, vo, f)
     if not ok:
-        return 0, 0, _write(first, p, pose, *outs), 0, 0, 0.0
+        return 0, 0, 0, 0, 0.0, first, first, arm, problem
     last = first
     solves, iterations, worst = 1, 0, res
     for attempt in range(max_iterations + 1):
         if not refine_slip(pose, last[4], support_points, slip_directions, sliding, cos_tolerance):
-            residual = _write(last, last[0], pose + h * last[4], *outs)
-            return SLIP_SETTLED, solves, residual, attempt, iterations, worst
+            return SLIP_SETTLED, solves, attempt, iterations, worst, first, last, arm, problem
         if attempt == max_iterations:
             break
         iterations += 1
-        ok, p, w, res, va, vo, f = warm_solve(
+        problem = assemble_on(
             arm, contacts, pose, inputs_velocity, obj_mass_inv, support_points,
             friction_limits, slip_directions, sliding, h, stabilisation, tie_break,
-            mu_contact, last[0], tol,
+            mu_contact,
         )  # fmt: skip
+        ok, p, w, res, va, vo, f = warm_solve_on(problem, inputs_velocity, h, last[0], tol)
         if not ok:
-            residual = _write(first, last[0], pose, *outs)
-            return SLIP_WARM_FAILED, solves, residual, attempt, iterations - 1, worst
+            return SLIP_WARM_FAILED, solves, attempt, iterations - 1, worst, first, last, arm, \
+                problem  # fmt: skip
         last = (p, w, res, va, vo, f)
         solves += 1
         worst = max(worst, res)
-    residual = _write(first, last[0], pose + h * first[4], *outs)  # the step keeps its first
-    return SLIP_UNSETTLED, solves, residual, max_iterations, iterations, worst
+    return SLIP_UNSETTLED, solves, max_iterations, iterations, worst, first, last, arm, problem

@@ -2,13 +2,14 @@
 friction boxes of the ground refined against the solved slip (a mixin of
 :class:`~pushctl.contact.world.World`, whose state it reads and advances).
 
-The common step is one compiled call (:func:`~pushctl.contact.kernels.warm_slip_step`: the
-previous step's active set, verified, with the refine-and-re-solve loop); when the active
-set fails, the full MLCP and the rest of the loop take over, in one compiled call too
-(:func:`~pushctl.contact.cold_step.cold_slip_step`: compiled pivoting for each solve). Only
-a solve that the pivoting does not verify leaves the compiled code: ProxQP solves it and the
-loop continues in Python (:meth:`SubstepSolver._settle_slip`). Every path makes the same
-calls in the same order, so the same bits.
+A step whose prongs touched as in the step before is one compiled call
+(:func:`~pushctl.contact.cold_step.slip_step`): the previous step's active set, verified,
+with the refine-and-re-solve loop, and where that active set fails, the full MLCP and the
+rest of the loop (compiled pivoting for each solve). A new contact set starts with the full
+MLCP (:func:`~pushctl.contact.cold_step.cold_slip_step`). Only a solve that the pivoting
+does not verify leaves the compiled code: the step is then made in parts, ProxQP solves that
+problem and the loop continues in Python (:meth:`SubstepSolver._settle_slip`). Every path
+makes the same calls in the same order, so the same bits.
 """
 
 from __future__ import annotations
@@ -25,9 +26,12 @@ from pushctl.contact.cold_step import (
     FROM_WARM,
     HELD,
     PIVOTED,
+    STEP_UNSETTLED,
+    STEP_UNVERIFIED,
     UNVERIFIED,
     cold_contact_step,
     cold_slip_step,
+    slip_step,
 )
 from pushctl.contact.ground_field import FrictionField
 from pushctl.contact.kernels import (
@@ -225,12 +229,69 @@ class SubstepSolver:
             self._update_friction_bounds()
         prongs, inputs = self._step_inputs(h, tau, damping)
         guess = self._last_p if prongs == self._last_prongs else None
+        solved = None if guess is None else self._compiled_step(inputs, prongs, guess)
+        if solved is None:  # a new contact set, or ProxQP's turn: the step in parts
+            solved = self._step_in_parts(h, tau, damping, inputs, prongs, guess)
+        v_arm, contact_forces, residual, converged, n_iterations = solved
+        if len(prongs) == self._n_prongs:
+            forces = contact_forces
+        else:
+            forces = np.zeros((self._n_prongs, 2))
+            for row, prong in enumerate(prongs):  # a loop: 1 µs less than a list index
+                forces[prong] = contact_forces[row]
+        if self.arm is not None:
+            self._advance_arm(v_arm, h)  # which also finds the contacts
+        else:
+            self._find_contacts()
+        return forces, residual, converged, n_iterations
+
+    def _compiled_step(
+        self, inputs: tuple, prongs: tuple[int, ...], guess: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, float, bool, int] | None:
+        """The step from the previous impulses ``guess`` in one compiled call
+        (:func:`slip_step`: the warm loop, and the cold loop where a warm solve fails).
+        Returns ``(v_arm, contact_forces, residual, converged, iterations)`` with the object
+        advanced, or None, having changed nothing the step reads, when a solve needs ProxQP."""
+        empty = np.empty  # its outputs, made here: numba's boxing of returned arrays cost more
+        v_arm, v_obj = empty(self._nv), empty(3)
+        contact_forces, last_p, pose = empty((len(prongs), 2)), empty(guess.size), empty(3)
+        status, solves, warm_starts, residual, iterations, worst, pivots, _ = slip_step(
+            *inputs, *self._model, guess, DEFAULT_TOL, SLIP_COS_TOLERANCE,
+            self.config.slip_iterations, _PIVOT_BUDGET, v_arm, v_obj, contact_forces, last_p,
+            pose,
+        )  # type: ignore[call-arg]  # fmt: skip  # numba's Dispatcher hides the signature
+        if status == STEP_UNVERIFIED:
+            return None
+        stats = self.stats
+        stats.solves += solves
+        stats.warm_starts += warm_starts
+        stats.max_residual = max(stats.max_residual, worst)
+        stats.slip_iterations += iterations
+        self._last_prongs, self._last_p = prongs, last_p
+        if status == STEP_UNSETTLED:  # the step keeps its first solution and its boxes
+            self._start_slip_state()
+            stats.slip_unsettled += 1
+        self.object_velocity, self.object_pose = v_obj, pose
+        return v_arm, contact_forces, residual, True, pivots
+
+    def _step_in_parts(
+        self,
+        h: float,
+        tau: np.ndarray,
+        damping: np.ndarray,
+        inputs: tuple,
+        prongs: tuple[int, ...],
+        guess: np.ndarray | None,
+    ) -> tuple[np.ndarray, np.ndarray, float, bool, int]:
+        """:meth:`_compiled_step` as the calls it joins: the warm loop
+        (:func:`warm_slip_step`) and then the cold loop (:meth:`_cold_path`), which hands a
+        solve that the pivoting does not verify to ProxQP. For a new contact set (``guess``
+        None) the cold loop alone. Returns as :meth:`_compiled_step`."""
         start, status = 0, 0
         if guess is None:  # the boxes here; warm_slip_step sets them itself
             slip_state(self.object_pose, self.object_velocity, self._support_points,
                        self._slip_directions, self._sliding)  # fmt: skip
-        else:  # the common case: the whole loop in one compiled call
-            # its outputs, made here: numba's boxing of returned arrays cost more
+        else:  # the warm loop alone, its outputs made here as in _compiled_step
             empty = np.empty
             v_arm, v_obj = empty(self._nv), empty(3)
             contact_forces, last_p = empty((len(prongs), 2)), empty(guess.size)
@@ -265,17 +326,7 @@ class SubstepSolver:
             result, v_arm, v_obj, contact_forces = solution
             residual, converged, n_iterations = result.residual, result.converged, result.iterations
             self._advance_object(v_obj, h)
-        if len(prongs) == self._n_prongs:
-            forces = contact_forces
-        else:
-            forces = np.zeros((self._n_prongs, 2))
-            for row, prong in enumerate(prongs):  # a loop: 1 µs less than a list index
-                forces[prong] = contact_forces[row]
-        if self.arm is not None:
-            self._advance_arm(v_arm, h)  # which also finds the contacts
-        else:
-            self._find_contacts()
-        return forces, residual, converged, n_iterations
+        return v_arm, contact_forces, residual, converged, n_iterations
 
     def _cold_path(self, h, tau, damping, inputs, prongs, guess, first, start: int):
         """The step's full MLCP from ``guess`` (None: none) and the refine-and-re-solve loop

@@ -1,8 +1,8 @@
 """The world step's cold path in one compiled call (:func:`cold_contact_step`) gives, to the
 bit, what the separate calls it replaces gave: assemble, :func:`solve_box_mlcp` with the
 previous impulses as warm start, apply the impulses; and its refine-and-re-solve loop in one
-compiled call (:func:`cold_slip_step`) gives what the Python loop gave, ProxQP's
-continuation included."""
+compiled call (:func:`cold_slip_step`), and the whole step in one (:func:`slip_step`), give
+what the Python loop gave, ProxQP's continuation included."""
 
 from __future__ import annotations
 
@@ -23,6 +23,11 @@ from pushctl.rl.env_config import EnvConfig
 python_cold_path = substep_module.SubstepSolver._cold_path_in_python
 
 
+def in_parts(self, inputs, prongs, guess):
+    """``SubstepSolver._compiled_step`` declining every step: the step is made in parts."""
+    return None
+
+
 def _recorded_calls(monkeypatch, steps: int = 60) -> list[tuple]:
     """The arguments of every cold_contact_step call of a random-action push on the training
     environment (plant unknowns on, objects slipping), copied when made (the cold path run
@@ -35,6 +40,7 @@ def _recorded_calls(monkeypatch, steps: int = 60) -> list[tuple]:
         return solve(*args)
 
     monkeypatch.setattr(substep_module, "cold_contact_step", record)
+    monkeypatch.setattr(substep_module.SubstepSolver, "_compiled_step", in_parts)
     monkeypatch.setattr(substep_module.SubstepSolver, "_cold_path", python_cold_path)
     env = PushEnv(EnvConfig(action_repeat=10, gate_threshold=0.0, duration=6.0))
     rng = np.random.default_rng(0)
@@ -124,29 +130,42 @@ def _slipping_pushes(slip_iterations: int = MAX_SLIP_ITERATIONS) -> tuple[str, o
     ("pivot_budget", "slip_iterations"),
     [(None, MAX_SLIP_ITERATIONS), (1, MAX_SLIP_ITERATIONS), (None, 2)],
 )
-def test_the_compiled_cold_loop_is_the_python_loop_to_the_bit(
+def test_the_compiled_step_is_the_python_loop_to_the_bit(
     monkeypatch, pivot_budget, slip_iterations
 ):
-    """cold_slip_step against the Python loop it replaces. With a budget of one pivot the
-    pivoting often verifies nothing, so the ProxQP continuation runs: from the first solve
-    and from a re-solve inside the loop. With a shorter loop (``slip_iterations`` 2) the
-    two still agree."""
+    """The step as one compiled call (slip_step: the warm loop, then the cold loop where a
+    warm solve fails) and as its parts (warm_slip_step, then cold_slip_step), each against
+    the Python loop they replace. With a budget of one pivot the pivoting often verifies
+    nothing, so ProxQP's continuation runs (slip_step then declines the step, which is
+    made in parts): from the first solve and from a re-solve inside the loop. With a
+    shorter loop (``slip_iterations`` 2) they still agree."""
     if pivot_budget is not None:
         monkeypatch.setattr(substep_module, "_PIVOT_BUDGET", pivot_budget)
     proxqp_step = substep_module.SubstepSolver._proxqp_step
     continued: list[bool] = []
+    went_cold: list[bool] = []
+    slip_step = substep_module.slip_step
 
     def counted(self, h, tau, damping, guess, pivots):
         continued.append(True)
         return proxqp_step(self, h, tau, damping, guess, pivots)
 
+    def watched(*args):
+        outcome = slip_step(*args)
+        went_cold.append(outcome[-1])
+        return outcome
+
     monkeypatch.setattr(substep_module.SubstepSolver, "_proxqp_step", counted)
+    monkeypatch.setattr(substep_module, "slip_step", watched)
     compiled, stats = _slipping_pushes(slip_iterations)
     compiled_continuations = len(continued)
+    monkeypatch.setattr(substep_module.SubstepSolver, "_compiled_step", in_parts)
+    in_parts_digest, in_parts_stats = _slipping_pushes(slip_iterations)
     monkeypatch.setattr(substep_module.SubstepSolver, "_cold_path", python_cold_path)
     python, python_stats = _slipping_pushes(slip_iterations)
-    assert compiled == python
-    assert stats == python_stats
+    assert compiled == in_parts_digest == python
+    assert stats == in_parts_stats == python_stats
     assert stats.slip_iterations > 50 and stats.slip_unsettled > 0  # the loop ran, both ends
+    assert sum(went_cold) > 20  # slip_step's cold loop ran
     if pivot_budget is not None:
         assert compiled_continuations > 20  # ProxQP took over many times

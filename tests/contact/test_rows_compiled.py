@@ -93,8 +93,8 @@ def _slipping_push_digest():
 
 
 def test_compiled_slip_loop_matches_the_python_loop_bit_for_bit(monkeypatch):
-    """World._substep's compiled refine-and-re-solve loop (warm_slip_step) against the
-    Python loop it replaces, on a push whose boxes are refined and re-solved many times."""
+    """World._substep's compiled refine-and-re-solve loop (slip_step) against the Python
+    loop it replaces, on a push whose boxes are refined and re-solved many times."""
     import pushctl.contact.substep as substep_module
     import pushctl.contact.world as world_module
     from pushctl.contact.kernels import slip_state
@@ -111,6 +111,7 @@ def test_compiled_slip_loop_matches_the_python_loop_bit_for_bit(monkeypatch):
         return (0, 0, 0.0, 0, 0, 0.0)  # status 0: nothing else is read
 
     monkeypatch.setattr(substep_module, "warm_slip_step", never)
+    monkeypatch.setattr(world_module.World, "_compiled_step", lambda self, *args: None)
     monkeypatch.setattr(world_module.World, "_solve_step", python_solve)
     python, python_stats = _slipping_push_digest()
     assert compiled == python
@@ -124,12 +125,14 @@ def test_step_state_and_contact_model_name_the_kernels_parameters():
     wrong parameter."""
     import inspect
 
+    from pushctl.contact.cold_step import cold_contact_step, cold_slip_step, slip_step
     from pushctl.contact.kernels import assemble, warm_contact_step, warm_slip_step
     from pushctl.contact.substep import STEP_STATE, ContactModel
 
     names = list(STEP_STATE) + list(ContactModel._fields)
     assert len(names) == 18
-    for kernel in (assemble, warm_contact_step, warm_slip_step):
+    kernels = (assemble, warm_contact_step, warm_slip_step, cold_contact_step, cold_slip_step)
+    for kernel in (*kernels, slip_step):
         parameters = list(inspect.signature(kernel.py_func).parameters)
         assert parameters[:18] == names, kernel.py_func.__name__
     assert list(inspect.signature(assemble.py_func).parameters) == names
