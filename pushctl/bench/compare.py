@@ -196,10 +196,15 @@ def record_cold_problems(steps: int = 1500, seed: int = 0) -> list[tuple]:
 
     recorded: list[tuple] = []
     solve = world_module.cold_contact_step
-    # every solve of the cold path as its own cold_contact_step call (the compiled loop,
-    # cold_slip_step, makes the same calls inside one)
+    # every solve of the cold path as its own cold_contact_step call (the compiled step,
+    # slip_step, and the compiled loop, cold_slip_step, make the same calls inside one): the
+    # step made in parts, its cold loop in Python
+    compiled_step = world_module.SubstepSolver._compiled_step
     cold_path = world_module.SubstepSolver._cold_path
     python_loop = world_module.SubstepSolver._cold_path_in_python
+
+    def in_parts(self, inputs, prongs, guess):
+        return None
 
     def record(*args):
         solved = solve(*args)
@@ -211,6 +216,7 @@ def record_cold_problems(steps: int = 1500, seed: int = 0) -> list[tuple]:
         return solved
 
     world_module.cold_contact_step = record  # type: ignore[assignment]
+    world_module.SubstepSolver._compiled_step = in_parts  # type: ignore[method-assign]
     world_module.SubstepSolver._cold_path = python_loop  # type: ignore[method-assign]
     try:
         env = PushEnv(EnvConfig(duration=6.0, gate_threshold=0.0))
@@ -222,6 +228,7 @@ def record_cold_problems(steps: int = 1500, seed: int = 0) -> list[tuple]:
                 env.reset(seed=seed + i + 1)
     finally:
         world_module.cold_contact_step = solve  # type: ignore[assignment]
+        world_module.SubstepSolver._compiled_step = compiled_step  # type: ignore[method-assign]
         world_module.SubstepSolver._cold_path = cold_path  # type: ignore[method-assign]
     return recorded
 

@@ -224,8 +224,8 @@ def slip_step(
 
     What it saves over the two calls: :func:`cold_slip_step` began by computing again the
     arm's part, the problem and the warm active set's solve that had just failed, and the
-    round trip through Python cost about as much. Half of a random-action training push's
-    steps take this path.
+    round trip through Python cost about as much. In a push with a random action every step,
+    about 60 % of the steps take this path (docs/reproducibility-and-speed.md, tenth pass).
 
     Writes into the caller's arrays as :func:`~pushctl.contact.kernels.warm_slip_step`
     (``out_pose``: the pose after the step with the kept velocity) and returns ``(status,
