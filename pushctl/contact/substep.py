@@ -251,7 +251,9 @@ class SubstepSolver:
         """The step from the previous impulses ``guess`` in one compiled call
         (:func:`slip_step`: the warm loop, and the cold loop where a warm solve fails).
         Returns ``(v_arm, contact_forces, residual, converged, iterations)`` with the object
-        advanced, or None, having changed nothing the step reads, when a solve needs ProxQP."""
+        advanced, or None when a solve needs ProxQP: then only the friction boxes have
+        changed, which the step in parts sets again first (:func:`warm_slip_step` begins with
+        :func:`slip_state`)."""
         empty = np.empty  # its outputs, made here: numba's boxing of returned arrays cost more
         v_arm, v_obj = empty(self._nv), empty(3)
         contact_forces, last_p, pose = empty((len(prongs), 2)), empty(guess.size), empty(3)
