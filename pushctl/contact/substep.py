@@ -264,17 +264,23 @@ class SubstepSolver:
         )  # type: ignore[call-arg]  # fmt: skip  # numba's Dispatcher hides the signature
         if status == STEP_UNVERIFIED:
             return None
+        self._count_loop(prongs, last_p, solves, warm_starts, worst, iterations)
+        if status == STEP_UNSETTLED:  # the step keeps its first solution and its boxes
+            self._start_slip_state()
+            self.stats.slip_unsettled += 1
+        self.object_velocity, self.object_pose = v_obj, pose
+        return v_arm, contact_forces, residual, True, pivots
+
+    def _count_loop(self, prongs, last_p, solves, warm_starts, worst, iterations) -> None:
+        """Count a compiled loop's ``solves`` verified solves (``warm_starts`` of them warm,
+        ``worst`` their largest residual, ``iterations`` re-solves) in the stats; its latest
+        impulses ``last_p`` are the next step's warm start while ``prongs`` touch."""
         stats = self.stats
         stats.solves += solves
         stats.warm_starts += warm_starts
         stats.max_residual = max(stats.max_residual, worst)
         stats.slip_iterations += iterations
         self._last_prongs, self._last_p = prongs, last_p
-        if status == STEP_UNSETTLED:  # the step keeps its first solution and its boxes
-            self._start_slip_state()
-            stats.slip_unsettled += 1
-        self.object_velocity, self.object_pose = v_obj, pose
-        return v_arm, contact_forces, residual, True, pivots
 
     def _step_in_parts(
         self,
@@ -303,12 +309,7 @@ class SubstepSolver:
                 self.config.slip_iterations, v_arm, v_obj, contact_forces, last_p, pose,
             )  # type: ignore[call-arg]  # fmt: skip  # numba's Dispatcher hides the signature
         if status:
-            stats = self.stats
-            stats.solves += solves
-            stats.warm_starts += solves
-            stats.max_residual = max(stats.max_residual, worst)
-            stats.slip_iterations += iterations
-            self._last_prongs, self._last_p = prongs, last_p
+            self._count_loop(prongs, last_p, solves, solves, worst, iterations)
         if status in (SLIP_SETTLED, SLIP_UNSETTLED):
             # Verified warm solves only: no MLCPResult, the pose advanced in the kernel.
             if status == SLIP_UNSETTLED:  # the step keeps its first solution and its boxes
