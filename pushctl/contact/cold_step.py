@@ -9,7 +9,9 @@ training environment with the plant unknowns, whose objects slip on the friction
 that path ran 1.7 times a push step. :func:`cold_contact_step` is the same calls in the
 same order in one compiled call (the same bits: tests/contact/test_cold_step.py); only when
 the pivoting finds nothing that verifies does the caller go on in Python with ProxQP
-(:func:`~pushctl.contact.mlcp.solve_after_pivoting`).
+(:func:`~pushctl.contact.mlcp.solve_after_pivoting`). :func:`cold_slip_step` adds the
+refine-and-re-solve loop of the friction boxes, and :func:`slip_step` the warm loop before
+it: a step whose prongs touched as before is one call, whichever active set holds.
 """
 
 from __future__ import annotations
