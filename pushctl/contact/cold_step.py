@@ -274,10 +274,7 @@ def slip_step(
     out_forces[:] = forces_kept
     out_last_p[:] = last_p
     out_pose[:] = pose + h * v_obj_kept
-    if solves:
-        worst = max(worst, cold_worst)
-    else:
-        worst = cold_worst
+    worst = max(worst, cold_worst)  # 0.0 without a verified warm solve; residuals are >= 0
     status = STEP_SETTLED if cold_status == COLD_SETTLED else STEP_UNSETTLED
     iterations += cold_iterations
     return status, solves + cold_solves, solves + cold_warm, residual, iterations, worst, \
