@@ -10,7 +10,11 @@ The stable Python API (docs/model.md):
       env = gym.make("pushctl/Push-v0")
 """
 
-from pushctl.kernel_cache import drop_stale
+from pushctl.machine import pin_blas_kernels
+
+pin_blas_kernels()  # before numpy loads: the same OpenBLAS kernels, so bytes, on any x86-64
+
+from pushctl.kernel_cache import drop_stale  # noqa: E402
 
 drop_stale()  # before any kernel loads: numba's cache does not follow calls across files
 

@@ -6,7 +6,9 @@ machine and a failure reproduces; set ``HYPOTHESIS_PROFILE=explore`` to draw fre
 
 import os
 
-from hypothesis import settings
+from hypothesis import settings  # (it does not load numpy)
+
+import pushctl  # noqa: F401  # before the test modules load numpy: it pins OpenBLAS's kernels
 
 settings.register_profile("default", derandomize=True)
 settings.register_profile("explore", derandomize=False, max_examples=500)
