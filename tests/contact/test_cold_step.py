@@ -169,3 +169,33 @@ def test_the_compiled_step_is_the_python_loop_to_the_bit(
     assert sum(went_cold) > 20  # slip_step's cold loop ran
     if pivot_budget is not None:
         assert compiled_continuations > 20  # ProxQP took over many times
+
+
+def test_a_step_keeping_its_first_solution_needs_no_new_friction_bounds(monkeypatch) -> None:
+    """A step that does not settle restores its boxes only (``_restore_slip_boxes``): the
+    object has not moved, so the friction field's bounds it would compute again are the
+    ones the step began with, and the warm start they scale is scaled by exactly 1. The
+    same pushes with the field queried again there give the same bits and counts."""
+    solver = substep_module.SubstepSolver
+    queries: list[bool] = []
+    update = solver._update_friction_bounds
+
+    def counted(self) -> None:
+        queries.append(True)
+        update(self)
+
+    monkeypatch.setattr(solver, "_update_friction_bounds", counted)
+    skipped, stats = _slipping_pushes()
+    skipped_queries = len(queries)
+    restore = solver._restore_slip_boxes
+
+    def with_new_bounds(self) -> None:  # what _start_slip_state does
+        self._update_friction_bounds()
+        restore(self)
+
+    monkeypatch.setattr(solver, "_restore_slip_boxes", with_new_bounds)
+    queries.clear()
+    again, again_stats = _slipping_pushes()
+    assert stats.slip_unsettled > 0  # steps that keep their first solution were met
+    assert len(queries) > skipped_queries  # and the field was queried again at them
+    assert skipped == again and stats == again_stats
