@@ -10,9 +10,9 @@ The stable Python API (docs/model.md):
       env = gym.make("pushctl/Push-v0")
 """
 
-from pushctl.machine import pin_blas_kernels
+from pushctl.machine import pin_cpu_code
 
-pin_blas_kernels()  # before numpy loads: the same OpenBLAS kernels, so bytes, on any x86-64
+pin_cpu_code()  # before numpy loads: numpy's AVX2 code on any x86-64, so the same bytes
 
 from pushctl.kernel_cache import drop_stale  # noqa: E402
 

@@ -1,19 +1,22 @@
-"""What kind of machine a run ran on, for its manifest, and one OpenBLAS kernel family for
-every x86-64 machine: the last bits of a push depend on the kernels.
+"""What kind of machine a run ran on, for its manifest, and one choice of CPU code for every
+x86-64 machine: the last bits of a push depend on it.
 
-numpy's OpenBLAS picks its kernels by CPU when it loads, and their sums round differently:
-with AVX-512 it runs its ``SkylakeX`` kernels, without it its ``Haswell`` ones, and the same
-commit and seed push to other last bits; on an AVX-512 machine two fresh processes even
-wrote different bytes (docs/reproducibility.md). Every x86-64 CPU with AVX2 and FMA runs the
-``Haswell`` kernels, so :func:`pin_blas_kernels` asks OpenBLAS for them through
-``OPENBLAS_CORETYPE``, which OpenBLAS reads once, when numpy loads it: ``pushctl/__init__.py``
-calls it before anything imports numpy (Ray's workers inherit the variable). A value the
-user set is kept, and a CPU without AVX2 and FMA is left to OpenBLAS's choice (OpenBLAS
-does not check a forced family: those kernels would crash there). The manifest names the
-kernels that ran (:func:`machine_description`).
+numpy picks code by CPU when it loads, and the choices round differently. Its OpenBLAS runs
+its ``SkylakeX`` kernels with AVX-512 and its ``Haswell`` ones without, and its own loops
+(``np.sin``, sums, …) have AVX-512 versions too. With either, the same commit and seed
+pushed to other last bits than on a machine without AVX-512; with OpenBLAS's AVX-512
+kernels, two fresh processes on one machine even wrote different bytes, and with numpy's
+AVX-512 loops a ``paper`` training run left the shipped one at episode 95
+(docs/reproducibility.md). Every x86-64 CPU with AVX2 and FMA runs the AVX2 code, so
+:func:`pin_cpu_code` asks for it: ``OPENBLAS_CORETYPE=Haswell``, and on a CPU with AVX-512,
+``NPY_DISABLE_CPU_FEATURES`` naming numpy's AVX-512 targets. Both are read once, when numpy
+loads: ``pushctl/__init__.py`` calls it before anything imports numpy (Ray's workers inherit
+the variables). A value the user set is kept, and a CPU without AVX2 and FMA is left to the
+libraries' choice (OpenBLAS does not check a forced family: those kernels would crash
+there). The manifest names the code that ran (:func:`machine_description`).
 
-numpy is imported inside the functions that need it: importing it here would load OpenBLAS
-before the variable is set.
+numpy is imported inside the functions that need it: importing it here would load it
+before the variables are set.
 """
 
 from __future__ import annotations
@@ -22,11 +25,22 @@ import ctypes
 import os
 import platform
 import sys
+from importlib import metadata
 from pathlib import Path
 
 PINNED_KERNELS = "Haswell"
 """The OpenBLAS kernel family pushctl runs on x86-64 (the one the shipped ``results/`` and
 the tests' recorded digests were made with)."""
+
+NUMPY_AVX512_TARGETS = "X86_V4 AVX512_ICL AVX512_SPR"
+"""numpy's AVX-512 dispatch targets from numpy 2.4 on (checked on 2.4: with these disabled
+its highest target is ``X86_V3``, AVX2)."""
+
+OLD_NUMPY_AVX512_TARGETS = (
+    "AVX512F AVX512CD AVX512_KNL AVX512_KNM AVX512_SKX AVX512_CLX AVX512_CNL AVX512_ICL AVX512_SPR"
+)
+"""The same before numpy 2.4, which named them by feature (names a build did not dispatch
+only raise an ImportWarning, ignored by default)."""
 
 
 def cpu_flags(cpuinfo: Path = Path("/proc/cpuinfo")) -> frozenset[str]:
@@ -40,24 +54,53 @@ def cpu_flags(cpuinfo: Path = Path("/proc/cpuinfo")) -> frozenset[str]:
     return frozenset()
 
 
-def kernels_to_pin(machine: str, flags: frozenset[str]) -> str | None:
-    """The kernel family to force on a CPU of architecture ``machine`` (``platform.machine()``)
-    with feature ``flags``, or None where none can be forced safely."""
-    if machine.lower() in ("x86_64", "amd64") and {"avx2", "fma"} <= flags:
-        return PINNED_KERNELS
-    return None
+def code_to_pin(machine: str, flags: frozenset[str], numpy_version: str) -> dict[str, str]:
+    """The environment variables that make a CPU of architecture ``machine``
+    (``platform.machine()``) with feature ``flags`` run the AVX2 code of OpenBLAS and of
+    numpy ``numpy_version``; empty where that cannot be forced safely."""
+    if machine.lower() not in ("x86_64", "amd64") or not {"avx2", "fma"} <= flags:
+        return {}
+    pinned = {"OPENBLAS_CORETYPE": PINNED_KERNELS}
+    if "avx512f" in flags:
+        major_minor = tuple(int(part) for part in numpy_version.split(".")[:2])
+        old = major_minor < (2, 4)
+        pinned["NPY_DISABLE_CPU_FEATURES"] = (
+            OLD_NUMPY_AVX512_TARGETS if old else NUMPY_AVX512_TARGETS
+        )
+    return pinned
 
 
-def pin_blas_kernels() -> str | None:
-    """Set ``OPENBLAS_CORETYPE`` for this process and its children before numpy loads.
-    Returns the family asked for from now on (None: OpenBLAS chooses by CPU); once numpy is
-    loaded nothing can change, and the variable as it stands is returned."""
+def pin_cpu_code() -> dict[str, str]:
+    """Set :func:`code_to_pin`'s variables for this process and its children before numpy
+    loads, keeping any the user set (numpy refuses both ``NPY_DISABLE_CPU_FEATURES`` and
+    ``NPY_ENABLE_CPU_FEATURES``, so a user's ``NPY_ENABLE_CPU_FEATURES`` keeps numpy's part
+    unset). Returns the variables it set; nothing once numpy is loaded (too late)."""
     if "numpy" in sys.modules:
-        return os.environ.get("OPENBLAS_CORETYPE")
-    chosen = os.environ.get("OPENBLAS_CORETYPE") or kernels_to_pin(platform.machine(), cpu_flags())
-    if chosen:
-        os.environ["OPENBLAS_CORETYPE"] = chosen
+        return {}
+    try:
+        numpy_version = metadata.version("numpy")
+    except metadata.PackageNotFoundError:
+        numpy_version = "0"
+    wanted = code_to_pin(platform.machine(), cpu_flags(), numpy_version)
+    if "NPY_ENABLE_CPU_FEATURES" in os.environ:
+        wanted.pop("NPY_DISABLE_CPU_FEATURES", None)
+    chosen = {name: value for name, value in wanted.items() if name not in os.environ}
+    os.environ.update(chosen)
     return chosen
+
+
+def numpy_simd() -> str:
+    """The highest of numpy's dispatch targets that its loops use on this CPU (e.g.
+    ``X86_V3``, ``X86_V4``), or ``baseline``."""
+    import numpy as np  # here, not at the top: see the module docstring
+
+    try:
+        umath = np._core._multiarray_umath  # numpy >= 2
+    except AttributeError:  # pragma: no cover - numpy 1.x
+        umath = np.core._multiarray_umath
+    features = umath.__cpu_features__
+    used = [target for target in umath.__cpu_dispatch__ if features.get(target)]
+    return used[-1] if used else "baseline"
 
 
 _CORENAME_SYMBOLS = ("scipy_openblas_get_corename64_", "openblas_get_corename64_")
@@ -93,10 +136,13 @@ def cpu_model() -> str:
 
 
 def machine_description() -> str:
-    """One line: the CPU, the cores this process may use, and the OpenBLAS kernels numpy
-    runs."""
+    """One line: the CPU, the cores this process may use, the OpenBLAS kernels numpy runs and
+    the highest target its own loops use."""
     if hasattr(os, "sched_getaffinity"):
         cores = len(os.sched_getaffinity(0))
     else:
         cores = os.cpu_count() or 1
-    return f"{cpu_model()}, {cores} cores; numpy's OpenBLAS runs its {blas_kernels()} kernels"
+    return (
+        f"{cpu_model()}, {cores} cores; numpy's OpenBLAS runs its {blas_kernels()} kernels, "
+        f"its own loops up to {numpy_simd()}"
+    )

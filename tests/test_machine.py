@@ -1,6 +1,7 @@
 """pushctl.machine names the kind of machine a run's bytes belong to (the manifest of
-make reproduce-tables carries it), and pins OpenBLAS's Haswell kernels on every x86-64 CPU
-with AVX2 and FMA, so that a push ends in the same bits with and without AVX-512."""
+make reproduce-tables carries it), and pins numpy's AVX2 code (OpenBLAS's Haswell kernels,
+no AVX-512 loops) on every x86-64 CPU with AVX2 and FMA, so that a run writes the same bytes
+with and without AVX-512."""
 
 from __future__ import annotations
 
@@ -13,11 +14,14 @@ from pathlib import Path
 import pytest
 
 from pushctl.machine import (
+    NUMPY_AVX512_TARGETS,
+    OLD_NUMPY_AVX512_TARGETS,
     PINNED_KERNELS,
     blas_kernels,
+    code_to_pin,
     cpu_flags,
-    kernels_to_pin,
     machine_description,
+    numpy_simd,
 )
 
 
@@ -39,29 +43,40 @@ def test_the_kernels_are_openblas_own_name_and_follow_its_coretype_switch() -> N
 
 def test_the_description_names_the_cpu_the_cores_and_the_kernels() -> None:
     line = machine_description()
-    assert f"runs its {blas_kernels()} kernels" in line
+    assert f"runs its {blas_kernels()} kernels, its own loops up to {numpy_simd()}" in line
     assert " cores; " in line and "\n" not in line
 
 
-_PINNABLE = kernels_to_pin(platform.machine(), cpu_flags()) is not None
+_PINNABLE = bool(code_to_pin(platform.machine(), cpu_flags(), "2.4"))
+_VARIABLES = ("OPENBLAS_CORETYPE", "NPY_DISABLE_CPU_FEATURES", "NPY_ENABLE_CPU_FEATURES")
+_PROBE = "from pushctl.machine import blas_kernels, numpy_simd; print(blas_kernels(), numpy_simd())"
 
 
-def _kernels_in_a_fresh_process(code: str, **env: str) -> str:
-    clean = {k: v for k, v in os.environ.items() if k != "OPENBLAS_CORETYPE"}
+def _code_in_a_fresh_process(first: str, **env: str) -> list[str]:
+    """(OpenBLAS's kernels, numpy's highest target) in a fresh process that runs ``first``,
+    with ``env`` for pushctl's variables."""
+    clean = {k: v for k, v in os.environ.items() if k not in _VARIABLES}
     done = subprocess.run(
-        [sys.executable, "-c", f"{code}; from pushctl.machine import blas_kernels; "
-         "print(blas_kernels())"],
+        [sys.executable, "-c", f"{first}; {_PROBE}"],
         capture_output=True, text=True, env={**clean, **env}, timeout=300,
     )  # fmt: skip
     assert done.returncode == 0, done.stderr
-    return done.stdout.strip()
+    return done.stdout.split()
 
 
-def test_only_an_x86_64_cpu_with_avx2_and_fma_is_pinned() -> None:
-    assert kernels_to_pin("x86_64", frozenset({"sse2", "avx2", "fma", "avx512f"})) == "Haswell"
-    assert kernels_to_pin("AMD64", frozenset({"avx2", "fma"})) == "Haswell"
-    assert kernels_to_pin("x86_64", frozenset({"sse2", "avx"})) is None  # would crash
-    assert kernels_to_pin("aarch64", frozenset({"avx2", "fma"})) is None
+def test_only_an_x86_64_cpu_with_avx2_and_fma_is_pinned_and_avx512_loops_only_where_they_are() -> (
+    None
+):
+    avx2, avx512 = frozenset({"sse2", "avx2", "fma"}), frozenset({"avx2", "fma", "avx512f"})
+    assert code_to_pin("x86_64", avx2, "2.4.6") == {"OPENBLAS_CORETYPE": "Haswell"}
+    assert code_to_pin("AMD64", avx512, "2.4.0") == {
+        "OPENBLAS_CORETYPE": "Haswell", "NPY_DISABLE_CPU_FEATURES": NUMPY_AVX512_TARGETS
+    }  # fmt: skip
+    assert code_to_pin("x86_64", avx512, "1.26.4")["NPY_DISABLE_CPU_FEATURES"] == (
+        OLD_NUMPY_AVX512_TARGETS
+    )
+    assert code_to_pin("x86_64", frozenset({"sse2", "avx"}), "2.4.6") == {}  # would crash
+    assert code_to_pin("aarch64", avx512, "2.4.6") == {}
 
 
 def test_cpu_flags_reads_the_first_processor_and_nothing_where_there_is_no_file(
@@ -74,37 +89,42 @@ def test_cpu_flags_reads_the_first_processor_and_nothing_where_there_is_no_file(
 
 
 @pytest.mark.skipif(not _PINNABLE or blas_kernels() == "unknown", reason="no x86-64 AVX2 CPU")
-def test_importing_pushctl_first_runs_the_pinned_kernels_here_and_in_the_tests() -> None:
-    assert blas_kernels() == PINNED_KERNELS  # this process: tests/conftest.py imports pushctl
-    assert _kernels_in_a_fresh_process("import pushctl") == PINNED_KERNELS
-    # a kernel family the user asks for is kept
-    assert _kernels_in_a_fresh_process("import pushctl", OPENBLAS_CORETYPE="Sandybridge") == (
-        "Sandybridge"
+def test_importing_pushctl_first_runs_the_avx2_code_here_and_in_a_fresh_process() -> None:
+    # this process: tests/conftest.py imports pushctl before the test modules load numpy
+    assert [blas_kernels(), numpy_simd()] == [PINNED_KERNELS, "X86_V3"]
+    assert _code_in_a_fresh_process("import pushctl") == [PINNED_KERNELS, "X86_V3"]
+    # what the user asks for is kept
+    chosen = _code_in_a_fresh_process(
+        "import pushctl", OPENBLAS_CORETYPE="Sandybridge", NPY_DISABLE_CPU_FEATURES="X86_V3"
     )
+    assert chosen[0] == "Sandybridge" and chosen[1] != "X86_V3"
+    assert _code_in_a_fresh_process("import pushctl", NPY_ENABLE_CPU_FEATURES="X86_V3") == [
+        PINNED_KERNELS, "X86_V3"
+    ]  # fmt: skip
 
 
 def test_numpy_loaded_first_is_left_as_it_is() -> None:
     code = (
-        "import os, numpy, pushctl; from pushctl.machine import pin_blas_kernels as pin; "
+        "import os, numpy, pushctl; from pushctl.machine import pin_cpu_code as pin; "
         "print(pin(), os.environ.get('OPENBLAS_CORETYPE'))"
     )
     done = subprocess.run(
         [sys.executable, "-c", code],
         capture_output=True, text=True, timeout=300,
-        env={k: v for k, v in os.environ.items() if k != "OPENBLAS_CORETYPE"},
+        env={k: v for k, v in os.environ.items() if k not in _VARIABLES},
     )  # fmt: skip
     assert done.returncode == 0, done.stderr
-    assert done.stdout.split() == ["None", "None"]
+    assert done.stdout.split() == ["{}", "None"]
 
 
 @pytest.mark.skipif(not _PINNABLE or blas_kernels() == "unknown", reason="no x86-64 AVX2 CPU")
-def test_ray_workers_run_the_drivers_kernels(ray_local) -> None:
+def test_ray_workers_run_the_drivers_code(ray_local) -> None:
     import ray
 
     @ray.remote
-    def kernels() -> str:
-        from pushctl.machine import blas_kernels
+    def code() -> list[str]:
+        from pushctl.machine import blas_kernels, numpy_simd
 
-        return blas_kernels()
+        return [blas_kernels(), numpy_simd()]
 
-    assert ray.get(kernels.remote()) == PINNED_KERNELS
+    assert ray.get(code.remote()) == [PINNED_KERNELS, numpy_simd()]
