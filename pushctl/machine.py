@@ -22,6 +22,7 @@ before the variables are set.
 from __future__ import annotations
 
 import ctypes
+import importlib
 import os
 import platform
 import sys
@@ -92,12 +93,10 @@ def pin_cpu_code() -> dict[str, str]:
 def numpy_simd() -> str:
     """The highest of numpy's dispatch targets that its loops use on this CPU (e.g.
     ``X86_V3``, ``X86_V4``), or ``baseline``."""
-    import numpy as np  # here, not at the top: see the module docstring
-
-    try:
-        umath = np._core._multiarray_umath  # numpy >= 2
-    except AttributeError:  # pragma: no cover - numpy 1.x
-        umath = np.core._multiarray_umath
+    try:  # here, not at the top: see the module docstring
+        umath = importlib.import_module("numpy._core._multiarray_umath")  # numpy >= 2
+    except ImportError:  # pragma: no cover - numpy 1.x
+        umath = importlib.import_module("numpy.core._multiarray_umath")
     features = umath.__cpu_features__
     used = [target for target in umath.__cpu_dispatch__ if features.get(target)]
     return used[-1] if used else "baseline"
