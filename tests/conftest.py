@@ -8,7 +8,7 @@ import os
 
 from hypothesis import settings  # (it does not load numpy)
 
-import pushctl  # noqa: F401  # before the test modules load numpy: it pins OpenBLAS's kernels
+import pushctl  # noqa: F401  # before the test modules load numpy: it pins numpy's CPU code
 
 settings.register_profile("default", derandomize=True)
 settings.register_profile("explore", derandomize=False, max_examples=500)

@@ -64,9 +64,7 @@ def _code_in_a_fresh_process(first: str, **env: str) -> list[str]:
     return done.stdout.split()
 
 
-def test_only_an_x86_64_cpu_with_avx2_and_fma_is_pinned_and_avx512_loops_only_where_they_are() -> (
-    None
-):
+def test_only_x86_64_with_avx2_and_fma_is_pinned_and_numpy_only_with_avx512() -> None:
     avx2, avx512 = frozenset({"sse2", "avx2", "fma"}), frozenset({"avx2", "fma", "avx512f"})
     assert code_to_pin("x86_64", avx2, "2.4.6") == {"OPENBLAS_CORETYPE": "Haswell"}
     assert code_to_pin("AMD64", avx512, "2.4.0") == {

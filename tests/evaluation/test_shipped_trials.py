@@ -2,8 +2,9 @@
 seed-0 policy writes, for every trial it runs, the row of the shipped
 ``results/evaluation/trials.csv`` to the last digit (every controller and plant). A change that
 moves any last bit of a push fails here, and then ``results/`` must be made again
-(docs/reproducibility.md). The shipped rows were made with OpenBLAS's Haswell kernels, which
-pushctl pins on x86-64 (pushctl/machine.py): elsewhere the test is skipped."""
+(docs/reproducibility.md). The shipped rows were made with numpy's AVX2 code (OpenBLAS's
+Haswell kernels), which pushctl pins on x86-64 (pushctl/machine.py): elsewhere the test is
+skipped."""
 
 from __future__ import annotations
 
