@@ -124,8 +124,8 @@ def _counts_as_warm(how, has_guess):
 def cold_slip_step(
     contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
     support_points, friction_limits, slip_directions, sliding, h, stabilisation, tie_break,
-    mu_contact, guess, has_guess, tol, max_pivots, cos_tolerance, max_iterations, start,
-    has_first, first_residual, first_v_arm, first_v_obj, first_forces,
+    mu_contact, guess, has_guess, tol, max_pivots, cos_tolerance, stick_fraction,
+    max_iterations, start, has_first, first_residual, first_v_arm, first_v_obj, first_forces,
 ):  # fmt: skip
     """``World._substep``'s cold path in one compiled call: :func:`cold_contact_step` from
     ``guess``, then the refine-and-re-solve loop of the friction boxes from loop index
@@ -163,7 +163,7 @@ def cold_slip_step(
     return cold_slip_loop(
         arm, contacts, pose, velocity, obj_mass_inv, support_points, friction_limits,
         slip_directions, sliding, h, stabilisation, tie_break, mu_contact, guess, has_guess,
-        tol, max_pivots, cos_tolerance, max_iterations, start, solve, first,
+        tol, max_pivots, cos_tolerance, stick_fraction, max_iterations, start, solve, first,
     )  # fmt: skip
 
 
@@ -171,7 +171,7 @@ def cold_slip_step(
 def cold_slip_loop(
     arm, contacts, pose, velocity, obj_mass_inv, support_points, friction_limits,
     slip_directions, sliding, h, stabilisation, tie_break, mu_contact, guess, has_guess, tol,
-    max_pivots, cos_tolerance, max_iterations, start, solve, first,
+    max_pivots, cos_tolerance, stick_fraction, max_iterations, start, solve, first,
 ):  # fmt: skip
     """The loop of :func:`cold_slip_step` after its first solve ``solve`` (what
     :func:`cold_solve` returned, from ``guess`` if ``has_guess``), with ``first``
@@ -184,7 +184,8 @@ def cold_slip_loop(
     solution, last_p = (res, va, vo, f, pivots), p
     for attempt in range(start, max_iterations + 1):
         if not refine_slip(pose, solution[2], support_points, slip_directions, sliding,
-                           cos_tolerance):  # fmt: skip
+                           cos_tolerance, last_p, friction_limits, h,
+                           stick_fraction):  # fmt: skip
             return COLD_SETTLED, attempt, solves, warm, worst, iterations, solution, last_p, \
                 guess, 0  # fmt: skip
         if attempt == max_iterations:
@@ -216,8 +217,8 @@ the first (the caller restores its boxes); a solve that the pivoting did not ver
 def slip_step(
     contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
     support_points, friction_limits, slip_directions, sliding, h, stabilisation, tie_break,
-    mu_contact, guess, tol, cos_tolerance, max_iterations, max_pivots, out_v_arm, out_v_obj,
-    out_forces, out_last_p, out_pose,
+    mu_contact, guess, tol, cos_tolerance, stick_fraction, max_iterations, max_pivots, out_v_arm,
+    out_v_obj, out_forces, out_last_p, out_pose,
 ):  # fmt: skip
     """A whole step from the previous impulses ``guess`` (m,) in one compiled call: the warm
     loop of :func:`~pushctl.contact.kernels.warm_slip_step` and, where one of its warm
@@ -241,7 +242,7 @@ def slip_step(
     status, solves, attempt, iterations, worst, first, last, arm, problem = warm_slip_loop(
         contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
         support_points, friction_limits, slip_directions, sliding, h, stabilisation,
-        tie_break, mu_contact, guess, tol, cos_tolerance, max_iterations,
+        tie_break, mu_contact, guess, tol, cos_tolerance, stick_fraction, max_iterations,
     )  # fmt: skip
     if status == SLIP_SETTLED:
         residual = write_solve(last, last[0], pose + h * last[4], *outs)
@@ -263,7 +264,8 @@ def slip_step(
         cold_slip_loop(
             arm, contacts, pose, velocity, obj_mass_inv, support_points, friction_limits,
             slip_directions, sliding, h, stabilisation, tie_break, mu_contact, failed_guess,
-            True, tol, max_pivots, cos_tolerance, max_iterations, start, solve, kept_first,
+            True, tol, max_pivots, cos_tolerance, stick_fraction, max_iterations, start, solve,
+            kept_first,
         )
     )  # fmt: skip
     if cold_status == COLD_UNVERIFIED:

@@ -284,9 +284,20 @@ def slip_state(pose, velocity, support_points, slip_directions, sliding):
 
 
 @njit(cache=True)
-def refine_slip(pose, velocity, support_points, slip_directions, sliding, cos_tolerance):
+def refine_slip(
+    pose, velocity, support_points, slip_directions, sliding, cos_tolerance, p, friction_limits,
+    h, stick_fraction,
+):  # fmt: skip
     """Compare a step's result with the sliding boxes it was solved with and turn them
     towards it. Returns True if any box changed (the step should be solved again).
+
+    The stick rule (``stick_fraction`` > 0, ``WorldConfig.stick_fraction``; 0 turns it
+    off): a sliding point whose along-row friction impulse in the step's impulses ``p``
+    (m,) (ground rows last, two per point, along first) came out below ``stick_fraction``
+    of its bound ``h`` · ``friction_limits[j]`` is not sliding (Coulomb's friction is at its
+    bound while a point slides): it gets the rest box. Without the rule the along row held
+    such a point and the free cross row let it move across the box at 90°, which turning the
+    box did not change (docs/reproducibility-and-speed.md, ninth pass).
 
     A sliding point whose new velocity (from ``velocity`` (3,), the step's result) leaves
     its slip direction by more than acos(``cos_tolerance``) gets the bisector of the two
@@ -295,12 +306,17 @@ def refine_slip(pose, velocity, support_points, slip_directions, sliding, cos_to
     A point that stopped is left alone: its solution already satisfies the sticking box.
     """
     changed = False
+    ground = p.shape[0] - 2 * support_points.shape[0]
     for j in range(support_points.shape[0]):
         if not sliding[j]:
             continue
         ux, uy = _support_velocity(pose, velocity, support_points[j, 0], support_points[j, 1])
         speed = math.hypot(ux, uy)
         if speed <= SLIP_SPEED:
+            continue
+        if abs(p[ground + 2 * j]) < stick_fraction * h * friction_limits[j]:
+            sliding[j] = False
+            changed = True
             continue
         dx, dy = slip_directions[j, 0], slip_directions[j, 1]
         if (ux * dx + uy * dy) / speed >= cos_tolerance:
@@ -391,8 +407,8 @@ SLIP_SETTLED, SLIP_UNSETTLED, SLIP_WARM_FAILED = 1, 2, 3
 def warm_slip_step(
     contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
     support_points, friction_limits, slip_directions, sliding, h, stabilisation, tie_break,
-    mu_contact, guess, tol, cos_tolerance, max_iterations, out_v_arm, out_v_obj, out_forces,
-    out_last_p, out_pose,
+    mu_contact, guess, tol, cos_tolerance, stick_fraction, max_iterations, out_v_arm, out_v_obj,
+    out_forces, out_last_p, out_pose,
 ):  # fmt: skip
     """``World._substep``'s solve-and-refine loop of the friction boxes, compiled, while
     every solve is a verified :func:`warm_contact_step` (the same calls in the same order as
@@ -424,7 +440,7 @@ def warm_slip_step(
     status, solves, attempt, iterations, worst, first, last, _, _ = warm_slip_loop(
         contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
         support_points, friction_limits, slip_directions, sliding, h, stabilisation,
-        tie_break, mu_contact, guess, tol, cos_tolerance, max_iterations,
+        tie_break, mu_contact, guess, tol, cos_tolerance, stick_fraction, max_iterations,
     )  # fmt: skip
     if status == 0:
         return 0, 0, write_solve(first, first[0], pose, *outs), 0, 0, 0.0
@@ -441,7 +457,7 @@ def warm_slip_step(
 def warm_slip_loop(
     contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
     support_points, friction_limits, slip_directions, sliding, h, stabilisation, tie_break,
-    mu_contact, guess, tol, cos_tolerance, max_iterations,
+    mu_contact, guess, tol, cos_tolerance, stick_fraction, max_iterations,
 ):  # fmt: skip
     """The loop of :func:`warm_slip_step` (arguments as there), for the compiled callers:
     returns ``(status, solves, attempt, iterations, worst, first, last, arm, problem)`` with
@@ -466,7 +482,8 @@ def warm_slip_loop(
     last = first
     solves, iterations, worst = 1, 0, res
     for attempt in range(max_iterations + 1):
-        if not refine_slip(pose, last[4], support_points, slip_directions, sliding, cos_tolerance):
+        if not refine_slip(pose, last[4], support_points, slip_directions, sliding, cos_tolerance,
+                           last[0], friction_limits, h, stick_fraction):  # fmt: skip
             return SLIP_SETTLED, solves, attempt, iterations, worst, first, last, arm, problem
         if attempt == max_iterations:
             break

@@ -111,6 +111,11 @@ MAX_SLIP_ITERATIONS = 6
 default). If they have not settled by then, the step keeps its first solution (the boxes
 aligned with the velocity before the step)."""
 
+STICK_FRACTION = 1.0 - 1e-6
+"""The stick rule's threshold as measured (``WorldConfig.stick_fraction``, off by default): a
+sliding point whose along-row friction impulse is below this fraction of its bound is not
+at its bound, so not sliding."""
+
 _NO_CONTACTS = np.zeros((0, 5))
 _NO_GUESS = np.zeros(0)  # the guess argument of cold_contact_step without one
 _NO_FIRST = (False, 0.0, np.zeros(0), np.zeros(0), np.zeros((0, 2)))  # cold_slip_step: none
@@ -267,8 +272,8 @@ class SubstepSolver:
         contact_forces, last_p, pose = empty((len(prongs), 2)), empty(guess.size), empty(3)
         status, solves, warm_starts, residual, iterations, worst, pivots, _ = slip_step(
             *inputs, *self._model, guess, DEFAULT_TOL, SLIP_COS_TOLERANCE,
-            self.config.slip_iterations, _PIVOT_BUDGET, v_arm, v_obj, contact_forces, last_p,
-            pose,
+            self.config.stick_fraction, self.config.slip_iterations, _PIVOT_BUDGET, v_arm, v_obj,
+            contact_forces, last_p, pose,
         )  # type: ignore[call-arg]  # fmt: skip  # numba's Dispatcher hides the signature
         if status == STEP_UNVERIFIED:
             return None
@@ -314,7 +319,8 @@ class SubstepSolver:
             pose = empty(3)
             status, solves, residual, attempt, iterations, worst = warm_slip_step(
                 *inputs, *self._model, guess, DEFAULT_TOL, SLIP_COS_TOLERANCE,
-                self.config.slip_iterations, v_arm, v_obj, contact_forces, last_p, pose,
+                self.config.stick_fraction, self.config.slip_iterations, v_arm, v_obj,
+                contact_forces, last_p, pose,
             )  # type: ignore[call-arg]  # fmt: skip  # numba's Dispatcher hides the signature
         if status:
             self._count_loop(prongs, last_p, solves, solves, worst, iterations)
@@ -351,7 +357,8 @@ class SubstepSolver:
         (status, attempt, solves, warm_starts, worst, iterations, kept, last_p, used_guess,
          pivots) = cold_slip_step(
             *inputs, *self._model, guess if has_guess else _NO_GUESS, has_guess, DEFAULT_TOL,
-            _PIVOT_BUDGET, SLIP_COS_TOLERANCE, self.config.slip_iterations, start, *first_args,
+            _PIVOT_BUDGET, SLIP_COS_TOLERANCE, self.config.stick_fraction,
+            self.config.slip_iterations, start, *first_args,
         )  # type: ignore[call-arg]  # fmt: skip
         stats = self.stats
         if solves:
@@ -391,7 +398,8 @@ class SubstepSolver:
         for attempt in range(start, max_iterations + 1):
             if not refine_slip(
                 self.object_pose, solution[2], self._support_points, self._slip_directions,
-                self._sliding, SLIP_COS_TOLERANCE,
+                self._sliding, SLIP_COS_TOLERANCE, solution[0].p, self._friction_limits, h,
+                self.config.stick_fraction,
             ):  # fmt: skip
                 break
             if attempt == max_iterations:  # not settled: keep the first solution

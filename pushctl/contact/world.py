@@ -37,6 +37,7 @@ from pushctl.contact.substep import (
     _NO_CONTACTS,
     MAX_SLIP_ITERATIONS,
     SLIP_COS_TOLERANCE,
+    STICK_FRACTION,
     TIE_BREAK,
     ContactModel,
     SubstepSolver,
@@ -45,7 +46,7 @@ from pushctl.errors import ConfigError, StateError
 from pushctl.objects import ObjectSpec
 from pushctl.types import ContactProblem, StepResult, WorldStats
 
-__all__ = ["MAX_SLIP_ITERATIONS", "SLIP_COS_TOLERANCE", "World", "WorldConfig"]
+__all__ = ["MAX_SLIP_ITERATIONS", "SLIP_COS_TOLERANCE", "STICK_FRACTION", "World", "WorldConfig"]
 
 _FLOAT64 = np.dtype(np.float64)
 
@@ -69,6 +70,12 @@ class WorldConfig:
     default, is what ``results/`` was made with; fewer saves solves where objects slip, but
     under a tenth of a training push step's time (docs/reproducibility-and-speed.md, *The
     slip loop's length*).
+    ``stick_fraction`` [0, 1): the stick rule (:func:`~pushctl.contact.kernels.refine_slip`):
+    a sliding support point whose friction impulse comes out below this fraction of its
+    bound gets the rest box and the step is solved again. 0, the default, turns it off and
+    is what ``results/`` was made with; 1 − 10⁻⁶ (:data:`STICK_FRACTION`) is the rule as
+    measured (docs/reproducibility-and-speed.md, ninth to eleventh passes), not yet
+    validated enough to be the default.
     """
 
     dt: float = 0.01
@@ -79,6 +86,7 @@ class WorldConfig:
     stabilisation: float = 0.3
     gravity: float = GRAVITY
     slip_iterations: int = MAX_SLIP_ITERATIONS
+    stick_fraction: float = 0.0
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.dt) and self.dt > 0.0):
@@ -92,6 +100,10 @@ class WorldConfig:
         iterations = self.slip_iterations
         if isinstance(iterations, bool) or not (isinstance(iterations, int) and iterations >= 0):
             raise ConfigError(f"slip_iterations must be an integer >= 0, got {iterations!r}")
+        stick = self.stick_fraction
+        if isinstance(stick, bool) or not (isinstance(stick, (int, float)) and 0 <= stick < 1):
+            raise ConfigError(f"stick_fraction must be a number in [0, 1), got {stick!r}")
+        object.__setattr__(self, "stick_fraction", float(stick))  # one compiled signature
         if not (math.isfinite(self.contact_margin) and self.contact_margin > 0.0):
             raise ConfigError(f"contact_margin must be > 0 m, got {self.contact_margin!r}")
         if not (0.0 < self.stabilisation <= 1.0):
