@@ -292,9 +292,10 @@ def refine_slip(
     towards it. Returns True if any box changed (the step should be solved again).
 
     The stick rule (``stick_fraction`` > 0, ``WorldConfig.stick_fraction``; 0 turns it
-    off): a sliding point whose along-row friction impulse in the step's impulses ``p``
-    (m,) (ground rows last, two per point, along first) came out below ``stick_fraction``
-    of its bound ``h`` · ``friction_limits[j]`` is not sliding (Coulomb's friction is at its
+    off): a sliding point that moves after the step and whose along-row friction impulse
+    in the step's impulses ``p`` (m,) (ground rows last, two per point, along first) came
+    out below ``stick_fraction`` of its bound ``h`` · ``friction_limits[j]`` [N·s] is not
+    sliding (Coulomb's friction is at its
     bound while a point slides): it gets the rest box. Without the rule the along row held
     such a point and the free cross row let it move across the box at 90°, which turning the
     box did not change (docs/reproducibility-and-speed.md, ninth pass).

@@ -71,11 +71,11 @@ class WorldConfig:
     under a tenth of a training push step's time (docs/reproducibility-and-speed.md, *The
     slip loop's length*).
     ``stick_fraction`` [0, 1): the stick rule (:func:`~pushctl.contact.kernels.refine_slip`):
-    a sliding support point whose friction impulse comes out below this fraction of its
-    bound gets the rest box and the step is solved again. 0, the default, turns it off and
-    is what ``results/`` was made with; 1 − 10⁻⁶ (:data:`STICK_FRACTION`) is the rule as
-    measured (docs/reproducibility-and-speed.md, ninth to eleventh passes), not yet
-    validated enough to be the default.
+    a sliding support point that moves and whose along-row friction impulse comes out
+    below this fraction of its bound gets the rest box, and the step is solved again. 0,
+    the default, turns it off and is what ``results/`` was made with; 1 − 10⁻⁶
+    (:data:`STICK_FRACTION`) is the rule as measured (docs/reproducibility-and-speed.md,
+    ninth to eleventh passes), not yet validated enough to be the default.
     """
 
     dt: float = 0.01
