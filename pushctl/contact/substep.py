@@ -113,8 +113,8 @@ aligned with the velocity before the step)."""
 
 STICK_FRACTION = 1.0 - 1e-6
 """The stick rule's threshold as measured (``WorldConfig.stick_fraction``, off by default): a
-sliding point whose along-row friction impulse is below this fraction of its bound is not
-at its bound, so not sliding."""
+moving sliding point whose along-row friction impulse is below this fraction of its bound is
+not at its bound, so not sliding."""
 
 _NO_CONTACTS = np.zeros((0, 5))
 _NO_GUESS = np.zeros(0)  # the guess argument of cold_contact_step without one
@@ -161,6 +161,12 @@ class SubstepSolver:
         if self.friction_field is not None:
             self._update_friction_bounds()
         self._restore_slip_boxes()
+
+    def _keep_first_solution(self) -> None:
+        """A step that did not settle keeps its first solution: its boxes again
+        (:meth:`_restore_slip_boxes`), counted in ``stats.slip_unsettled``."""
+        self._restore_slip_boxes()
+        self.stats.slip_unsettled += 1
 
     def _restore_slip_boxes(self) -> None:
         """The friction boxes from the object's velocity before the step, for a step that
@@ -279,8 +285,7 @@ class SubstepSolver:
             return None
         self._count_loop(prongs, last_p, solves, warm_starts, worst, iterations)
         if status == STEP_UNSETTLED:  # the step keeps its first solution and its boxes
-            self._restore_slip_boxes()
-            self.stats.slip_unsettled += 1
+            self._keep_first_solution()
         self.object_velocity, self.object_pose = v_obj, pose
         return v_arm, contact_forces, residual, True, pivots
 
@@ -327,8 +332,7 @@ class SubstepSolver:
         if status in (SLIP_SETTLED, SLIP_UNSETTLED):
             # Verified warm solves only: no MLCPResult, the pose advanced in the kernel.
             if status == SLIP_UNSETTLED:  # the step keeps its first solution and its boxes
-                self._restore_slip_boxes()
-                self.stats.slip_unsettled += 1
+                self._keep_first_solution()
             converged, n_iterations = True, 0
             self.object_velocity, self.object_pose = v_obj, pose
         else:
@@ -360,20 +364,14 @@ class SubstepSolver:
             _PIVOT_BUDGET, SLIP_COS_TOLERANCE, self.config.stick_fraction,
             self.config.slip_iterations, start, *first_args,
         )  # type: ignore[call-arg]  # fmt: skip
-        stats = self.stats
-        if solves:
-            stats.solves += solves
-            stats.warm_starts += warm_starts
-            stats.max_residual = max(stats.max_residual, worst)
-            self._last_prongs, self._last_p = prongs, last_p
-        stats.slip_iterations += iterations
+        if solves:  # none: the first solve verified nothing (no impulses, no re-solves)
+            self._count_loop(prongs, last_p, solves, warm_starts, worst, iterations)
         residual, v_arm, v_obj, forces, kept_pivots = kept
         kept_solution = (WarmSolve(residual, True, kept_pivots), v_arm, v_obj, forces)
         if status == COLD_SETTLED:
             return kept_solution
         if status == COLD_UNSETTLED:  # the step keeps its first solution and its boxes
-            self._restore_slip_boxes()
-            stats.slip_unsettled += 1
+            self._keep_first_solution()
             return kept_solution
         # COLD_UNVERIFIED: the solve at loop index `attempt` goes to ProxQP
         solution = self._proxqp_step(h, tau, damping, used_guess, pivots)
@@ -404,8 +402,7 @@ class SubstepSolver:
                 break
             if attempt == max_iterations:  # not settled: keep the first solution
                 solution = first
-                self._restore_slip_boxes()  # and its boxes (the velocity is still the old one)
-                self.stats.slip_unsettled += 1
+                self._keep_first_solution()  # (the velocity is still the old one)
                 break
             self.stats.slip_iterations += 1
             solution = self._solve_step(h, tau, damping, inputs, solution[0].p)

@@ -9,7 +9,6 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-import pushctl
 from pushctl.contact.kernels import refine_slip
 from pushctl.contact.world import STICK_FRACTION, World, WorldConfig
 from pushctl.errors import ConfigError
@@ -81,6 +80,5 @@ def _zero_residual_push_counts(monkeypatch, fraction: float) -> tuple[int, int, 
 def test_the_rule_halves_a_zero_residual_push_s_solves_as_measured(monkeypatch) -> None:
     """The counts the tenth pass measured on the branch the rule was first made on
     (docs/reproducibility-and-speed.md), which did not survive: this rebuild is that rule."""
-    assert pushctl.ENV_ID  # registered: Push-v0's defaults
     assert _zero_residual_push_counts(monkeypatch, 0.0) == (6139, 3499, 581)
     assert _zero_residual_push_counts(monkeypatch, STICK_FRACTION) == (3049, 409, 36)
