@@ -43,6 +43,7 @@ from __future__ import annotations
 import argparse
 import csv
 import gzip
+import os
 import shutil
 import subprocess
 import sys
@@ -331,19 +332,23 @@ class Budget:
 
 def budgets(setup: Setup, records: list[StepRecord]) -> list[Budget]:
     """Each stage's wall time beside issue 15's budget: training per seed (its own wall
-    time, :data:`~pushctl.distributed.seeds.TIMING`; the seeds train side by side), the
-    evaluation (3 min per 1200 episodes, scaled to the episodes it ran), the report, and
-    the whole run (30 min with one training seed, 60 min with three). A run whose ``train``
-    step resumed has its whole-run time for this invocation only: the basis says so."""
+    time, :data:`~pushctl.distributed.seeds.TIMING`; the seeds train side by side, which
+    the basis says, as the budget is for one run alone), the evaluation (3 min per 1200
+    episodes, scaled to the episodes it ran), the report, and the whole run (30 min with
+    one training seed, 60 min with three). A run whose ``train`` step resumed has its
+    whole-run time for this invocation only: the basis says so."""
     from pushctl.distributed.seeds import TIMING, read_timing  # Ray only when reporting
 
     took = {record.name: record.seconds for record in records}
     rows = []
     other = "" if setup.preset == "paper" else f"; this run: preset {setup.preset}"
+    shared = ""
+    if len(setup.seeds) > 1:  # the budget is for one run alone; say how these ran
+        shared = f"; here {len(setup.seeds)} seeds at once on {_cores()} cores"
     for seed in setup.seeds:
         timing = read_timing(seed_run(setup, seed) / TIMING)
         seconds = None if timing is None else float(timing["seconds"])
-        basis = f"the paper preset, one seed{other}"
+        basis = f"the paper preset, one seed{other}{shared}"
         rows.append(Budget(f"training, seed {seed}", seconds, TRAINING_BUDGET, basis))
     episodes = _evaluated_episodes(setup.results / "evaluation" / "trials.csv")
     if episodes:
@@ -362,6 +367,14 @@ def budgets(setup: Setup, records: list[StepRecord]) -> list[Budget]:
         basis += "; this invocation only: its training resumed earlier sessions' runs"
     rows.append(Budget("whole run", sum(took.values()) if records else None, total, basis))
     return rows
+
+
+def _cores() -> int:
+    """The cores this process may run on (those Ray's seeds share)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
 
 
 def _evaluated_episodes(trials: Path) -> int:

@@ -163,10 +163,14 @@ def test_the_manifest_sets_each_stage_beside_its_budget(tmp_path: Path) -> None:
     manifest = (setup.results / MANIFEST).read_text()
     assert "2 of 4 budgets met; missed: training, seed 1, evaluation" in manifest
     assert "| training, seed 0 | 15 min 00.0 s | 20 min 00.0 s | yes |" in manifest
+    # the budget is for a seed alone: the rows say the seeds shared the cores
+    cores = len(reproduce.os.sched_getaffinity(0))
+    assert f"one seed; here 3 seeds at once on {cores} cores" in rows["training, seed 0"].basis
     # the kind of machine the bytes belong to (docs/reproducibility.md)
     assert f"- machine: {machine_description()} (the bytes repeat" in manifest
     one = replace(setup, seeds=(0,))
     assert reproduce.budgets(one, records)[-1].budget == 30 * 60.0
+    assert "at once" not in reproduce.budgets(one, records)[0].basis
     resumed = [replace(records[0], command="pushctl train --resume"), *records[1:]]
     assert "this invocation only" in reproduce.budgets(setup, resumed)[-1].basis
     assert "this invocation only" not in rows["whole run"].basis
