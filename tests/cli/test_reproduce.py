@@ -4,6 +4,7 @@ training files, and a manifest written whether the steps succeed or fail."""
 from __future__ import annotations
 
 import gzip
+import os
 import sys
 from dataclasses import replace
 from pathlib import Path
@@ -164,7 +165,7 @@ def test_the_manifest_sets_each_stage_beside_its_budget(tmp_path: Path) -> None:
     assert "2 of 4 budgets met; missed: training, seed 1, evaluation" in manifest
     assert "| training, seed 0 | 15 min 00.0 s | 20 min 00.0 s | yes |" in manifest
     # the budget is for a seed alone: the rows say the seeds shared the cores
-    cores = len(reproduce.os.sched_getaffinity(0))
+    cores = len(os.sched_getaffinity(0))
     assert f"one seed; here 3 seeds at once on {cores} cores" in rows["training, seed 0"].basis
     # the kind of machine the bytes belong to (docs/reproducibility.md)
     assert f"- machine: {machine_description()} (the bytes repeat" in manifest
