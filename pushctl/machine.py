@@ -134,14 +134,17 @@ def cpu_model() -> str:
     return platform.processor() or platform.machine() or "unknown"
 
 
+def usable_cores() -> int:
+    """The cores this process may run on (its affinity on Linux, else all of them)."""
+    if hasattr(os, "sched_getaffinity"):
+        return len(os.sched_getaffinity(0))
+    return os.cpu_count() or 1
+
+
 def machine_description() -> str:
     """One line: the CPU, the cores this process may use, the OpenBLAS kernels numpy runs and
     the highest target its own loops use."""
-    if hasattr(os, "sched_getaffinity"):
-        cores = len(os.sched_getaffinity(0))
-    else:
-        cores = os.cpu_count() or 1
     return (
-        f"{cpu_model()}, {cores} cores; numpy's OpenBLAS runs its {blas_kernels()} kernels, "
-        f"its own loops up to {numpy_simd()}"
+        f"{cpu_model()}, {usable_cores()} cores; numpy's OpenBLAS runs its {blas_kernels()} "
+        f"kernels, its own loops up to {numpy_simd()}"
     )

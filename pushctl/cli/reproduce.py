@@ -43,7 +43,6 @@ from __future__ import annotations
 import argparse
 import csv
 import gzip
-import os
 import shutil
 import subprocess
 import sys
@@ -55,7 +54,7 @@ from pathlib import Path
 
 import pushctl
 from pushctl.evaluation.columns import STEPS_FILE
-from pushctl.machine import machine_description
+from pushctl.machine import machine_description, usable_cores
 from pushctl.provenance import git_commit, write_atomic
 
 SEED = 0
@@ -344,7 +343,7 @@ def budgets(setup: Setup, records: list[StepRecord]) -> list[Budget]:
     other = "" if setup.preset == "paper" else f"; this run: preset {setup.preset}"
     shared = ""
     if len(setup.seeds) > 1:  # the budget is for one run alone; say how these ran
-        shared = f"; here {len(setup.seeds)} seeds at once on {_cores()} cores"
+        shared = f"; here {len(setup.seeds)} seeds at once on {usable_cores()} cores"
     for seed in setup.seeds:
         timing = read_timing(seed_run(setup, seed) / TIMING)
         seconds = None if timing is None else float(timing["seconds"])
@@ -367,14 +366,6 @@ def budgets(setup: Setup, records: list[StepRecord]) -> list[Budget]:
         basis += "; this invocation only: its training resumed earlier sessions' runs"
     rows.append(Budget("whole run", sum(took.values()) if records else None, total, basis))
     return rows
-
-
-def _cores() -> int:
-    """The cores this process may run on (those Ray's seeds share)."""
-    try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:  # not on Linux
-        return os.cpu_count() or 1
 
 
 def _evaluated_episodes(trials: Path) -> int:
