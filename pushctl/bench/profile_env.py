@@ -1,14 +1,18 @@
 """cProfile of the training environment with the plant unknowns, as training and evaluation
 step it (docs/reproducibility-and-speed.md).
 
-Run as ``python -m pushctl.bench.profile_env [shut|open|feedback] [--pushes N] [--top K]``:
-``PushEnv(EnvConfig(action_repeat=10, observe_offset=True))`` on the ``sim`` plant (its
-plant unknowns on, as in training), N pushes of the training stream (seeds 0…N−1), with the
-gate ``shut`` (zero actions), ``open`` (gate threshold 0, uniform random actions) or the
-``feedback`` law pushing through :func:`~pushctl.rl.policy.finish_with_policy` as the
-evaluation does. The pushes run once unprofiled first (numba's caches, and the rate without
-the profiler's overhead), then under cProfile with the resets left out; prints both rates
-and the profile's top K functions by own time and by cumulative time.
+Run as ``python -m pushctl.bench.profile_env [shut|open|feedback|train] [--pushes N]
+[--top K]``: N pushes of the training stream (seeds 0…N−1) on the ``sim`` plant (its plant
+unknowns on, as in training). ``shut``, ``open`` and ``feedback`` push
+``PushEnv(EnvConfig(action_repeat=10, observe_offset=True))``, the training environment
+before the ``paper`` preset added its base law: with the gate ``shut`` (zero actions),
+``open`` (gate threshold 0, uniform random actions) or the ``feedback`` law pushing through
+:func:`~pushctl.rl.policy.finish_with_policy` as the evaluation does. ``train`` pushes the
+``paper`` preset's own environment (``experiments/train_paper.toml``: the feedback law acting
+every step, a residual of uniform random actions added every 10 steps), which is what a
+``paper`` run's collectors step. The pushes run once unprofiled first (numba's caches, and
+the rate without the profiler's overhead), then under cProfile with the resets left out;
+prints both rates and the profile's top K functions by own time and by cumulative time.
 """
 
 from __future__ import annotations
@@ -27,18 +31,27 @@ from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.feedback_actor import FeedbackActor
 from pushctl.rl.policy import finish_with_policy
+from pushctl.rl.presets import load_preset
 
-MODES = ("shut", "open", "feedback")
+MODES = ("shut", "open", "feedback", "train")
+
+
+def environment_config(mode: str) -> EnvConfig:
+    """The environment ``mode`` pushes (see the module doc)."""
+    if mode == "train":
+        return load_preset("paper").env
+    config = EnvConfig(action_repeat=10, observe_offset=True)
+    if mode == "feedback":
+        return config
+    return replace(config, gate_threshold=1.0 if mode == "shut" else 0.0)
 
 
 def push_steps_per_s(mode: str, pushes: int, profile: cProfile.Profile | None = None) -> float:
     """Push steps per second of ``pushes`` pushes in ``mode`` (resets not timed nor
     profiled)."""
-    config = EnvConfig(action_repeat=10, observe_offset=True)
-    if mode != "feedback":
-        config = replace(config, gate_threshold=1.0 if mode == "shut" else 0.0)
-    env = PushEnv(config)
+    env = PushEnv(environment_config(mode))
     zero = np.zeros(3, dtype=np.float32)
+    acting = mode in ("open", "train")
     elapsed, steps = 0.0, 0
     for seed in range(pushes):
         env.reset(seed=seed)
@@ -52,7 +65,7 @@ def push_steps_per_s(mode: str, pushes: int, profile: cProfile.Profile | None = 
             finish_with_policy(env, FeedbackActor(env, load_feedback_gains()))
         else:
             while not episode.done:
-                env.step(rng.uniform(-1, 1, 3).astype(np.float32) if mode == "open" else zero)
+                env.step(rng.uniform(-1, 1, 3).astype(np.float32) if acting else zero)
         if profile is not None:
             profile.disable()
         elapsed += time.perf_counter() - start
