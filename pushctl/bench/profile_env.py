@@ -13,6 +13,11 @@ every step, a residual of uniform random actions added every 10 steps), which is
 ``paper`` run's collectors step. The pushes run once unprofiled first (numba's caches, and
 the rate without the profiler's overhead), then under cProfile with the resets left out;
 prints both rates and the profile's top K functions by own time and by cumulative time.
+
+With ``--sampled`` the second run is not under cProfile either, and only the two rates are
+printed: for a sampling profiler attached from outside, which does not inflate short calls
+as cProfile does (docs/reproducibility-and-speed.md, thirteenth pass: ``py-spy record -r
+3000 -f raw -o samples.txt -- python -m pushctl.bench.profile_env train --sampled``).
 """
 
 from __future__ import annotations
@@ -80,11 +85,16 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("mode", choices=MODES)
     parser.add_argument("--pushes", type=int, default=3)
     parser.add_argument("--top", type=int, default=25)
+    parser.add_argument("--sampled", action="store_true", help="no cProfile (see the doc)")
     args = parser.parse_args(argv)
     if args.pushes < 1 or args.top < 1:
         print("error: --pushes and --top must be integers >= 1", file=sys.stderr)
         return 2
     rate = push_steps_per_s(args.mode, args.pushes)
+    if args.sampled:
+        again = push_steps_per_s(args.mode, args.pushes)
+        print(f"{args.mode}: {rate:.0f} push steps/s, then {again:.0f} (kernels loaded)")
+        return 0
     profile = cProfile.Profile()
     profiled = push_steps_per_s(args.mode, args.pushes, profile)
     print(f"{args.mode}: {rate:.0f} push steps/s ({profiled:.0f} under cProfile)")

@@ -26,3 +26,11 @@ def test_gate_modes_differ_only_in_the_gate() -> None:
     assert (shut.gate_threshold, opened.gate_threshold) == (1.0, 0.0)
     assert replace(shut, gate_threshold=0.0) == opened
     assert environment_config("feedback").base_law == "none"
+
+
+def test_sampled_runs_the_pushes_without_cprofile(capsys) -> None:
+    """One short push each way (a 2000-step push is the shortest there is: about 0.5 s)."""
+    assert main(["shut", "--pushes", "1", "--sampled"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("shut: ") and "(kernels loaded)" in out
+    assert "cProfile" not in out and "function calls" not in out
