@@ -29,7 +29,7 @@ def test_gate_modes_differ_only_in_the_gate() -> None:
 
 
 def test_sampled_runs_the_pushes_without_cprofile(capsys) -> None:
-    """One short push each way (a 2000-step push is the shortest there is: about 0.5 s)."""
+    """One push, run twice (a 2000-step push is the shortest there is: about 0.5 s)."""
     assert main(["shut", "--pushes", "1", "--sampled"]) == 0
     out = capsys.readouterr().out
     assert out.startswith("shut: ") and "(kernels loaded)" in out
