@@ -279,7 +279,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         self._true_forces = episode.plant_forces.forces
         self._true_torques = episode.plant_forces.torques
         self._last = last
-        self._error = self._pose_error(0)
+        self._set_error(0)
         self._measured = measured
         self._base = self._base_law()
         # the plant unknowns (docs/design.md §9) drawn for this episode, for logs: never observed
@@ -295,30 +295,37 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         action = np.asarray(action, dtype=float)
         if action.shape != (3,) or not np.all(np.isfinite(action)):
             raise ConfigError(f"action must be 3 finite numbers in [-1, 1], got {action!r}")
-        deviation = self._deviation()
-        sums = [0.0, 0.0, 0.0, 0.0]
+        deviation = self._error_deviation
+        w_pose = self.config.w_pose
+        normal = tangential = torque = pose = 0.0
         first = None
         for held in range(self.config.action_repeat):
             n = episode.step_index
             residual = self.advance(action)
             if held == 0:
                 first = residual
-            exact = self._error if self._exact_pose else self._pose_error(n + 1, exact=True)
-            pose_term = -self.config.w_pose * self._deviation(exact)
-            for k, term in enumerate((*self._reward_terms(n + 1), pose_term)):
-                sums[k] += term
+            if self._exact_pose:  # the observation's error is the true one
+                pose_term = -w_pose * self._error_deviation
+            else:
+                pose_term = -w_pose * self._deviation(self._pose_error(n + 1, exact=True))
+            step_normal, step_tangential, step_torque = self._reward_terms(n + 1)
+            normal += step_normal
+            tangential += step_tangential
+            torque += step_torque
+            pose += pose_term
             if episode.done:
                 break
         info = {
-            "reward_normal": sums[0],
-            "reward_tangential": sums[1],
-            "reward_torque": sums[2],
-            "reward_pose": sums[3],
+            "reward_normal": normal,
+            "reward_tangential": tangential,
+            "reward_torque": torque,
+            "reward_pose": pose,
             "residual_active": first is not None,
             "residual": np.zeros(3) if first is None else first,
             "pose_deviation": deviation,
         }
-        return self.observation(), float(sum(sums)), episode.done, False, info
+        reward = float(sum((normal, tangential, torque, pose)))
+        return self.observation(), reward, episode.done, False, info
 
     # ------------------------------------------------------------------ acting without gym
 
@@ -340,16 +347,19 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         residual = None
         if self.gate_open:
             scale = self.config.residual_scale
-            if action is not None and scale != 1.0:
-                action = scale * np.asarray(action, dtype=np.float64)
             if self._base is None:
+                if action is not None and scale != 1.0:
+                    action = scale * np.asarray(action, dtype=np.float64)
                 clipped = np.zeros(3) if action is None else np.clip(action, -1.0, 1.0)
                 residual = self._world_twist(clipped, n)
             else:  # the law acts at every step, on the state now; the policy's action is held
-                # (Python floats: np.clip(law + action, -1, 1)'s arithmetic, 3 components)
+                # (Python floats: np.clip(law + scale * action, -1, 1)'s arithmetic, 3
+                # components; the products are numpy's elementwise ones)
                 law = self._base.act()
                 if action is not None:
                     a_x, a_y, a_w = np.asarray(action, dtype=np.float64).tolist()
+                    if scale != 1.0:
+                        a_x, a_y, a_w = scale * a_x, scale * a_y, scale * a_w
                     law = (
                         min(max(law[0] + a_x, -1.0), 1.0),
                         min(max(law[1] + a_y, -1.0), 1.0),
@@ -357,7 +367,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
                     )
                 residual = self._world_twist(law, n)
         self._last = episode.step(residual)
-        self._error = self._pose_error(n + 1)  # the observation's, the next gate's
+        self._set_error(n + 1)  # the observation's, the next gate's
         self._measured = episode.measured_forces(self._last.contact_forces)
         return residual
 
@@ -418,7 +428,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
     def gate_open(self) -> bool:
         """Whether the next step() applies its action: the pose deviation exceeds the gate's
         threshold. While it is shut any action gives the same step."""
-        return self._deviation() > self.config.gate_threshold
+        return self._error_deviation > self.config.gate_threshold
 
     # ------------------------------------------------------------------ internals
 
@@ -456,10 +466,18 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
             dt=config.dt,
         )
 
-    def _pose_error(self, n: int, exact: bool = False) -> np.ndarray:
+    def _set_error(self, n: int) -> None:
+        """The observation's pose error at step ``n`` (:meth:`_pose_error`) and its gate
+        deviation (:meth:`_deviation`'s arithmetic on the same floats), computed once: the
+        gate, the reward's pose term and the info all read the deviation."""
+        e_x, e_y, e_w = self._pose_error(n)
+        self._error = np.array([e_x, e_y, e_w])
+        self._error_deviation = math.hypot(e_x, e_y, self.config.gate_length * e_w)
+
+    def _pose_error(self, n: int, exact: bool = False) -> tuple[float, float, float]:
         """Planned minus actual object pose at step ``n``, plan frame (3,) [m, m, rad]; the
         actual pose as the controller reads it (the camera's, on the proxy with
-        ``observe_camera``), or the true one if ``exact``."""
+        ``observe_camera``), or the true one if ``exact``: three floats."""
         episode = self.episode
         assert episode is not None
         x, y, yaw = self._plan_rows[n]
@@ -471,11 +489,13 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         c, s = math.cos(yaw), math.sin(yaw)
         dx, dy = x - a_x, y - a_y
         angle = math.remainder(yaw - a_yaw, math.tau)
-        return np.array([c * dx + s * dy, -s * dx + c * dy, angle])
+        return (c * dx + s * dy, -s * dx + c * dy, angle)
 
-    def _deviation(self, error: np.ndarray | None = None) -> float:
-        """The gate's pose deviation [m] of ``error`` (default: the current pose error)."""
-        error = self._error if error is None else error
+    def _deviation(self, error: Sequence[float] | None = None) -> float:
+        """The gate's pose deviation [m] of ``error`` (3,) (default: the current pose
+        error)."""
+        if error is None:
+            return self._error_deviation
         return math.hypot(error[0], error[1], self.config.gate_length * error[2])
 
     def _world_twist(self, action: Sequence[float] | np.ndarray, n: int) -> np.ndarray:
