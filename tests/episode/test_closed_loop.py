@@ -308,3 +308,28 @@ def test_a_turning_wedge_turns_smoothly_on_a_heavier_rougher_plant():
     assert np.ptp(cruise) < 0.2 * abs(scenario.goal.theta) / scenario.duration
     final = trace.object_pose[-1] - trace.desired_pose[-1]
     assert np.linalg.norm(final[:2]) < 1e-3 and abs(math.degrees(final[2])) < 0.1
+
+
+def test_the_trace_holds_each_steps_torque_minus_its_implicit_damping(monkeypatch) -> None:
+    """Without the proxy's actuators the episode forms the applied torque τ − K_v q̇⁺ when
+    the trace is read (runner.Episode._applied_torques): it must be, bit for bit, what each
+    step's command and new joint velocity give, and 0 at the push's start."""
+    scenario = Scenario(object="cube", profile="constant", goal=straight_goal("cube"))
+    episode = Episode(scenario, gains=GAINS)
+    episode.reset()
+    commands = []
+    command = episode.controller.command
+
+    def spy(*args, **kwargs):
+        result = command(*args, **kwargs)
+        commands.append(result)
+        return result
+
+    monkeypatch.setattr(episode.controller, "command", spy)
+    velocities = [episode.step().arm_v.copy() for _ in range(25)]
+    trace = episode.trace()
+    np.testing.assert_array_equal(trace.arm_tau[0], 0.0)
+    for n, (sent, v) in enumerate(zip(commands, velocities, strict=True), start=1):
+        assert sent.implicit_kv == GAINS.kv
+        np.testing.assert_array_equal(trace.arm_tau[n], sent.tau - sent.implicit_kv * v)
+    assert np.any(trace.arm_tau[1:] != np.array([c.tau for c in commands]))  # damping is in

@@ -28,6 +28,7 @@ SHORT = EnvConfig(
 )  # 200 push steps (shorter chirps can need a pull)
 # (the prongs where the approach landed them, as PD-only's: tests/rl/test_landing.py re-lands)
 OPTIONS = {"object": "wedge", "profile": "trapezoid", "scenario_seed": 3}
+ERROR_NAMES = ("error_x", "error_y", "error_theta")
 
 
 @pytest.fixture(scope="module")
@@ -133,6 +134,27 @@ def test_a_pose_weight_adds_the_gate_deviation_as_a_penalty() -> None:
     assert info["reward_pose"] < 0.0
     parts = ("reward_normal", "reward_tangential", "reward_torque", "reward_pose")
     assert reward == pytest.approx(sum(info[name] for name in parts))
+
+
+@pytest.mark.parametrize("plant", ["sim", "proxy"])
+def test_the_gate_reads_the_deviation_of_the_pose_error_it_observes(plant: str) -> None:
+    """The deviation is kept with the pose error (PushEnv._set_error): after every step it is
+    hypot(e_x, e_y, gate_length · e_θ) of the observation's error, the camera's on the proxy,
+    to the bit; the info's is the one the step's gate read, and the pose term the true one's."""
+    config = replace(SHORT, plant=plant, w_pose=20.0, action_repeat=3)
+    env = PushEnv(config)
+    obs, _ = env.reset(options=OPTIONS)
+    where = index(env.observation_entries)
+    error_rows = [where[name] for name in ERROR_NAMES]
+    rng = np.random.default_rng(4)
+    for _ in range(12):
+        e_x, e_y, e_w = env.pose_error.tolist()
+        deviation = math.hypot(e_x, e_y, config.gate_length * e_w)
+        assert env.gate_open == (deviation > config.gate_threshold)
+        np.testing.assert_array_equal(obs[error_rows], env.pose_error.astype(np.float32))
+        obs, _, _, _, info = env.step(rng.uniform(-1, 1, 3))
+        assert info["pose_deviation"] == deviation
+        assert info["reward_pose"] < 0.0
 
 
 def test_a_shut_gate_leaves_the_pd_baseline_untouched() -> None:
