@@ -353,8 +353,8 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
                 clipped = np.zeros(3) if action is None else np.clip(action, -1.0, 1.0)
                 residual = self._world_twist(clipped, n)
             else:  # the law acts at every step, on the state now; the policy's action is held
-                # (Python floats: np.clip(law + scale * action, -1, 1)'s arithmetic, 3
-                # components; the products are numpy's elementwise ones)
+                # (Python floats: np.clip(law + scale * action, -1, 1)'s arithmetic,
+                # component by component)
                 law = self._base.act()
                 if action is not None:
                     a_x, a_y, a_w = np.asarray(action, dtype=np.float64).tolist()
