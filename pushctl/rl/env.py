@@ -470,9 +470,9 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         """The observation's pose error at step ``n`` (:meth:`_pose_error`) and its gate
         deviation (:meth:`_deviation`'s arithmetic on the same floats), computed once: the
         gate, the reward's pose term and the info all read the deviation."""
-        e_x, e_y, e_w = self._pose_error(n)
-        self._error = np.array([e_x, e_y, e_w])
-        self._error_deviation = math.hypot(e_x, e_y, self.config.gate_length * e_w)
+        error = self._pose_error(n)
+        self._error = np.array(error)
+        self._error_deviation = self._deviation(error)
 
     def _pose_error(self, n: int, exact: bool = False) -> tuple[float, float, float]:
         """Planned minus actual object pose at step ``n``, plan frame (3,) [m, m, rad]; the
