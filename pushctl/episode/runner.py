@@ -190,6 +190,7 @@ class Episode:
         # The proxy's state, fresh at every reset() (see _start_proxy).
         self._actuators: ProxyActuators | None = None
         self._camera = np.zeros((0, 3))
+        self._frame_samples: list[int] = []
         self._force_rng = np.random.default_rng(0)
         if effects is not None:  # check its per-joint friction against this arm now
             ProxyActuators(effects, self.world.v.size, np.zeros(self.world.v.size))
@@ -330,7 +331,7 @@ class Episode:
         frame = math.floor(float(t[n]) * rate + 1e-9)
         taken = frame / rate
         # the last sample at or before the frame's time, and the next one (interpolated)
-        k = min(int(np.searchsorted(t, taken, side="right")) - 1, n)
+        k = min(self._frame_samples[frame], n)
         pose = self._pose[k]
         if k < n and taken != t[k]:  # np.interp's arithmetic
             slope = (self._pose[k + 1] - pose) / (t[k + 1] - t[k])
@@ -520,6 +521,10 @@ class Episode:
         seed, case = self.scenario.seed, f"{self.scenario.object}/{self.scenario.profile}"
         frames = camera_frames(float(self.plan.trajectory.t[-1]), effects.camera_rate)
         self._camera = draw_camera_noise(effects, frames, proxy_rng(seed, "camera", case))
+        # each frame's last sample at or before its time k / rate (measured_pose reads it)
+        taken = np.arange(frames) / effects.camera_rate
+        t = self.plan.trajectory.t
+        self._frame_samples = (np.searchsorted(t, taken, side="right") - 1).tolist()
         self._force_rng = proxy_rng(seed, "force", case)
 
     def _allocate(self) -> None:
