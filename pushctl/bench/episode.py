@@ -3,6 +3,9 @@
 Part of :mod:`pushctl.bench.suite`. The episode is the README's example push (cube and wedge,
 chirp, to (0.62, 0.03, 30 deg)) with the shipped gains; times are medians over repeats on
 one core, after one warm-up episode (numba's compiled kernels load from the disk cache).
+The cube's push is also timed on the reality proxy (its actuators' latency and joint
+friction, its camera), its pushes interleaved with the simulator's so that the ratio of the
+two is taken side by side.
 """
 
 from __future__ import annotations
@@ -16,13 +19,15 @@ from typing import Any
 
 from pushctl.control import load_gains
 from pushctl.episode import Episode, Scenario
+from pushctl.episode.proxy import ProxyEffects
 from pushctl.types import PlanarPose
 
 GOAL = PlanarPose.from_degrees(0.62, 0.03, 30.0)
 
 
-def _episode(object_name: str) -> Episode:
-    return Episode(Scenario(object=object_name, profile="chirp", goal=GOAL), gains=load_gains())
+def _episode(object_name: str, effects: ProxyEffects | None = None) -> Episode:
+    scenario = Scenario(object=object_name, profile="chirp", goal=GOAL)
+    return Episode(scenario, gains=load_gains(), effects=effects)
 
 
 def _push_seconds(episode: Episode) -> float:
@@ -106,7 +111,30 @@ def episode_rows(repeats: int = 5) -> list[dict[str, Any]]:
                 "3.2 s approach, 20 s push, trace",
             },
         ]
-    return rows
+    return rows + proxy_rows(repeats)
+
+
+def proxy_rows(repeats: int = 5) -> list[dict[str, Any]]:
+    """Bench rows: a control step of the cube's push on the reality proxy and on the
+    simulator [µs], their pushes alternating (median of ``repeats`` each), and the ratio."""
+    episodes = {"sim": _episode("cube"), "proxy": _episode("cube", ProxyEffects())}
+    seconds: dict[str, list[float]] = {plant: [] for plant in episodes}
+    for episode in episodes.values():
+        _push_seconds(episode)  # warm-up
+    for _ in range(repeats):
+        for plant, episode in episodes.items():
+            seconds[plant].append(_push_seconds(episode))
+    per_step = {
+        plant: 1e6 * statistics.median(times) / episodes[plant].n_steps
+        for plant, times in seconds.items()
+    }
+    note = "cube, chirp, PD; sim and proxy pushes alternating"
+    return [
+        {"name": "episode cube proxy per control step", "value": per_step["proxy"],
+         "unit": "us", "note": f"{note}: latency, joint friction (compiled), camera"},
+        {"name": "episode cube proxy / sim per control step",
+         "value": per_step["proxy"] / per_step["sim"], "unit": "ratio", "note": note},
+    ]  # fmt: skip
 
 
 def profile_episode(top: int = 15) -> str:
