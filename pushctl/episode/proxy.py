@@ -186,7 +186,8 @@ class ProxyActuators:
         """One world step with the controller's latest command (``tau`` (nv,) [N·m] and its
         implicit gain ``implicit_kv`` [N·m·s/rad]). Returns the step's result and the torque
         the actuators applied over it (nv,) [N·m]: the delayed τ minus K_v q̇_{n+1} (friction
-        not included)."""
+        not included). The prediction q̂ and the impulse r are compiled loops
+        (:mod:`pushctl.episode.actuator_kernels`)."""
         applied = tau
         if self._pending:
             self._pending.append(np.array(tau, dtype=float))
