@@ -31,7 +31,7 @@ import numpy as np
 from numba import njit
 
 from pushctl.contact.pivot_kernels import _min_norm
-from pushctl.contact.small_algebra import matmul, matvec, spd_solve
+from pushctl.contact.small_algebra import matmul, matvec, plus_diagonal, spd_solve
 from pushctl.contact.step_end import coriolis_energy_error  # noqa: F401  (its old home)
 
 SINGULAR_PIVOT = 1e-11
@@ -196,7 +196,7 @@ def arm_part(contacts, jacobians, M, nle, v_arm, tau, joint_damping, h):
     Minv_At_arm = np.zeros((nv, n_prong))
     arm_D, arm_b = np.zeros((n_prong, n_prong)), np.zeros(n_prong)
     if nv:
-        M_tilde = M + np.diag(h * joint_damping)
+        M_tilde = plus_diagonal(M, h, joint_damping)
         rhs = np.empty((nv, 1 + n_prong))
         rhs[:, 0] = matvec(M, v_arm) + h * (tau - nle)
         rhs[:, 1:] = A_arm.T

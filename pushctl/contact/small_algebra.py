@@ -44,6 +44,16 @@ def matmul(A, B):
 
 
 @njit(cache=True)
+def plus_diagonal(M, h, d):
+    """M + h diag(d) (n, n), a new array: the arm's mass matrix with its implicit joint
+    damping ``d`` (n,) over a step ``h``, the matrix :func:`spd_solve` then solves with."""
+    A = M.copy()
+    for i in range(d.size):
+        A[i, i] += h * d[i]
+    return A
+
+
+@njit(cache=True)
 def spd_solve(A, B):
     """X (n, m) with A X = B for A (n, n) symmetric positive definite (the arm's mass matrix
     with implicit damping): Cholesky, then two triangular solves per column of B."""

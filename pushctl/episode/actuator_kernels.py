@@ -2,8 +2,8 @@
 q̂ of the new joint velocity and the joint impulse the step added besides the actuators
 (:class:`~pushctl.episode.proxy.ProxyActuators` says what they are and why).
 
-A proxy step spent about 25 µs in this arithmetic as numpy calls on 7-vectors and a 7 × 7
-solve (docs/evaluation-speed.md), more than the arithmetic itself. The algebra is
+A proxy step spent 16–28 µs (timeit) in this arithmetic as numpy calls on 7-vectors and a
+7 × 7 solve (docs/evaluation-speed.md, item 7), more than the arithmetic itself. The algebra is
 :mod:`pushctl.contact.small_algebra`'s loops, as in the world's step: one summation order on
 every machine, where numpy's OpenBLAS and LAPACK pick their kernels by CPU.
 """
@@ -13,32 +13,18 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from pushctl.contact.small_algebra import matvec, spd_solve
-
-
-@njit(cache=True)
-def _secant_damping(viscous, coulomb, v, friction_velocity):
-    """b + F_c / max(|v|, v_s) [N·m·s/rad] of one joint at velocity ``v`` [rad/s]."""
-    return viscous + coulomb / max(abs(v), friction_velocity)
+from pushctl.contact.small_algebra import matvec, plus_diagonal, spd_solve
 
 
 @njit(cache=True)
 def secant_damping(viscous, coulomb, v, friction_velocity):
-    """The friction's damping (nv,) [N·m·s/rad] as a secant of the Coulomb + viscous law at
-    joint velocities ``v`` (nv,) [rad/s]: ``−secant_damping(…) · v`` is the law's torque."""
+    """The friction's damping b + F_c / max(|q̇|, v_s) (nv,) [N·m·s/rad], a secant of the
+    Coulomb + viscous law at joint velocities ``v`` (nv,) [rad/s]: ``−secant_damping(…) · v``
+    is the law's torque."""
     out = np.empty(v.size)
     for i in range(v.size):
-        out[i] = _secant_damping(viscous[i], coulomb[i], v[i], friction_velocity)
+        out[i] = viscous[i] + coulomb[i] / max(abs(v[i]), friction_velocity)
     return out
-
-
-@njit(cache=True)
-def _damped(M, h, damping):
-    """M + h diag(damping) (nv, nv): the step's implicit joint matrix, a new array."""
-    A = M.copy()
-    for i in range(damping.size):
-        A[i, i] += h * damping[i]
-    return A
 
 
 @njit(cache=True)
@@ -62,7 +48,7 @@ def predict_friction(M, v, tau, nle, base, viscous, coulomb, friction_velocity, 
     rhs = np.empty((nv, 1))
     for i in range(nv):
         rhs[i, 0] = momentum[i] + impulse[i]
-    predicted = spd_solve(_damped(M, h, first), rhs)[:, 0]
+    predicted = spd_solve(plus_diagonal(M, h, first), rhs)[:, 0]
     return momentum, secant_damping(viscous, coulomb, predicted, friction_velocity)
 
 
@@ -71,7 +57,7 @@ def other_impulse(M, h, damping, v_new, momentum):
     """r = (M + h diag(damping)) q̇⁺ − momentum (nv,) [N·m·s]: what the step added to the
     joints' momentum besides the explicit torque and the implicit ``damping`` (nv,)
     [N·m·s/rad], given the new velocity ``v_new`` (nv,) [rad/s]."""
-    out = matvec(_damped(M, h, damping), v_new)
+    out = matvec(plus_diagonal(M, h, damping), v_new)
     for i in range(out.size):
         out[i] -= momentum[i]
     return out
