@@ -8,7 +8,8 @@ edit of a callee's file the caller's cached code still runs the old callee: wron
 or, where a return type changed, numba failing to box a result ("'descr' is NULL").
 
 :func:`drop_stale` runs before any kernel is loaded (``import pushctl``). For each pushctl
-file that defines kernels it hashes the pushctl files that file imports from; where the
+file that defines kernels it hashes the pushctl files that file imports from, directly or
+through the files it imports (numba compiles a callee's callees in too); where the
 hash differs from the one recorded beside the file's cache (``__pycache__/<name>.deps``),
 it removes that file's cached kernels, which numba then compiles afresh, and records the
 new hash. A clean clone records every hash on its first import and removes nothing; two
@@ -29,16 +30,31 @@ _IMPORT = re.compile(r"^from (pushctl(?:\.\w+)+) import", re.MULTILINE)
 
 
 def kernel_files(package: Path = PACKAGE) -> dict[Path, tuple[Path, ...]]:
-    """Each file of ``package`` that defines kernels → the package's files it imports from
-    (its dependencies: whatever of theirs it compiles in)."""
-    found = {}
+    """Each file of ``package`` that defines kernels → the package's files it imports from,
+    directly or through them (its dependencies: whatever of theirs it compiles in, and what
+    those compile in: ``contact/cold_step.py`` compiles ``contact/kernels.py``'s kernels,
+    and with them ``contact/small_algebra.py``'s)."""
+    imports: dict[Path, tuple[Path, ...]] = {}
+    kernels = []
     for path in sorted(package.rglob("*.py")):
         source = path.read_text(encoding="utf-8")
-        if not _KERNEL.search(source):
-            continue
         modules = sorted(set(_IMPORT.findall(source)))
-        found[path] = tuple(p for p in (_module_file(package, m) for m in modules) if p)
-    return found
+        imports[path] = tuple(p for p in (_module_file(package, m) for m in modules) if p)
+        if _KERNEL.search(source):
+            kernels.append(path)
+    return {path: _reachable(path, imports) for path in kernels}
+
+
+def _reachable(start: Path, imports: dict[Path, tuple[Path, ...]]) -> tuple[Path, ...]:
+    """The files ``start`` imports from, directly or not, sorted (``start`` left out)."""
+    seen: set[Path] = set()
+    todo = list(imports.get(start, ()))
+    while todo:
+        path = todo.pop()
+        if path not in seen and path != start:
+            seen.add(path)
+            todo.extend(imports.get(path, ()))
+    return tuple(sorted(seen))
 
 
 def drop_stale(package: Path = PACKAGE) -> list[Path]:

@@ -42,6 +42,20 @@ def test_a_callee_edit_drops_its_callers_cache_and_nothing_else(tmp_path) -> Non
     assert drop_stale(package) == []  # recorded again
 
 
+def test_an_edit_two_imports_away_drops_the_cache(tmp_path) -> None:
+    """numba compiles a callee's callees in too: caller → middle → callee."""
+    package = _package(tmp_path)
+    (package / "middle.py").write_text("from pushctl.callee import f\n\ndef m():\n    return f()\n")
+    (package / "caller.py").write_text(
+        "from pushctl.middle import m\n\n@njit(cache=True)\ndef g():\n    return m()\n"
+    )
+    drop_stale(package)
+    caller = _cache(package, "caller")
+    (package / "callee.py").write_text("def f():\n    return 3\n")
+    assert drop_stale(package) == [package / "caller.py"]
+    assert not any(path.exists() for path in caller)
+
+
 def test_an_unrecorded_cache_is_dropped_once(tmp_path) -> None:
     """A cache from before the hashes were recorded cannot be trusted."""
     package = _package(tmp_path)
@@ -53,6 +67,6 @@ def test_an_unrecorded_cache_is_dropped_once(tmp_path) -> None:
 def test_the_packages_kernel_files_and_what_they_compile_in() -> None:
     files = {path.relative_to(PACKAGE).as_posix(): {d.name for d in deps}
              for path, deps in kernel_files().items()}  # fmt: skip
-    assert files["contact/cold_step.py"] >= {"kernels.py", "pivot_kernels.py"}
+    assert files["contact/cold_step.py"] >= {"kernels.py", "pivot_kernels.py", "small_algebra.py"}
     assert files["contact/step_end.py"] >= {"arm_kernels.py"}
     assert "kernel_cache.py" not in files
