@@ -33,7 +33,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.linalg.lapack import dgelsy, dgetrf, dgetrs
 
-from pushctl.contact.kernels import RANK_RCOND, SINGULAR_PIVOT
+from pushctl.contact.pivot_kernels import RANK_RCOND
+from pushctl.contact.small_algebra import SINGULAR_PIVOT
 
 
 @dataclass(slots=True)

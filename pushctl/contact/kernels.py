@@ -14,8 +14,8 @@ reference and of the cold path's pivoting (:func:`pushctl.contact.pivot_kernels.
 numba's disk cache is invalidated per source file and does not follow calls or globals into
 other files, so a kernel calling a kernel elsewhere could run stale code after an edit.
 Where a file calls another's (:mod:`pushctl.contact.cold_step` calls these, these call the
-minimum-norm solve), :mod:`pushctl.kernel_cache` drops its cached kernels at import once a
-file it imports from has changed.
+small algebra and the minimum-norm solve), :mod:`pushctl.kernel_cache` drops its cached
+kernels at import once a file it imports from, directly or not, has changed.
 
 The step's kernels (:func:`assemble`, :func:`warm_contact_step`, :func:`warm_slip_step`)
 take the step's state and then the world's contact model, named by
@@ -31,59 +31,13 @@ import numpy as np
 from numba import njit
 
 from pushctl.contact.pivot_kernels import _min_norm
-from pushctl.contact.small_algebra import matmul, matvec, plus_diagonal, spd_solve
+from pushctl.contact.small_algebra import lu_solve, matmul, matvec, plus_diagonal, spd_solve
 from pushctl.contact.step_end import coriolis_energy_error  # noqa: F401  (its old home)
-
-SINGULAR_PIVOT = 1e-11
-"""An LU pivot below this fraction of the largest one marks an active-set system singular."""
-
-RANK_RCOND = 1e-11
-"""Relative threshold of the rank decision in the minimum-norm solve of a singular system."""
 
 SLIP_SPEED = 1e-6
 """A support point moving slower than this [m/s] counts as sticking: both its friction rows
 get the full bound. Faster, friction acts only against the slip (the cross row's bound is 0),
 so the box is isotropic in the plane and does not lock the yaw of a sliding object."""
-
-
-@njit(cache=True)
-def _lu_solve(A: np.ndarray, rhs: np.ndarray):
-    """Solve A x = rhs (A (n, n), rhs (n,)) by LU with partial pivoting, in place on copies.
-
-    Returns ``(x, ok)``; ``ok`` is False when a pivot falls below ``SINGULAR_PIVOT`` times the
-    largest one, and the caller then needs a minimum-norm solve.
-    """
-    n = A.shape[0]
-    M = A.copy()
-    x = rhs.copy()
-    largest = 0.0
-    smallest = np.inf
-    for k in range(n):
-        pivot_row = k
-        pivot = abs(M[k, k])
-        for i in range(k + 1, n):
-            if abs(M[i, k]) > pivot:
-                pivot, pivot_row = abs(M[i, k]), i
-        if pivot_row != k:
-            for j in range(n):
-                M[k, j], M[pivot_row, j] = M[pivot_row, j], M[k, j]
-            x[k], x[pivot_row] = x[pivot_row], x[k]
-        largest = max(largest, pivot)
-        smallest = min(smallest, pivot)
-        if pivot == 0.0:
-            return x, False
-        for i in range(k + 1, n):
-            factor = M[i, k] / M[k, k]
-            if factor != 0.0:
-                for j in range(k + 1, n):
-                    M[i, j] -= factor * M[k, j]
-                x[i] -= factor * x[k]
-    for k in range(n - 1, -1, -1):
-        total = x[k]
-        for j in range(k + 1, n):
-            total -= M[k, j] * x[j]
-        x[k] = total / M[k, k]
-    return x, smallest > SINGULAR_PIVOT * largest
 
 
 @njit(cache=True)
@@ -121,7 +75,7 @@ def active_set_step(D, b, lo, hi, findex, mu, guess, threshold):
         else:
             A[i, i] = 1.0
             rhs[i] = lo[i] if label < 0 else hi[i]
-    p, ok = _lu_solve(A, rhs)
+    p, ok = lu_solve(A, rhs)
     if not ok:
         p = _min_norm(A, rhs)
     w = matvec(D, p) + b

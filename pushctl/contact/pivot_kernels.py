@@ -15,8 +15,6 @@ not improve it; then single pivots of the least-index infeasible row (Murty), wh
 cycle on a P-matrix. An active set already visited is never solved again: the next
 infeasible row is flipped alone instead.
 
-This file is self-contained (it calls no compiled function in another file) because numba's
-disk cache is invalidated per source file (see :mod:`pushctl.contact.kernels`).
 """
 
 from __future__ import annotations
@@ -26,11 +24,10 @@ import numpy as np
 from numba import njit, types
 from numba.extending import get_cython_function_address
 
-SINGULAR_PIVOT = 1e-11
-"""As :data:`pushctl.contact.kernels.SINGULAR_PIVOT` (a copy: see the module doc)."""
+from pushctl.contact.small_algebra import lu_solve
 
 RANK_RCOND = 1e-11
-"""As :data:`pushctl.contact.kernels.RANK_RCOND`."""
+"""Relative threshold of the rank decision in the minimum-norm solve of a singular system."""
 
 _BLOCK_RETRIES = 3
 """Block pivots allowed that do not reduce the number of infeasible rows."""
@@ -74,39 +71,11 @@ def _min_norm(A: np.ndarray, rhs: np.ndarray) -> np.ndarray:
 
 @njit(cache=True)
 def _solve(A: np.ndarray, rhs: np.ndarray) -> np.ndarray:
-    """x (n,) with A x = rhs: LU with partial pivoting, or the minimum-norm least-squares
-    solution when a pivot falls below ``SINGULAR_PIVOT`` times the largest one."""
-    n = A.shape[0]
-    M = A.copy()
-    x = rhs.copy()
-    largest, smallest = 0.0, np.inf
-    for k in range(n):
-        pivot_row, pivot = k, abs(M[k, k])
-        for i in range(k + 1, n):
-            if abs(M[i, k]) > pivot:
-                pivot, pivot_row = abs(M[i, k]), i
-        if pivot_row != k:
-            for j in range(n):
-                M[k, j], M[pivot_row, j] = M[pivot_row, j], M[k, j]
-            x[k], x[pivot_row] = x[pivot_row], x[k]
-        largest = max(largest, pivot)
-        smallest = min(smallest, pivot)
-        if pivot == 0.0:
-            break
-        for i in range(k + 1, n):
-            factor = M[i, k] / M[k, k]
-            if factor != 0.0:
-                for j in range(k + 1, n):
-                    M[i, j] -= factor * M[k, j]
-                x[i] -= factor * x[k]
-    if not smallest > SINGULAR_PIVOT * largest:
-        return _min_norm(A, rhs)
-    for k in range(n - 1, -1, -1):
-        total = x[k]
-        for j in range(k + 1, n):
-            total -= M[k, j] * x[j]
-        x[k] = total / M[k, k]
-    return x
+    """x (n,) with A x = rhs: LU with partial pivoting (:func:`lu_solve`), or the
+    minimum-norm least-squares solution when a pivot falls below ``SINGULAR_PIVOT`` times
+    the largest one."""
+    x, ok = lu_solve(A, rhs)
+    return x if ok else _min_norm(A, rhs)
 
 
 @njit(cache=True)

@@ -15,6 +15,10 @@ import math
 import numpy as np
 from numba import njit
 
+SINGULAR_PIVOT = 1e-11
+"""An LU pivot below this fraction of the largest one marks a system singular
+(:func:`lu_solve`): the active-set solves then take the minimum-norm solution."""
+
 
 @njit(cache=True)
 def matvec(A, x):
@@ -84,3 +88,43 @@ def spd_solve(A, B):
                 t -= L[k, i] * X[k, c]
             X[i, c] = t / L[i, i]
     return X
+
+
+@njit(cache=True)
+def lu_solve(A: np.ndarray, rhs: np.ndarray):
+    """Solve A x = rhs (A (n, n), rhs (n,)) by LU with partial pivoting, in place on copies.
+
+    Returns ``(x, ok)``; ``ok`` is False when a pivot falls below ``SINGULAR_PIVOT`` times the
+    largest one, and the caller then needs a minimum-norm solve.
+    """
+    n = A.shape[0]
+    M = A.copy()
+    x = rhs.copy()
+    largest = 0.0
+    smallest = np.inf
+    for k in range(n):
+        pivot_row = k
+        pivot = abs(M[k, k])
+        for i in range(k + 1, n):
+            if abs(M[i, k]) > pivot:
+                pivot, pivot_row = abs(M[i, k]), i
+        if pivot_row != k:
+            for j in range(n):
+                M[k, j], M[pivot_row, j] = M[pivot_row, j], M[k, j]
+            x[k], x[pivot_row] = x[pivot_row], x[k]
+        largest = max(largest, pivot)
+        smallest = min(smallest, pivot)
+        if pivot == 0.0:
+            return x, False
+        for i in range(k + 1, n):
+            factor = M[i, k] / M[k, k]
+            if factor != 0.0:
+                for j in range(k + 1, n):
+                    M[i, j] -= factor * M[k, j]
+                x[i] -= factor * x[k]
+    for k in range(n - 1, -1, -1):
+        total = x[k]
+        for j in range(k + 1, n):
+            total -= M[k, j] * x[j]
+        x[k] = total / M[k, k]
+    return x, smallest > SINGULAR_PIVOT * largest

@@ -5,11 +5,8 @@ at the new state too (:func:`native_arm_moved`), whose library calls are declare
 :mod:`pushctl.native.arm_kernels` (symbols, not kernels: nothing there is compiled into
 these).
 
-Kept in a file of their own: numba's disk cache is invalidated per source file and does not
-follow calls into other files, so a kernel and every kernel it calls live together
-(:mod:`pushctl.contact.kernels`). :mod:`pushctl.contact.rows` and
-:mod:`pushctl.contact.kernels` re-export :func:`prong_geometry` and
-:func:`coriolis_energy_error`.
+:mod:`pushctl.contact.rows` and :mod:`pushctl.contact.kernels` re-export
+:func:`prong_geometry` and :func:`coriolis_energy_error`.
 """
 
 from __future__ import annotations
@@ -90,7 +87,8 @@ def _moved_terms(
 ):  # fmt: skip  # pragma: no cover - compiled
     """q⁺ into ``q_new`` and the library's pass at (q⁺, v⁺) into the arrays after it (the
     nominal frame's empty when ``nominal`` is −1): ``pushctl.native.arm_kernels._terms``'s
-    calls (repeated here: numba's cache does not follow calls into another file)."""
+    library call without its copies of q and v (``astype``), which a world step's float64
+    arrays do not need."""
     q = np.ascontiguousarray(q)
     v = np.ascontiguousarray(v_new)
     _arm_integrate(handle, q.ctypes, v.ctypes, h, q_new.ctypes)

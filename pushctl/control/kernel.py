@@ -2,8 +2,7 @@
 
 :func:`pd_torque` computes exactly what :meth:`pushctl.control.pd.PDController.reference_command`
 does in plain numpy (the tests compare the two); compiled, it costs a few µs instead of the
-~60 µs of the dozens of small numpy calls. Self-contained on purpose: numba's disk cache is
-invalidated per source file, so this kernel calls nothing outside this file.
+~60 µs of the dozens of small numpy calls. It calls no kernel of another file.
 """
 
 from __future__ import annotations
