@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pushctl.contact.small_algebra import matmul, matvec, plus_diagonal, spd_solve
+from pushctl.contact.small_algebra import lu_solve, matmul, matvec, plus_diagonal, spd_solve
 
 
 def _spd(rng: np.random.Generator, n: int) -> np.ndarray:
@@ -26,3 +26,19 @@ def test_the_products_and_the_solve_agree_with_numpy() -> None:
     np.testing.assert_allclose(matvec(A, x), A @ x, rtol=1e-13, atol=1e-15)
     np.testing.assert_allclose(matmul(A, B), A @ B, rtol=1e-13, atol=1e-15)
     np.testing.assert_allclose(A @ spd_solve(A, B), B, rtol=1e-10, atol=1e-12)
+
+
+def test_the_lu_solve_solves_and_flags_a_singular_system() -> None:
+    """An active-set system (unsymmetric, rows needing a pivot) is solved; one with a
+    dependent row is flagged, for the minimum-norm solve, and its input left as it was."""
+    rng = np.random.default_rng(2)
+    A, rhs = rng.standard_normal((9, 9)), rng.standard_normal(9)
+    A[0, 0] = 0.0  # the first pivot has to come from another row
+    x, ok = lu_solve(A, rhs)
+    assert ok
+    np.testing.assert_allclose(A @ x, rhs, rtol=1e-10, atol=1e-12)
+    singular = A.copy()
+    singular[4] = 2.0 * singular[2]
+    before = singular.copy()
+    assert not lu_solve(singular, rhs)[1]
+    assert np.array_equal(singular, before)
