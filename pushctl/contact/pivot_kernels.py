@@ -14,7 +14,6 @@ number of infeasible rows keeps falling, allowing ``_BLOCK_RETRIES`` block pivot
 not improve it; then single pivots of the least-index infeasible row (Murty), which cannot
 cycle on a P-matrix. An active set already visited is never solved again: the next
 infeasible row is flipped alone instead.
-
 """
 
 from __future__ import annotations
@@ -72,8 +71,7 @@ def _min_norm(A: np.ndarray, rhs: np.ndarray) -> np.ndarray:
 @njit(cache=True)
 def _solve(A: np.ndarray, rhs: np.ndarray) -> np.ndarray:
     """x (n,) with A x = rhs: LU with partial pivoting (:func:`lu_solve`), or the
-    minimum-norm least-squares solution when a pivot falls below ``SINGULAR_PIVOT`` times
-    the largest one."""
+    minimum-norm least-squares solution where it finds the system singular."""
     x, ok = lu_solve(A, rhs)
     return x if ok else _min_norm(A, rhs)
 
