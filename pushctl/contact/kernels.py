@@ -9,7 +9,7 @@ compiled once and cached on disk (``cache=True``).
 
 The algebra is loops (:mod:`pushctl.contact.small_algebra`), not numba's BLAS and LAPACK
 calls; a singular active-set system is solved by LAPACK's dgelsy, the routine of the
-reference and of the cold path's pivoting (:func:`pushctl.contact.pivot_kernels._min_norm`).
+reference and of the cold path's pivoting (:func:`pushctl.contact.pivot_kernels.lu_or_min_norm`).
 
 numba's disk cache is invalidated per source file and does not follow calls or globals into
 other files, so a kernel calling a kernel elsewhere could run stale code after an edit.
@@ -30,8 +30,8 @@ import math
 import numpy as np
 from numba import njit
 
-from pushctl.contact.pivot_kernels import _min_norm
-from pushctl.contact.small_algebra import lu_solve, matmul, matvec, plus_diagonal, spd_solve
+from pushctl.contact.pivot_kernels import lu_or_min_norm
+from pushctl.contact.small_algebra import matmul, matvec, plus_diagonal, spd_solve
 from pushctl.contact.step_end import coriolis_energy_error  # noqa: F401  (its old home)
 
 SLIP_SPEED = 1e-6
@@ -75,9 +75,7 @@ def active_set_step(D, b, lo, hi, findex, mu, guess, threshold):
         else:
             A[i, i] = 1.0
             rhs[i] = lo[i] if label < 0 else hi[i]
-    p, ok = lu_solve(A, rhs)
-    if not ok:
-        p = _min_norm(A, rhs)
+    p = lu_or_min_norm(A, rhs)
     w = matvec(D, p) + b
     residual = 0.0
     for i in range(n):

@@ -69,9 +69,10 @@ def _min_norm(A: np.ndarray, rhs: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True)
-def _solve(A: np.ndarray, rhs: np.ndarray) -> np.ndarray:
-    """x (n,) with A x = rhs: LU with partial pivoting (:func:`lu_solve`), or the
-    minimum-norm least-squares solution where it finds the system singular."""
+def lu_or_min_norm(A: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """x (n,) with A x = rhs for an active set's system: LU with partial pivoting
+    (:func:`lu_solve`), or the minimum-norm least-squares solution where it finds the
+    system singular (as :func:`pushctl.contact.active_set.solve_labels`)."""
     x, ok = lu_solve(A, rhs)
     return x if ok else _min_norm(A, rhs)
 
@@ -92,7 +93,7 @@ def _solve_labels(D, b, lo, hi, mu, fi, labels):
             A[i, i] = 1.0
             A[i, fi[i]] -= label * mu[i]  # friction rows: p_t − s·mu·p_n = 0
             rhs[i] = lo[i] if label < 0 else hi[i]
-    return _solve(A, rhs)
+    return lu_or_min_norm(A, rhs)
 
 
 @njit(cache=True)
