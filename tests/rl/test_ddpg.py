@@ -472,3 +472,57 @@ def test_the_zero_residual_outputs_zero_and_leaves_the_snapshot_alone() -> None:
     zero = ActorPolicy.zero_residual(state)
     np.testing.assert_array_equal(ActorPolicy.from_state(zero)(obs), np.zeros(3))
     np.testing.assert_array_equal(ActorPolicy.from_state(state)(obs), before)
+
+
+# --- the actor step's shortcuts ---------------------------------------------------------------
+
+PRIOR = DDPGConfig(
+    hidden=(16, 16), batch_size=8, buffer_size=64, warmup_steps=0, prior_weight=2.0,
+    action_penalty=0.1,
+)  # fmt: skip
+
+
+def _filled(config: DDPGConfig) -> DDPGAgent:
+    agent = _agent(config, seed=3)
+    rng = np.random.default_rng(4)
+    agent.observe(
+        rng.normal(size=(32, OBS)), rng.uniform(-1, 1, (32, ACT)), rng.normal(size=32),
+        rng.normal(size=(32, OBS)), np.zeros(32),
+    )  # fmt: skip
+    return agent
+
+
+@pytest.mark.parametrize("final_init", [0.0, 0.3])
+def test_the_actor_step_equals_the_one_with_the_critics_gradients_and_the_priors_forward(
+    final_init,
+):
+    """The update freezes the critic for the actor's backward pass and, with a prior that
+    acts 0 everywhere, skips the prior's forward pass: the weights after 12 updates are
+    those of an agent that does neither, to the bit."""
+    config = replace(PRIOR, actor_final_init=final_init)
+    fast, plain = _filled(config), _filled(config)
+    assert fast._prior_is_zero == (final_init == 0.0)
+    plain._prior_is_zero = False  # the prior's forward pass, as before the shortcut
+    critic = plain.critic
+    critic.requires_grad_ = lambda requires_grad=True: critic  # the critic's gradients too
+    for _ in range(12):
+        fast.update()
+        plain.update()
+    assert all(p.requires_grad for p in fast.critic.parameters())
+    for a, b in zip(_weights(fast), _weights(plain), strict=True):
+        assert torch.equal(a, b)
+    assert not torch.equal(fast.actor.net[0].weight, _filled(config).actor.net[0].weight)
+
+
+def test_a_restored_prior_is_recognised_as_zero_or_not():
+    for final_init in (0.0, 0.3):
+        agent = _filled(replace(PRIOR, actor_final_init=final_init))
+        agent.update()
+        buffer = io.BytesIO()
+        torch.save(agent.state_dict(), buffer)
+        buffer.seek(0)
+        restored = _agent(replace(PRIOR, actor_final_init=final_init), seed=9)
+        restored.load_state_dict(torch.load(buffer, weights_only=True))
+        assert restored._prior_is_zero == (final_init == 0.0)
+        for a, b in zip(agent.prior.parameters(), restored.prior.parameters(), strict=True):
+            assert torch.equal(a, b)
