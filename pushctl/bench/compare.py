@@ -234,8 +234,9 @@ def record_cold_problems(steps: int = 1500, seed: int = 0) -> list[tuple]:
 
 
 def unpack(commit: str, into: Path) -> Path:
-    """``pushctl/`` and ``experiments/`` of ``commit`` under ``into``; ConfigError if this
-    is not a git checkout or the commit is unknown."""
+    """``pushctl/`` and ``experiments/`` of ``commit`` under ``into``, with its compiled
+    library where it has one (:func:`build_native`); ConfigError if this is not a git
+    checkout or the commit is unknown."""
     root = Path(pushctl.__file__).resolve().parent.parent
     archive = into / "reference.tar"
     done = subprocess.run(
@@ -250,7 +251,31 @@ def unpack(commit: str, into: Path) -> Path:
     tree = into / "reference"
     with tarfile.open(archive) as tar:
         tar.extractall(tree, filter="data")
+    build_native(tree)
     return tree
+
+
+def build_native(tree: Path) -> None:
+    """Give an unpacked tree that has pushctl's compiled library among its sources
+    (:mod:`pushctl.native`, from 3c3f472 on) the library it would run with: ``git archive``
+    leaves the built library out, and without it the tree would run the Python bindings,
+    slower, and lose every comparison it is timed in. This tree's library is copied where
+    the tree's sources are the same (its stamp then matches); otherwise its own build
+    compiles them (about 45 s). A build that fails leaves the tree on the bindings, which
+    the build's one line says."""
+    if not (tree / "pushctl" / "native" / "build.py").is_file():
+        return  # before the library: the bindings are what that commit ran
+    target = tree / "pushctl" / "native" / "lib"
+    if native.LIBRARY.exists() and native.STAMP.exists():
+        target.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(native.LIBRARY, target / native.LIBRARY.name)
+        shutil.copy2(native.STAMP, target / native.STAMP.name)
+    subprocess.run(  # does nothing if the copied stamp matches the tree's sources
+        [sys.executable, "-m", "pushctl.native.build", "--optional"],
+        env={**os.environ, "PYTHONPATH": str(tree)},
+        cwd=tree,
+        check=False,
+    )
 
 
 def run_child(tree: Path, problems: Path, core: int = 0) -> dict[str, Any]:

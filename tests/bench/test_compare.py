@@ -3,7 +3,15 @@ runs in ``make bench``)."""
 
 from __future__ import annotations
 
-from pushctl.bench.compare import _CHILD, METRICS, main
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from pushctl import native
+from pushctl.bench.compare import _CHILD, METRICS, main, unpack
 
 
 def test_the_child_script_compiles_and_reports_every_metric() -> None:
@@ -48,3 +56,36 @@ def test_the_cold_problems_are_recorded_from_every_step_that_left_the_warm_activ
     assert len(problems) > 60
     assert all(warm is None or warm.shape == b.shape for _, b, *_, warm in problems)
     assert substep_module.SubstepSolver._compiled_step is compiled_step
+
+
+def _runs_compiled(tree: Path) -> bool:
+    """Whether pushctl at ``tree`` loads its compiled library, in a fresh process."""
+    done = subprocess.run(
+        [sys.executable, "-c", "from pushctl import native; print(native.available())"],
+        env={**os.environ, "PYTHONPATH": str(tree)},
+        cwd=tree,
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    return done.stdout.strip() == "True"
+
+
+def test_an_unpacked_reference_runs_with_the_compiled_library_it_had(tmp_path: Path) -> None:
+    """git archive leaves the built library out: a reference with the library's sources
+    gets this tree's copy where its sources are the same (65f7484's are this tree's), so it
+    is timed as it ran; one from before the library has none to get."""
+    if not native.available():
+        pytest.skip("this tree runs without its compiled library")
+    root = Path(__file__).resolve().parents[2]
+    known = subprocess.run(
+        ["git", "-C", str(root), "cat-file", "-e", "65f7484^{commit}"], check=False
+    )
+    if known.returncode != 0:
+        pytest.skip("not a git checkout with the project's history")
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    with_library = unpack("65f7484", tmp_path / "a")
+    before_library = unpack("551bcac", tmp_path / "b")
+    assert _runs_compiled(with_library)
+    assert not (before_library / "pushctl" / "native").exists()
