@@ -32,7 +32,6 @@ from numba import njit
 
 from pushctl.contact.pivot_kernels import lu_or_min_norm
 from pushctl.contact.small_algebra import matmul, matvec, plus_diagonal, spd_solve
-from pushctl.contact.step_end import coriolis_energy_error  # noqa: F401  (its old home)
 
 SLIP_SPEED = 1e-6
 """A support point moving slower than this [m/s] counts as sticking: both its friction rows

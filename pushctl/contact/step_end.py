@@ -5,8 +5,7 @@ at the new state too (:func:`native_arm_moved`), whose library calls are declare
 :mod:`pushctl.native.arm_kernels` (symbols, not kernels: nothing there is compiled into
 these).
 
-:mod:`pushctl.contact.rows` and :mod:`pushctl.contact.kernels` re-export
-:func:`prong_geometry` and :func:`coriolis_energy_error`.
+:mod:`pushctl.contact.rows` re-exports :func:`prong_geometry`.
 """
 
 from __future__ import annotations
@@ -16,7 +15,7 @@ import math
 import numpy as np
 from numba import njit
 
-from pushctl.native.arm_kernels import _arm_integrate, _arm_terms
+from pushctl.native.arm_kernels import _arm_integrate, arm_pass
 
 
 @njit(cache=True)
@@ -86,17 +85,15 @@ def _moved_terms(
     nominal_rotation, nominal_jacobian,
 ):  # fmt: skip  # pragma: no cover - compiled
     """q⁺ into ``q_new`` and the library's pass at (q⁺, v⁺) into the arrays after it (the
-    nominal frame's empty when ``nominal`` is −1): ``pushctl.native.arm_kernels._terms``'s
-    library call without its copies of q and v (``astype``), which a world step's float64
-    arrays do not need."""
+    nominal frame's empty when ``nominal`` is −1): :func:`arm_pass`, without the copies of
+    q and v (``astype``) that a world step's float64 arrays do not need."""
     q = np.ascontiguousarray(q)
     v = np.ascontiguousarray(v_new)
     _arm_integrate(handle, q.ctypes, v.ctypes, h, q_new.ctypes)
-    _arm_terms(
-        handle, q_new.ctypes, v.ctypes, prongs.size, prongs.ctypes, pusher, nominal,
-        M.ctypes, nle.ctypes, g.ctypes, prong_positions.ctypes, prong_jacobians.ctypes,
-        pusher_position.ctypes, pusher_rotation.ctypes, pusher_jacobian.ctypes,
-        nominal_position.ctypes, nominal_rotation.ctypes, nominal_jacobian.ctypes,
+    arm_pass(
+        handle, q_new, v, prongs, pusher, nominal, M, nle, g, prong_positions, prong_jacobians,
+        pusher_position, pusher_rotation, pusher_jacobian, nominal_position, nominal_rotation,
+        nominal_jacobian,
     )  # fmt: skip
 
 

@@ -1,6 +1,7 @@
 """The numba side of the compiled arm terms: :func:`native_terms` and
 :func:`native_terms_nominal` call the library's ``pushctl_arm_terms`` (``arm_terms.cpp``)
-by its symbol; ``pushctl.contact.step_end`` calls it and ``pushctl_arm_integrate`` too.
+by its symbol, in :func:`arm_pass`; ``pushctl.contact.step_end`` calls that and
+``pushctl_arm_integrate`` too.
 
 The pass lives in ``_terms``; its two callers differ only in what they write (the nominal
 pusher's frame or not). Declaring a symbol needs nothing; compiling or loading a kernel
@@ -71,6 +72,22 @@ def _terms(
 ):  # fmt: skip  # pragma: no cover - compiled
     q = np.ascontiguousarray(q).astype(np.float64)  # the library reads raw float64 memory
     v = np.ascontiguousarray(v).astype(np.float64)
+    arm_pass(
+        handle, q, v, prongs, pusher, nominal, M, nle, g, prong_positions, prong_jacobians,
+        pusher_position, pusher_rotation, pusher_jacobian, nominal_position, nominal_rotation,
+        nominal_jacobian,
+    )  # fmt: skip
+
+
+@njit(cache=True)
+def arm_pass(
+    handle, q, v, prongs, pusher, nominal, M, nle, g, prong_positions, prong_jacobians,
+    pusher_position, pusher_rotation, pusher_jacobian, nominal_position, nominal_rotation,
+    nominal_jacobian,
+):  # fmt: skip  # pragma: no cover - compiled
+    """The library's pass at (q, v), contiguous float64 arrays as they are, into the arrays
+    after them (``nominal`` −1: the nominal frame's are empty). :func:`_terms` makes its q
+    and v so first; the world's step end (``pushctl.contact.step_end``) has them so."""
     _arm_terms(
         handle, q.ctypes, v.ctypes, prongs.size, prongs.ctypes, pusher, nominal,
         M.ctypes, nle.ctypes, g.ctypes, prong_positions.ctypes, prong_jacobians.ctypes,
