@@ -1,15 +1,19 @@
 """``make bench``, engines side by side: our world and the MuJoCo world on the same scenes.
 
-Part of :mod:`pushctl.bench.suite`. Three scenes, each built once per engine: the arm pushing the
-cube at 1 cm/s (``world.step`` alone timed), a closed-loop PD push step (``Episode.step``:
-controller and world), and the cube alone sliding. The process is pinned to one core while it
-runs, the engines alternate in blocks of :data:`BLOCK` steps (so both see the same machine
-load), and each figure is the median of the single-step times; the rows give both medians
-and their ratio ours / mujoco. Run alone: ``python -m pushctl.bench.engines``.
+Part of :mod:`pushctl.bench.suite`. Four scenes, each built once per engine: the arm pushing the
+cube at 1 cm/s (``world.step`` alone timed), the same push under the PD law with the law
+timed too (issue 15's closed loop), a closed-loop PD push step (``Episode.step``: controller,
+reference, record and world), and the cube alone sliding. The first two also time MuJoCo
+without pushctl's interface (``mj_step`` alone, and the PD law around it). The process is
+pinned to one core while it runs, the engines alternate in blocks of :data:`BLOCK` steps (so
+both see the same machine load), and each figure is the median of the single-step times; the
+rows give both medians and their ratio ours / mujoco. Run alone:
+``python -m pushctl.bench.engines``.
 """
 
 from __future__ import annotations
 
+import math
 import os
 import statistics
 import time
@@ -20,8 +24,10 @@ from typing import Any
 import numpy as np
 
 import pushctl
+from pushctl.arm import ArmTerms
 from pushctl.contact.build import ENGINES
 from pushctl.control import load_gains
+from pushctl.control.pd import PDCommand, PDController
 from pushctl.episode import Episode, Scenario
 from pushctl.types import PlanarPose
 
@@ -95,6 +101,63 @@ def pushing_world(engine: str, speed: float = 0.01, raw: bool = False):
     return step
 
 
+def pd_pushing_world(engine: str, raw: bool = False) -> Callable[[], float]:
+    """Issue 15's closed loop: the PD law (:meth:`PDController.command`, compiled; shipped
+    gains) servoing the pusher onto a target that moves at 1 cm/s, and the world step, both
+    timed: ``step() -> seconds``. The controller reads the world's own arm terms. ``raw``
+    (MuJoCo only): the loop a user would write around MuJoCo alone, the arm's terms from
+    :meth:`ArmModel.compute` (Pinocchio through pushctl's library) at MuJoCo's state, the
+    same PD law, then ``mujoco.mj_step``."""
+    _, step = pd_push(engine, raw)
+    for _ in range(100):  # into steady sliding contact
+        step()
+    return step
+
+
+def pd_push(engine: str, raw: bool = False):
+    """:func:`pd_pushing_world`'s world (reset, the cube against the prongs) and its step,
+    not yet stepped: ``(world, step)``."""
+    world = pushctl.make_world("cube", engine=engine)
+    arm = world.arm
+    assert arm is not None
+    start = arm.pusher_placement(arm.q_ready)
+    world.reset(
+        object_pose=(start.translation[0] + world.object.face_offset, start.translation[1], 0.0)
+    )
+    controller = PDController(arm, load_gains(), world.config.dt)
+    yaw = math.atan2(start.rotation[1, 0], start.rotation[0, 0])
+    twist_ff, clock = np.array([0.01, 0.0, 0.0, 0.0, 0.0, 0.0]), [0.0]
+
+    def command(terms: ArmTerms, q: np.ndarray) -> PDCommand:
+        target = start.translation + np.array([0.01 * clock[0], 0.0, 0.0])
+        clock[0] += world.config.dt
+        return controller.command(terms, q, target, yaw, twist_ff)
+
+    def step() -> float:
+        t0 = time.perf_counter()
+        terms = world.arm_terms
+        assert terms is not None
+        pd = command(terms, world.q)
+        world.step(pd.tau, implicit_kv=pd.implicit_kv)
+        return time.perf_counter() - t0
+
+    def raw_step() -> float:
+        model, data = world.model, world.data  # type: ignore[union-attr]
+        t0 = time.perf_counter()
+        q = world.q  # MuJoCo's state, read from its data
+        pd = command(arm.compute(q, world.v), q)
+        model.dof_damping[: arm.nv] = pd.implicit_kv
+        data.qfrc_applied[: arm.nv] = pd.tau
+        mj_step(model, data)
+        return time.perf_counter() - t0
+
+    if raw:
+        from mujoco import mj_step
+
+        return world, raw_step
+    return world, step
+
+
 def closed_loop(engine: str) -> Callable[[], float]:
     """A PD push (cube, chirp, shipped gains); ``step() -> seconds`` of one ``Episode.step``,
     starting the push again when it ends."""
@@ -139,9 +202,19 @@ def interleaved_medians(steppers: dict[str, Callable[[], float]], steps: int) ->
 
 SCENES: tuple[tuple[str, Callable[[str], Callable[[], float]], str], ...] = (
     ("world step arm+cube", pushing_world, "kinova pushing the cube at 1 cm/s, h = 0.01 s"),
+    ("PD and world step", pd_pushing_world, "PD law + world step, the cube pushed at 1 cm/s"),
     ("closed-loop step", closed_loop, "PD push step (controller + world), cube chirp"),
     ("world step object only", object_alone, "cube sliding on the table"),
 )
+
+RAW_NOTES = {
+    pushing_world: "MuJoCo's step without our interface (forces in our frames, gaps, state "
+    "copies), interleaved with the rows above",
+    pd_pushing_world: "the same PD law on the arm's terms at MuJoCo's state (Pinocchio), then "
+    "MuJoCo's step without our interface: issue 15's closed loop around MuJoCo",
+}
+"""The scenes that also time MuJoCo without pushctl's interface (``build(engine, raw=True)``),
+and what their raw row holds."""
 
 
 def engine_rows(steps: int = 2000) -> list[dict[str, Any]]:
@@ -150,8 +223,8 @@ def engine_rows(steps: int = 2000) -> list[dict[str, Any]]:
     with pinned_to_one_core():
         for label, build, note in SCENES:
             steppers = {e: build(e) for e in ENGINES}
-            if build is pushing_world:
-                steppers["mj_step"] = pushing_world("mujoco", raw=True)
+            if build in RAW_NOTES:
+                steppers["mj_step"] = build("mujoco", raw=True)  # type: ignore[call-arg]
             medians = interleaved_medians(steppers, steps)
             for engine in ENGINES:
                 rows.append(
@@ -176,8 +249,15 @@ def engine_rows(steps: int = 2000) -> list[dict[str, Any]]:
                         "name": f"{label} [mujoco mj_step alone]",
                         "value": medians["mj_step"],
                         "unit": "us",
-                        "note": "MuJoCo's step without our interface (forces in our frames, "
-                        "gaps, state copies), interleaved with the rows above",
+                        "note": RAW_NOTES[build],
+                    }
+                )
+                rows.append(
+                    {
+                        "name": f"{label} ours/mj_step alone",
+                        "value": medians["ours"] / medians["mj_step"],
+                        "unit": "1",
+                        "note": "issue 15 item 2: at most 1.5 (goal: parity)",
                     }
                 )
     return rows
