@@ -50,12 +50,9 @@ def pinned_to_one_core():
         os.sched_setaffinity(0, cores)
 
 
-def pushing_world(engine: str, speed: float = 0.01, raw: bool = False):
-    """A world whose pusher drives the cube forward at ``speed`` [m/s], prongs in contact,
-    and its step: a plain operational-space velocity loop (q̇_des = J⁺ v_des, τ = g + K_v
-    q̇_des, K_v implicit) whose own time is not counted. Returns ``step() -> seconds``.
-    ``raw`` (MuJoCo only): time ``mujoco.mj_step`` alone, without the world's reading of
-    forces, gaps and state (what the engine costs before our interface)."""
+def _cube_at_the_prongs(engine: str):
+    """A world of ``engine`` with the arm at its ready pose and the cube's face at the
+    prongs: ``(world, arm, the pusher's placement)``."""
     world = pushctl.make_world("cube", engine=engine)
     arm = world.arm
     assert arm is not None
@@ -63,6 +60,16 @@ def pushing_world(engine: str, speed: float = 0.01, raw: bool = False):
     world.reset(
         object_pose=(start.translation[0] + world.object.face_offset, start.translation[1], 0.0)
     )
+    return world, arm, start
+
+
+def pushing_world(engine: str, speed: float = 0.01, raw: bool = False):
+    """A world whose pusher drives the cube forward at ``speed`` [m/s], prongs in contact,
+    and its step: a plain operational-space velocity loop (q̇_des = J⁺ v_des, τ = g + K_v
+    q̇_des, K_v implicit) whose own time is not counted. Returns ``step() -> seconds``.
+    ``raw`` (MuJoCo only): time ``mujoco.mj_step`` alone, without the world's reading of
+    forces, gaps and state (what the engine costs before our interface)."""
+    world, arm, start = _cube_at_the_prongs(engine)
     kv, gain, clock = 20.0, 5.0, [0.0]
 
     def torque() -> np.ndarray:
@@ -117,13 +124,7 @@ def pd_pushing_world(engine: str, raw: bool = False) -> Callable[[], float]:
 def pd_push(engine: str, raw: bool = False):
     """:func:`pd_pushing_world`'s world (reset, the cube against the prongs) and its step,
     not yet stepped: ``(world, step)``."""
-    world = pushctl.make_world("cube", engine=engine)
-    arm = world.arm
-    assert arm is not None
-    start = arm.pusher_placement(arm.q_ready)
-    world.reset(
-        object_pose=(start.translation[0] + world.object.face_offset, start.translation[1], 0.0)
-    )
+    world, arm, start = _cube_at_the_prongs(engine)
     controller = PDController(arm, load_gains(), world.config.dt)
     yaw = math.atan2(start.rotation[1, 0], start.rotation[0, 0])
     twist_ff, clock = np.array([0.01, 0.0, 0.0, 0.0, 0.0, 0.0]), [0.0]
