@@ -48,14 +48,12 @@ def native_arm_moved(
     array made by ``np.empty`` in Python and passed in about 0.25 (eleven a step; measured
     in ``python -m pushctl.bench.compare``). Returns ``(ledger, energy, contacts, mask)``:
     the first ``contacts`` rows of ``geometry`` are the prongs in contact."""
-    _moved_terms(
-        handle, q, v_new, h, prongs, pusher, -1, q_new, M, nle, g, prong_positions,
-        prong_jacobians, pusher_position, pusher_rotation, pusher_jacobian, np.empty(0),
-        np.empty((0, 3)), np.empty((0, M.shape[0])),
+    return native_arm_moved_nominal(
+        handle, q, v_new, h, prongs, pusher, -1, ledger, M_old, nle_old, g_old, edges, pose,
+        margin, q_new, M, nle, g, prong_positions, prong_jacobians, pusher_position,
+        pusher_rotation, pusher_jacobian, np.empty(0), np.empty((0, 3)),
+        np.empty((0, M.shape[0])), geometry, gaps,
     )  # fmt: skip
-    ledger, energy = coriolis_energy_error(ledger, v_new, M_old, nle_old, g_old, M, h)
-    contacts, mask = prong_geometry_into(edges, pose, prong_positions, margin, geometry, gaps)
-    return ledger, energy, contacts, mask
 
 
 @njit(cache=True)
@@ -67,26 +65,9 @@ def native_arm_moved_nominal(
 ):  # fmt: skip  # pragma: no cover - compiled
     """:func:`native_arm_moved` for an arm whose frame ``nominal`` (the nominal pusher) is
     placed in the same pass: its position (3,), rotation (3, 3) and Jacobian (6, nv) are
-    written too."""
-    _moved_terms(
-        handle, q, v_new, h, prongs, pusher, nominal, q_new, M, nle, g, prong_positions,
-        prong_jacobians, pusher_position, pusher_rotation, pusher_jacobian, nominal_position,
-        nominal_rotation, nominal_jacobian,
-    )  # fmt: skip
-    ledger, energy = coriolis_energy_error(ledger, v_new, M_old, nle_old, g_old, M, h)
-    contacts, mask = prong_geometry_into(edges, pose, prong_positions, margin, geometry, gaps)
-    return ledger, energy, contacts, mask
-
-
-@njit(cache=True)
-def _moved_terms(
-    handle, q, v_new, h, prongs, pusher, nominal, q_new, M, nle, g, prong_positions,
-    prong_jacobians, pusher_position, pusher_rotation, pusher_jacobian, nominal_position,
-    nominal_rotation, nominal_jacobian,
-):  # fmt: skip  # pragma: no cover - compiled
-    """q⁺ into ``q_new`` and the library's pass at (q⁺, v⁺) into the arrays after it (the
-    nominal frame's empty when ``nominal`` is −1): :func:`arm_pass`, without the copies of
-    q and v (``astype``) that a world step's float64 arrays do not need."""
+    written too (``nominal`` −1: none, and those three are empty). q⁺ goes into ``q_new``,
+    and the library's pass (:func:`arm_pass`) runs at (q⁺, v⁺) without copies of q and v
+    (``astype``), which a world step's float64 arrays do not need."""
     q = np.ascontiguousarray(q)
     v = np.ascontiguousarray(v_new)
     _arm_integrate(handle, q.ctypes, v.ctypes, h, q_new.ctypes)
@@ -95,6 +76,9 @@ def _moved_terms(
         pusher_position, pusher_rotation, pusher_jacobian, nominal_position, nominal_rotation,
         nominal_jacobian,
     )  # fmt: skip
+    ledger, energy = coriolis_energy_error(ledger, v_new, M_old, nle_old, g_old, M, h)
+    contacts, mask = prong_geometry_into(edges, pose, prong_positions, margin, geometry, gaps)
+    return ledger, energy, contacts, mask
 
 
 @njit(cache=True)

@@ -3,10 +3,10 @@
 by its symbol, in :func:`arm_pass`; ``pushctl.contact.step_end`` calls that and
 ``pushctl_arm_integrate`` too.
 
-The pass lives in ``_terms``; its two callers differ only in what they write (the nominal
-pusher's frame or not). Declaring a symbol needs nothing; compiling or loading a kernel
-that calls it needs the library loaded first (:func:`pushctl.native.available`), which
-is why these are called only by code that holds a :class:`~pushctl.native.NativeArm`.
+:func:`native_terms` is :func:`native_terms_nominal` without the nominal pusher's frame.
+Declaring a symbol needs nothing; compiling or loading a kernel that calls it needs the
+library loaded first (:func:`pushctl.native.available`), which is why these are called only
+by code that holds a :class:`~pushctl.native.NativeArm`.
 """
 
 from __future__ import annotations
@@ -42,7 +42,7 @@ def native_terms(
 
     Written into arrays made by ``np.empty`` in Python, not returned: numba's boxing of a
     returned array cost more than making one and passing it in (measured)."""
-    _terms(
+    native_terms_nominal(
         handle, q, v, prongs, pusher, -1, M, nle, g, prong_positions, prong_jacobians,
         pusher_position, pusher_rotation, pusher_jacobian, np.empty(0), np.empty((0, 3)),
         np.empty((0, M.shape[0])),
@@ -56,20 +56,8 @@ def native_terms_nominal(
     nominal_jacobian,
 ):  # fmt: skip  # pragma: no cover - compiled
     """:func:`native_terms` and the frame ``nominal``'s position (3,), rotation (3, 3) and
-    Jacobian (6, nv), written into the three arrays after the eight."""
-    _terms(
-        handle, q, v, prongs, pusher, nominal, M, nle, g, prong_positions, prong_jacobians,
-        pusher_position, pusher_rotation, pusher_jacobian, nominal_position, nominal_rotation,
-        nominal_jacobian,
-    )  # fmt: skip
-
-
-@njit(cache=True)
-def _terms(
-    handle, q, v, prongs, pusher, nominal, M, nle, g, prong_positions, prong_jacobians,
-    pusher_position, pusher_rotation, pusher_jacobian, nominal_position, nominal_rotation,
-    nominal_jacobian,
-):  # fmt: skip  # pragma: no cover - compiled
+    Jacobian (6, nv), written into the three arrays after the eight (``nominal`` −1: none,
+    and those three are empty)."""
     q = np.ascontiguousarray(q).astype(np.float64)  # the library reads raw float64 memory
     v = np.ascontiguousarray(v).astype(np.float64)
     arm_pass(
@@ -86,8 +74,9 @@ def arm_pass(
     nominal_jacobian,
 ):  # fmt: skip  # pragma: no cover - compiled
     """The library's pass at (q, v), contiguous float64 arrays as they are, into the arrays
-    after them (``nominal`` −1: the nominal frame's are empty). :func:`_terms` makes its q
-    and v so first; the world's step end (``pushctl.contact.step_end``) has them so."""
+    after them (``nominal`` −1: the nominal frame's are empty). :func:`native_terms_nominal`
+    makes its q and v so first; the world's step end (``pushctl.contact.step_end``) has
+    them so."""
     _arm_terms(
         handle, q.ctypes, v.ctypes, prongs.size, prongs.ctypes, pusher, nominal,
         M.ctypes, nle.ctypes, g.ctypes, prong_positions.ctypes, prong_jacobians.ctypes,
