@@ -144,6 +144,7 @@ _EPISODE_FIELDS = (
 """The configuration an environment's episodes are built from, after the draw
 (:meth:`PushEnv.reset_from` hands a reset over only between environments that agree on it)."""
 
+
 RESET_OPTIONS = ("object", "profile", "scenario_seed", "scenario")
 """Keys of ``reset(options=…)`` that fix a draw: the object, the profile, and the integer seed
 of the scenario in the environment's stream (:func:`~pushctl.episode.draw.draw_scenario`);
@@ -273,7 +274,6 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         self.episode = episode
         self._believed = believed
         plan = episode.plan
-        self._plan_pose = plan.trajectory.pose
         self._plan_rows = plan.trajectory.pose.tolist()  # (N + 1) × [x, y, yaw], floats
         self._plan_forces = plan.forces.forces
         self._true_forces = episode.plant_forces.forces
@@ -292,16 +292,14 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         episode = self.episode
         if episode is None:
             raise StateError("call reset() before step()")
-        action = np.asarray(action, dtype=float)
-        if action.shape != (3,) or not np.all(np.isfinite(action)):
-            raise ConfigError(f"action must be 3 finite numbers in [-1, 1], got {action!r}")
+        values = _action_floats(action)
         deviation = self._error_deviation
         w_pose = self.config.w_pose
         normal = tangential = torque = pose = 0.0
         first = None
         for held in range(self.config.action_repeat):
             n = episode.step_index
-            residual = self.advance(action)
+            residual = self._advance(values)
             if held == 0:
                 first = residual
             if self._exact_pose:  # the observation's error is the true one
@@ -340,30 +338,37 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         runs at every step, as the ``feedback`` controller does), is added to ``action``
         (None: zeros) before the clip; ``action`` is first multiplied by
         ``residual_scale``."""
-        episode = self.episode
-        if episode is None:
+        if self.episode is None:
             raise StateError("call reset() before advance()")
+        return self._advance(None if action is None else np.asarray(action, np.float64).tolist())
+
+    def _advance(self, action: list[float] | None) -> np.ndarray | None:
+        """:meth:`advance` with the action as three Python floats (or None). The clip and
+        the scale are numpy's ``np.clip(scale * action, -1, 1)`` arithmetic, component by
+        component: the same floats, without the arrays (2 µs a step)."""
+        episode = self.episode
+        assert episode is not None
         n = episode.step_index
         residual = None
         if self.gate_open:
             scale = self.config.residual_scale
+            if action is not None:
+                a_x, a_y, a_w = action
+                if scale != 1.0:
+                    a_x, a_y, a_w = scale * a_x, scale * a_y, scale * a_w
             if self._base is None:
-                if action is not None and scale != 1.0:
-                    action = scale * np.asarray(action, dtype=np.float64)
-                clipped = np.zeros(3) if action is None else np.clip(action, -1.0, 1.0)
+                if action is None:
+                    clipped = (0.0, 0.0, 0.0)
+                else:
+                    clipped = (_clip_unit(a_x), _clip_unit(a_y), _clip_unit(a_w))
                 residual = self._world_twist(clipped, n)
             else:  # the law acts at every step, on the state now; the policy's action is held
-                # (Python floats: np.clip(law + scale * action, -1, 1)'s arithmetic,
-                # component by component)
                 law = self._base.act()
                 if action is not None:
-                    a_x, a_y, a_w = np.asarray(action, dtype=np.float64).tolist()
-                    if scale != 1.0:
-                        a_x, a_y, a_w = scale * a_x, scale * a_y, scale * a_w
                     law = (
-                        min(max(law[0] + a_x, -1.0), 1.0),
-                        min(max(law[1] + a_y, -1.0), 1.0),
-                        min(max(law[2] + a_w, -1.0), 1.0),
+                        _clip_unit(law[0] + a_x),
+                        _clip_unit(law[1] + a_y),
+                        _clip_unit(law[2] + a_w),
                     )
                 residual = self._world_twist(law, n)
         self._last = episode.step(residual)
@@ -379,25 +384,22 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         n, n_steps = episode.step_index, episode.n_steps
         terms = episode.world.arm_terms
         assert terms is not None
-        yaw = self._plan_pose[n, 2]
+        yaw = self._plan_rows[n][2]
         c, s = math.cos(yaw), math.sin(yaw)
-        twist = terms.pusher_jacobian @ last.arm_v
-        velocity = [c * twist[0] + s * twist[1], -s * twist[0] + c * twist[1], twist[5]]
-        planned = self._plan_forces[min(n + 1, n_steps)]
-        measured = self._measured  # noisy on the proxy: one draw per step, even unobserved
-        parts = [
-            planned[:, 0],
-            planned[:, 1],
-            measured[:, 0],
-            measured[:, 1],
-            velocity,
-            self._error,
-        ]
+        t_x, t_y, _, _, _, t_w = (terms.pusher_jacobian @ last.arm_v).tolist()
+        # Python floats into one array: the same float32s as concatenating the parts as
+        # arrays, 4.6 µs where that took 7.0 (measured)
+        planned_n, planned_t = self._plan_forces[min(n + 1, n_steps)].T.tolist()
+        # noisy on the proxy: one draw per step, even unobserved
+        measured_n, measured_t = self._measured.T.tolist()
+        values = planned_n + planned_t + measured_n + measured_t
+        values += (c * t_x + s * t_y, -s * t_x + c * t_y, t_w)
+        values += self._error.tolist()
         if self.config.offset_observed:
-            offset = episode.reference_offset  # world x, y, yaw
-            parts.append([c * offset[0] + s * offset[1], -s * offset[0] + c * offset[1], offset[2]])
-        parts.append([n / n_steps])
-        return np.concatenate(parts, dtype=np.float32)
+            o_x, o_y, o_w = episode.reference_offset.tolist()  # world x, y, yaw
+            values += (c * o_x + s * o_y, -s * o_x + c * o_y, o_w)
+        values.append(n / n_steps)
+        return np.array(values, dtype=np.float32)
 
     # ------------------------------------------------------------------ what it exposes
 
@@ -537,3 +539,24 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
             -config.w_tangential * tangential,
             -config.w_torque * torque,
         )
+
+
+def _action_floats(action: Any) -> list[float]:
+    """step()'s ``action`` as three Python floats (a float32 entry converted exactly, as
+    ``np.asarray(action, dtype=float)`` does); ConfigError unless 3 finite numbers."""
+    # The usual float32 or float64 array: its list's sum is finite unless an entry is not
+    # (or the sum overflows: the full check then decides), 0.3 µs where asarray and
+    # isfinite(...).all() took 2.8 (measured).
+    if type(action) is np.ndarray and action.shape == (3,) and action.dtype.char in "fd":
+        values = action.tolist()
+        if math.isfinite(sum(values)):
+            return values
+    array = np.asarray(action, dtype=float)
+    if array.shape != (3,) or not np.all(np.isfinite(array)):
+        raise ConfigError(f"action must be 3 finite numbers in [-1, 1], got {array!r}")
+    return array.tolist()
+
+
+def _clip_unit(value: float) -> float:
+    """``value`` clipped to [−1, 1] (``np.clip``'s float, a −0.0 kept)."""
+    return min(max(value, -1.0), 1.0)

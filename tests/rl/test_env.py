@@ -83,6 +83,50 @@ def test_observation_entries_match_the_state_they_name(env: PushEnv) -> None:
     assert obs[where["phase"]] == pytest.approx(n / episode.n_steps)
 
 
+def test_the_observation_is_its_parts_as_float32_bit_for_bit() -> None:
+    """observation() builds the array from Python floats; it must hold the float32s of its
+    parts concatenated as float64 arrays, the offset's rows included."""
+    env = PushEnv(replace(SHORT, gate_threshold=0.0, observe_offset=True))
+    env.reset(options=OPTIONS)
+    rng = np.random.default_rng(5)
+    for _ in range(40):
+        obs, *_ = env.step(rng.uniform(-1, 1, 3).astype(np.float32))
+        episode = env.episode
+        assert episode is not None and episode.world.arm_terms is not None
+        n = episode.step_index
+        yaw = env.plan.trajectory.pose[n, 2]
+        c, s = math.cos(yaw), math.sin(yaw)
+        twist = episode.world.arm_terms.pusher_jacobian @ episode.world.v
+        planned = env.plan.forces.forces[n + 1]
+        measured, offset = env.measured_forces, episode.reference_offset
+        parts = [
+            planned[:, 0], planned[:, 1], measured[:, 0], measured[:, 1],
+            [c * twist[0] + s * twist[1], -s * twist[0] + c * twist[1], twist[5]],
+            env.pose_error,
+            [c * offset[0] + s * offset[1], -s * offset[0] + c * offset[1], offset[2]],
+            [n / episode.n_steps],
+        ]  # fmt: skip
+        assert obs.tobytes() == np.concatenate(parts, dtype=np.float32).tobytes()
+
+
+def test_an_action_steps_alike_as_float32_float64_or_a_list() -> None:
+    """step()'s fast path for float arrays and its general path for anything else take the
+    same floats: three environments, one action in three forms, identical steps."""
+    envs = [PushEnv(replace(SHORT, gate_threshold=0.0, residual_scale=0.7)) for _ in range(3)]
+    for env in envs:
+        env.reset(options=OPTIONS)
+    rng = np.random.default_rng(6)
+    for _ in range(30):
+        action = rng.uniform(-1.5, 1.5, 3).astype(np.float32)  # some beyond the clip
+        forms = (action, action.astype(np.float64), action.tolist())
+        steps = [env.step(form) for env, form in zip(envs, forms, strict=True)]
+        first = steps[0]
+        for other in steps[1:]:
+            assert other[0].tobytes() == first[0].tobytes()
+            assert other[1] == first[1]
+            assert other[4]["residual"].tobytes() == first[4]["residual"].tobytes()
+
+
 def test_the_action_is_a_plan_frame_twist_scaled_and_rotated_to_the_world() -> None:
     env = PushEnv(replace(SHORT, gate_threshold=0.0))
     env.reset(options=OPTIONS)
@@ -291,6 +335,10 @@ def test_bad_input_is_refused_with_one_line_errors(env: PushEnv) -> None:
         env.step(np.array([0.0, np.nan, 0.0]))
     with pytest.raises(ConfigError, match="3 finite numbers"):
         env.step(np.zeros(2))
+    for bad in (np.inf, -np.inf, np.nan):  # the float32 array's fast path, too
+        with pytest.raises(ConfigError, match="3 finite numbers"):
+            env.step(np.array([0.0, bad, 0.0], dtype=np.float32))
+    env.step(np.array([1e308, 1e308, 0.0]))  # finite, accepted: only its sum overflows
     with pytest.raises(ConfigError, match="unknown reset option 'goal'"):
         env.reset(options={"goal": 1})
 
