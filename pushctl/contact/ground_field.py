@@ -67,46 +67,49 @@ class FrictionField:
             pose, support_points, self._wavevectors, self._phases, self._amplitude, self.variation
         )
 
-    def support_bounds(
+    def update_support_bounds(
         self,
         pose: np.ndarray,
         support_points: np.ndarray,
         uniform_limits: np.ndarray,
-        old_limits: np.ndarray,
+        limits: np.ndarray,
         guess: np.ndarray | None,
-    ) -> tuple[np.ndarray, np.ndarray | None]:
-        """The world's per-step friction bounds in one compiled call: μ(p_j) N_j (S,) [N] =
-        ``uniform_limits`` (μ_g N_j) × :meth:`at_support_points`, and ``guess`` (n,) (the
-        last impulses, ground rows last, 2 per support point) with its ground rows scaled
-        by new/old bound (a copy; None stays None). Same arithmetic as the numpy form."""
-        empty = guess is None
-        limits, scaled = _support_bounds(
+    ) -> np.ndarray | None:
+        """The world's per-step friction bounds in one compiled call: ``limits`` (S,) [N]
+        rewritten in place with μ(p_j) N_j = ``uniform_limits`` (μ_g N_j) ×
+        :meth:`at_support_points`; returns ``guess`` (n,) (the last impulses, ground rows
+        last, 2 per support point) with its ground rows scaled by new/old bound (a new
+        array; None stays None). Same arithmetic as the numpy form."""
+        scaled = _EMPTY if guess is None else np.empty(guess.size)
+        _update_support_bounds(
             pose, support_points, self._wavevectors, self._phases, self._amplitude,
-            self.variation, uniform_limits, old_limits, _EMPTY if empty else guess,
+            self.variation, uniform_limits, limits, _EMPTY if guess is None else guess, scaled,
         )  # fmt: skip
-        return limits, None if empty else scaled
+        return None if guess is None else scaled
 
 
 _EMPTY = np.zeros(0)
 
 
 @njit(cache=True)
-def _support_bounds(
-    pose, support_points, wavevectors, phases, amplitude, variation, uniform, old, guess
-):
-    """:meth:`FrictionField.support_bounds`."""
-    limits = uniform * _support_multiplier(
+def _update_support_bounds(
+    pose, support_points, wavevectors, phases, amplitude, variation, uniform, limits, guess,
+    scaled,
+):  # fmt: skip
+    """:meth:`FrictionField.update_support_bounds`, writing ``limits`` and ``scaled`` (the
+    caller's arrays: numba's boxing of returned arrays costs more)."""
+    new = uniform * _support_multiplier(
         pose, support_points, wavevectors, phases, amplitude, variation
     )
-    scaled = guess.copy()
     if guess.shape[0]:
-        n_support = limits.shape[0]
+        scaled[:] = guess
+        n_support = new.shape[0]
         start = guess.shape[0] - 2 * n_support
         for j in range(n_support):
-            ratio = limits[j] / max(old[j], 1e-300)
+            ratio = new[j] / max(limits[j], 1e-300)
             scaled[start + 2 * j] *= ratio
             scaled[start + 2 * j + 1] *= ratio
-    return limits, scaled
+    limits[:] = new
 
 
 @njit(cache=True)

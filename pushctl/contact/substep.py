@@ -187,14 +187,14 @@ class SubstepSolver:
         The warm start's ground impulses (the last 2 S rows) scale with their bounds, so a
         row that slid at its old bound is read as sliding at the new one."""
         assert self.friction_field is not None
-        limits, self._last_p = self.friction_field.support_bounds(
+        # in place: the ContactModel holds the limits' array
+        self._last_p = self.friction_field.update_support_bounds(
             self.object_pose,
             self._support_points,
             self._uniform_limits,
             self._friction_limits,
             self._last_p,
         )
-        self._friction_limits[:] = limits  # in place: the ContactModel holds this array
 
     def _step_inputs(
         self, h: float, tau: np.ndarray, damping: np.ndarray

@@ -31,11 +31,16 @@ def pd_torque(
     joint_gain: float,
     tau_limit: np.ndarray,
     v_limit: np.ndarray,
+    tau: np.ndarray,
+    q_dot_des: np.ndarray,
+    twist: np.ndarray,
 ):
     """One PD step (see :mod:`pushctl.control.pd`). Shapes: ``jacobian`` (6, nv); ``gravity``,
     ``q``, ``q_posture``, ``tau_limit``, ``v_limit`` (nv,); ``position``, ``position_des``
     (3,); ``rotation`` (3, 3); ``twist_ff``, ``task_gain`` (6,); ``residual`` (3,) planar
-    twist on rows (0, 1, 5). Returns (tau (nv,), q_dot_des (nv,), twist (6,), saturated)."""
+    twist on rows (0, 1, 5). Writes ``tau`` (nv,), ``q_dot_des`` (nv,) and ``twist`` (6,),
+    the caller's new arrays (numba's boxing of returned arrays costs more); returns whether
+    a limit was hit."""
     nv = q.shape[0]
     c, s = math.cos(yaw_des), math.sin(yaw_des)
     # E = R_des Rᵀ with R_des = R_z(yaw_des); the error is the vee of its skew part.
@@ -46,7 +51,6 @@ def pd_torque(
         e[0, i] = c * r0 - s * r1
         e[1, i] = s * r0 + c * r1
         e[2, i] = r2
-    twist = np.empty(6)
     for i in range(3):
         twist[i] = twist_ff[i] + task_gain[i] * (position_des[i] - position[i])
     twist[3] = twist_ff[3] + task_gain[3] * 0.5 * (e[2, 1] - e[1, 2])
@@ -66,7 +70,8 @@ def pd_torque(
     saturated = ratio > 1.0
     if saturated:
         q_dot = q_dot / ratio
-    tau = joint_gain * q_dot + gravity
+    q_dot_des[:] = q_dot
+    tau[:] = joint_gain * q_dot + gravity
     for j in range(nv):
         if tau[j] > tau_limit[j]:
             tau[j] = tau_limit[j]
@@ -74,4 +79,4 @@ def pd_torque(
         elif tau[j] < -tau_limit[j]:
             tau[j] = -tau_limit[j]
             saturated = True
-    return tau, q_dot, twist, saturated
+    return saturated

@@ -98,8 +98,9 @@ class PDController:
         :attr:`~pushctl.contact.world.World.arm_terms`); ``position_des`` (3,) [m] and
         ``yaw_des`` [rad] the desired pusher pose; ``twist_ff`` (6,) its feed-forward twist;
         ``residual`` (3,) an extra planar twist (vx [m/s], vy [m/s], ω_z [rad/s])."""
-        gains = self.gains
-        tau, q_dot, twist, saturated = pd_torque(
+        gains, nv = self.gains, self._v_limit.size
+        tau, q_dot, twist = np.empty(nv), np.empty(nv), np.empty(6)  # the kernel's outputs
+        saturated = pd_torque(
             terms.pusher_jacobian,
             terms.g,
             q,
@@ -116,6 +117,9 @@ class PDController:
             self._joint_gain,
             self._tau_limit,
             self._v_limit,
+            tau,
+            q_dot,
+            twist,
         )
         return PDCommand(tau, gains.kv, q_dot, twist, bool(saturated))
 

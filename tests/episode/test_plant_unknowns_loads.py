@@ -103,6 +103,29 @@ def test_the_friction_field_is_seeded_bounded_and_stationary_with_its_length():
     assert np.mean(f0 * f3) == pytest.approx(math.exp(-4.5), abs=0.05)
 
 
+def test_the_world_s_per_step_bounds_are_the_field_at_its_support_points() -> None:
+    """update_support_bounds rewrites the limits in place with μ_g N_j times the field at
+    each support point's table position, the same floats as the field's own call, and
+    scales only the warm start's ground rows (the last 2 S) by new/old, in a new array."""
+    field = FrictionField(0.2, 0.05, seed=3)
+    support = np.array([[0.03, 0.03], [-0.03, 0.03], [-0.03, -0.03], [0.03, -0.03]])
+    uniform = np.array([0.5, 0.6, 0.7, 0.8])
+    pose = np.array([0.41, -0.07, 0.6])
+    old = np.array([0.45, 0.7, 0.65, 0.9])
+    limits = old.copy()
+    guess = np.arange(1.0, 11.0)  # two prong rows, then two per support point
+    kept = guess.copy()
+    scaled = field.update_support_bounds(pose, support, uniform, limits, guess)
+    expected = uniform * field(support_positions(pose, support))
+    assert limits.tobytes() == expected.tobytes()
+    assert scaled is not None and scaled is not guess
+    assert guess.tobytes() == kept.tobytes()
+    assert scaled[:2].tobytes() == guess[:2].tobytes()
+    ratio = np.repeat(expected / old, 2)
+    assert scaled[2:].tobytes() == (guess[2:] * ratio).tobytes()
+    assert field.update_support_bounds(pose, support, uniform, limits, None) is None
+
+
 def test_bad_field_parameters_are_one_line_errors():
     with pytest.raises(ConfigError, match="variation must be in"):
         FrictionField(1.5, 0.05, 0)
