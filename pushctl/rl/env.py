@@ -144,7 +144,6 @@ _EPISODE_FIELDS = (
 """The configuration an environment's episodes are built from, after the draw
 (:meth:`PushEnv.reset_from` hands a reset over only between environments that agree on it)."""
 
-
 RESET_OPTIONS = ("object", "profile", "scenario_seed", "scenario")
 """Keys of ``reset(options=…)`` that fix a draw: the object, the profile, and the integer seed
 of the scenario in the environment's stream (:func:`~pushctl.episode.draw.draw_scenario`);
