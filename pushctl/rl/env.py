@@ -135,7 +135,7 @@ from pushctl.errors import ConfigError, StateError
 from pushctl.planning import Plan
 from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.feedback_actor import FeedbackActor
-from pushctl.rl.spaces import ACTION_ENTRIES, observation_entries
+from pushctl.rl.spaces import ACTION_ENTRIES, clipped_action, observation_entries
 from pushctl.types import StepResult
 
 _EPISODE_FIELDS = (
@@ -356,19 +356,12 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
                 if scale != 1.0:
                     a_x, a_y, a_w = scale * a_x, scale * a_y, scale * a_w
             if self._base is None:
-                if action is None:
-                    clipped = (0.0, 0.0, 0.0)
-                else:
-                    clipped = (_clip_unit(a_x), _clip_unit(a_y), _clip_unit(a_w))
+                clipped = (0.0, 0.0, 0.0) if action is None else clipped_action(a_x, a_y, a_w)
                 residual = self._world_twist(clipped, n)
             else:  # the law acts at every step, on the state now; the policy's action is held
                 law = self._base.act()
                 if action is not None:
-                    law = (
-                        _clip_unit(law[0] + a_x),
-                        _clip_unit(law[1] + a_y),
-                        _clip_unit(law[2] + a_w),
-                    )
+                    law = clipped_action(law[0] + a_x, law[1] + a_y, law[2] + a_w)
                 residual = self._world_twist(law, n)
         self._last = episode.step(residual)
         self._set_error(n + 1)  # the observation's, the next gate's
@@ -499,10 +492,10 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
             return self._error_deviation
         return math.hypot(error[0], error[1], self.config.gate_length * error[2])
 
-    def _world_twist(self, action: Sequence[float] | np.ndarray, n: int) -> np.ndarray:
-        """The action (3,) in [−1, 1], plan frame, as a world twist [m/s, m/s, rad/s]."""
-        # floats: a float32 numpy scalar times a Python float would stay float32
-        a_x, a_y, a_w = action.tolist() if isinstance(action, np.ndarray) else action
+    def _world_twist(self, action: Sequence[float], n: int) -> np.ndarray:
+        """The action's three floats in [−1, 1], plan frame, as a world twist [m/s, m/s,
+        rad/s]."""
+        a_x, a_y, a_w = action
         s_x, s_y, s_w = self._action_scales
         x, y = a_x * s_x, a_y * s_y  # the products of action * scale, component-wise
         yaw = self._plan_rows[n][2]
@@ -554,8 +547,3 @@ def _action_floats(action: Any) -> list[float]:
     if array.shape != (3,) or not np.all(np.isfinite(array)):
         raise ConfigError(f"action must be 3 finite numbers in [-1, 1], got {array!r}")
     return array.tolist()
-
-
-def _clip_unit(value: float) -> float:
-    """``value`` clipped to [−1, 1] (``np.clip``'s float, a −0.0 kept)."""
-    return min(max(value, -1.0), 1.0)

@@ -10,7 +10,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from pushctl.control.feedback import FeedbackGains, FeedbackLaw
-from pushctl.rl.spaces import index, observation_entries
+from pushctl.rl.spaces import clipped_action, index, observation_entries
 
 
 class PushSource(Protocol):
@@ -110,8 +110,4 @@ class FeedbackActor:
     def _clipped(self, twist: tuple[float, float, float]) -> tuple[float, float, float]:
         """The twist over the action scale, clipped to [−1, 1] (np.clip's arithmetic)."""
         s_x, s_y, s_w = self._scales
-        return (
-            min(max(twist[0] / s_x, -1.0), 1.0),
-            min(max(twist[1] / s_y, -1.0), 1.0),
-            min(max(twist[2] / s_w, -1.0), 1.0),
-        )
+        return clipped_action(twist[0] / s_x, twist[1] / s_y, twist[2] / s_w)

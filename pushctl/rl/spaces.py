@@ -71,6 +71,13 @@ ACTION_ENTRIES: tuple[Entry, ...] = (
 to the PD's commanded pusher twist while the gate is open (Algorithm 1)."""
 
 
+def clipped_action(x: float, y: float, w: float) -> tuple[float, float, float]:
+    """An action's three floats clipped to the action space's [−1, 1]: the floats
+    ``np.clip`` gives (a −0.0 kept), without an array (the environment and the feedback law
+    clip every 10 ms step)."""
+    return (min(max(x, -1.0), 1.0), min(max(y, -1.0), 1.0), min(max(w, -1.0), 1.0))
+
+
 def index(entries: tuple[Entry, ...]) -> dict[str, int]:
     """Name → position."""
     return {entry.name: i for i, entry in enumerate(entries)}
