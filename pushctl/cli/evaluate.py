@@ -116,9 +116,7 @@ def evaluate(
                 f"turn_ratio {law.turn_ratio:g}, smoothing {law.smoothing:g} s{guard} "
                 f"({DEFAULT_FEEDBACK_FILE.name})"
             )
-        # --workers changes no byte of the results, so the files do not record it either
-        command = invocation(ctx).replace(f" --workers {workers}", "")
-        made_by = provenance_line(command, extra)
+        made_by = provenance_line(invocation(ctx), extra)
         evaluation = run_with_progress(spec, trained, workers, console)
         write_evaluation(out, evaluation, made_by)
     except PushctlError as error:

@@ -74,6 +74,7 @@ def test_simulate_writes_trace_csv_figure_and_metrics(tmp_path, gains):
     first_line = out.read_text().splitlines()[0]
     assert first_line.startswith("# made by: pushctl simulate")
     assert "commit" in first_line and "no seed" in first_line
+    assert "--out" not in first_line and "--plot" not in first_line  # where, not what
     frame = pd.read_csv(out, comment="#")
     assert len(frame) == 201  # duration / h + 1
     assert list(frame.columns[: len(FIRST_COLUMNS)]) == FIRST_COLUMNS
