@@ -23,7 +23,7 @@ import numpy as np
 from numba import njit, types
 from numba.extending import get_cython_function_address
 
-from pushctl.contact.small_algebra import lu_solve
+from pushctl.contact.small_algebra import lu_solve, lu_solve_in_place
 
 RANK_RCOND = 1e-11
 """Relative threshold of the rank decision in the minimum-norm solve of a singular system."""
@@ -78,22 +78,37 @@ def lu_or_min_norm(A: np.ndarray, rhs: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True)
-def _solve_labels(D, b, lo, hi, mu, fi, labels):
+def _solve_labels(D, b, lo, hi, mu, fi, labels, work):
     """p (n,) of the active set ``labels`` (n,): as :func:`~pushctl.contact.active_set.
-    solve_labels` (``lo``/``hi`` 0 and ``mu`` > 0 on friction rows, ``mu`` 0 elsewhere)."""
+    solve_labels` (``lo``/``hi`` 0 and ``mu`` > 0 on friction rows, ``mu`` 0 elsewhere).
+    The system is built and factorised in ``work`` (n, n), the caller's, overwritten: one
+    array for all of a pivoting's solves, not three new ones each (:func:`lu_or_min_norm`'s
+    system and its LU's copies). A singular one is built again for the minimum-norm solve."""
     n = b.shape[0]
-    A = np.zeros((n, n))
-    rhs = np.zeros(n)
+    p = np.empty(n)
+    _labels_system(D, b, lo, hi, mu, fi, labels, work, p)
+    if lu_solve_in_place(work, p):
+        return p
+    A, rhs = np.empty((n, n)), np.empty(n)
+    _labels_system(D, b, lo, hi, mu, fi, labels, A, rhs)
+    return _min_norm(A, rhs)
+
+
+@njit(cache=True)
+def _labels_system(D, b, lo, hi, mu, fi, labels, A, rhs):
+    """The linear system of the active set ``labels`` (:func:`_solve_labels`), written into
+    ``A`` (n, n) and ``rhs`` (n,), every entry."""
+    n = b.shape[0]
     for i in range(n):
         label = labels[i]
         if label == 0:
             A[i, :] = D[i, :]
             rhs[i] = -b[i]
         else:
+            A[i, :] = 0.0
             A[i, i] = 1.0
             A[i, fi[i]] -= label * mu[i]  # friction rows: p_t − s·mu·p_n = 0
             rhs[i] = lo[i] if label < 0 else hi[i]
-    return lu_or_min_norm(A, rhs)
 
 
 @njit(cache=True)
@@ -170,9 +185,9 @@ def pivot_solve(D, b, lo, hi, mu, fi, labels, threshold, max_pivots):
     residual, verified, pivots)`` of the lowest-residual active set met.
     """
     n = b.shape[0]
-    history = np.zeros((max_pivots + 1, n), dtype=labels.dtype)
-    w, r = np.zeros(n), np.zeros(n)
-    p = _solve_labels(D, b, lo, hi, mu, fi, labels)
+    history = np.empty((max_pivots + 1, n), dtype=labels.dtype)  # rows read once written
+    w, r, work = np.zeros(n), np.zeros(n), np.empty((n, n))
+    p = _solve_labels(D, b, lo, hi, mu, fi, labels, work)
     residual, bad = _evaluate(D, b, lo, hi, mu, fi, p, threshold, w, r)
     best_p, best_w, best_residual = p, w.copy(), residual
     history[0, :] = labels
@@ -194,7 +209,7 @@ def pivot_solve(D, b, lo, hi, mu, fi, labels, threshold, max_pivots):
         pivots += 1
         history[pivots, :] = trial
         labels = trial
-        p = _solve_labels(D, b, lo, hi, mu, fi, labels)
+        p = _solve_labels(D, b, lo, hi, mu, fi, labels, work)
         residual, bad = _evaluate(D, b, lo, hi, mu, fi, p, threshold, w, r)
         if residual < best_residual:
             best_p, best_w, best_residual = p, w.copy(), residual
@@ -238,16 +253,18 @@ def cold_pivot(D, b, lo, hi, findex, mu, start, has_start, threshold, max_pivots
     for i in range(n):
         if findex[i] >= 0:
             lo_f[i], hi_f[i], mu_f[i], fi[i] = 0.0, 0.0, mu[i], findex[i]
-    starts = (
-        _labels_at(lo_f, hi_f, mu_f, fi, start),
-        np.zeros(n, dtype=np.int64),
-        _labels_at(lo_f, hi_f, mu_f, fi, np.zeros(n)),
-    )
     total = 0
     best_p, best_w, best_residual = np.zeros(n), np.zeros(n), np.inf
     for which in range(0 if has_start else 1, 3):
+        # each start's labels made when it is tried: most calls verify from the first
+        if which == 0:
+            labels = _labels_at(lo_f, hi_f, mu_f, fi, start)
+        elif which == 1:
+            labels = np.zeros(n, dtype=np.int64)
+        else:
+            labels = _labels_at(lo_f, hi_f, mu_f, fi, np.zeros(n))
         p, w, residual, verified, pivots = pivot_solve(
-            D, b, lo_f, hi_f, mu_f, fi, starts[which], threshold, max_pivots
+            D, b, lo_f, hi_f, mu_f, fi, labels, threshold, max_pivots
         )
         total += pivots
         if verified:

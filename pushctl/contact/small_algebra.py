@@ -92,14 +92,22 @@ def spd_solve(A, B):
 
 @njit(cache=True)
 def lu_solve(A: np.ndarray, rhs: np.ndarray):
-    """Solve A x = rhs (A (n, n), rhs (n,)) by LU with partial pivoting, in place on copies.
+    """Solve A x = rhs (A (n, n), rhs (n,)) by LU with partial pivoting, in place on copies
+    (:func:`lu_solve_in_place`).
 
     Returns ``(x, ok)``; ``ok`` is False when a pivot falls below ``SINGULAR_PIVOT`` times the
     largest one, and the caller then needs a minimum-norm solve.
     """
-    n = A.shape[0]
-    M = A.copy()
     x = rhs.copy()
+    return x, lu_solve_in_place(A.copy(), x)
+
+
+@njit(cache=True)
+def lu_solve_in_place(M: np.ndarray, x: np.ndarray) -> bool:
+    """:func:`lu_solve` overwriting ``M`` (n, n) with its factors and ``x`` (n,), the
+    right-hand side, with the solution; returns ``ok``. For a caller that builds the system
+    in an array of its own (the cold path's pivoting: one LU per pivot, without copies)."""
+    n = M.shape[0]
     largest = 0.0
     smallest = np.inf
     for k in range(n):
@@ -115,7 +123,7 @@ def lu_solve(A: np.ndarray, rhs: np.ndarray):
         largest = max(largest, pivot)
         smallest = min(smallest, pivot)
         if pivot == 0.0:
-            return x, False
+            return False
         for i in range(k + 1, n):
             factor = M[i, k] / M[k, k]
             if factor != 0.0:
@@ -127,4 +135,4 @@ def lu_solve(A: np.ndarray, rhs: np.ndarray):
         for j in range(k + 1, n):
             total -= M[k, j] * x[j]
         x[k] = total / M[k, k]
-    return x, smallest > SINGULAR_PIVOT * largest
+    return smallest > SINGULAR_PIVOT * largest

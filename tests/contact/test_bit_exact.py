@@ -33,7 +33,8 @@ def test_compiled_pivoting_matches_the_numpy_reference(singular: bool) -> None:
         D, b, lo, hi, findex, mu = validated_arrays(*args, 1e-9)
         prob = _box_problem(D, b, lo, hi, findex, mu, 1e-9)
         labels = labels_at(prob, rng.normal(scale=0.5, size=len(b)))
-        compiled = _solve_labels(prob.D, prob.b, prob.lo, prob.hi, prob.mu, prob.fi, labels)
+        work = np.full((len(b), len(b)), np.nan)  # whatever a previous solve left there
+        compiled = _solve_labels(prob.D, prob.b, prob.lo, prob.hi, prob.mu, prob.fi, labels, work)
         reference = solve_labels(prob, labels)
         if np.all(np.isfinite(reference)) and np.abs(reference).max() < 1e6:
             np.testing.assert_allclose(compiled, reference, rtol=1e-7, atol=1e-9)
