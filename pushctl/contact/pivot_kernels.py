@@ -82,8 +82,9 @@ def _solve_labels(D, b, lo, hi, mu, fi, labels, work):
     """p (n,) of the active set ``labels`` (n,): as :func:`~pushctl.contact.active_set.
     solve_labels` (``lo``/``hi`` 0 and ``mu`` > 0 on friction rows, ``mu`` 0 elsewhere).
     The system is built and factorised in ``work`` (n, n), the caller's, overwritten: one
-    array for all of a pivoting's solves, not three new ones each (:func:`lu_or_min_norm`'s
-    system and its LU's copies). A singular one is built again for the minimum-norm solve."""
+    array for all of a pivoting's solves, where each solve made four (the system, its
+    right-hand side and the LU's copies of both). A singular system is built again for the
+    minimum-norm solve, which needs it unfactorised."""
     n = b.shape[0]
     p = np.empty(n)
     _labels_system(D, b, lo, hi, mu, fi, labels, work, p)
