@@ -13,7 +13,6 @@ from __future__ import annotations
 import argparse
 import itertools
 import math
-import sys
 from pathlib import Path
 
 import pandas as pd
@@ -80,6 +79,15 @@ def summary(frame: pd.DataFrame) -> pd.DataFrame:
     return table
 
 
+def sweep_command(args: argparse.Namespace) -> str:
+    """The sweep's provenance command: every argument's effective value except ``--out``,
+    which changes no byte (the rule of ``pushctl.cli.common.NOT_RECORDED``)."""
+    return (
+        f"python -m pushctl.evaluation.pd_sweep --plant {args.plant} --seeds {args.seeds} "
+        f"--stream {args.stream}"
+    )
+
+
 def main(argv: list[str] | None = None) -> int:
     from pushctl.provenance import provenance_line, write_csv
 
@@ -97,8 +105,11 @@ def main(argv: list[str] | None = None) -> int:
         print(summary(frame).round(4).to_string())
     out = args.out or Path(f"results/pd_sweep_{args.plant}.csv")
     out.parent.mkdir(parents=True, exist_ok=True)
-    command = " ".join(["python -m pushctl.evaluation.pd_sweep", *sys.argv[1:]])
-    write_csv(out, frame, provenance_line(command, f"seeds 0-{args.seeds - 1} ({args.stream})"))
+    write_csv(
+        out,
+        frame,
+        provenance_line(sweep_command(args), f"seeds 0-{args.seeds - 1} ({args.stream})"),
+    )
     print(f"wrote {out}")
     return 0
 

@@ -70,3 +70,17 @@ def test_pd_sweep_rows_and_summary():
         == frame["translation_error_pct"].mean()
     )
     assert 0.0 <= table.loc[("cube", "chirp"), "episodes_slip_over_1pct"] <= 1.0
+
+
+def test_pd_sweep_provenance_names_its_arguments_not_its_output():
+    """Two sweeps into two places write the same first line (docs/design.md §8)."""
+    import argparse
+
+    from pushctl.evaluation.pd_sweep import sweep_command
+
+    args = argparse.Namespace(plant="proxy", seeds=3, stream="tuning", out="elsewhere.csv")
+    command = sweep_command(args)
+    assert (
+        command == "python -m pushctl.evaluation.pd_sweep --plant proxy --seeds 3 --stream tuning"
+    )
+    assert "elsewhere" not in command
