@@ -1,7 +1,8 @@
 """What the PD baseline does on many drawn scenarios: one row per episode, metrics included.
 
 Run as ``python -m pushctl.evaluation.pd_sweep [--plant sim|proxy|nominal] [--seeds 8]
-[--stream training] [--out results/pd_sweep_sim.csv]``. Scenario i of every object × profile
+[--stream training] [--out results/pd_sweep_sim.csv] [--force]``; like every writing command
+it refuses an existing output file unless ``--force`` (:mod:`pushctl.output_guard`). Scenario i of every object × profile
 is seed i of the stream (:func:`pushctl.episode.draw.draw_scenario`); the CSV records the
 command, and per row the seed, goal, plant parameters and metrics. The summary printed per
 object × profile is the mean of each metric and the share of episodes with more than 1 %
@@ -89,6 +90,8 @@ def sweep_command(args: argparse.Namespace) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
+    from pushctl.errors import ConfigError
+    from pushctl.output_guard import refuse_existing_files
     from pushctl.provenance import provenance_line, write_csv
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -96,14 +99,19 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--seeds", type=int, default=8)
     parser.add_argument("--stream", choices=("training", "tuning"), default="training")
     parser.add_argument("--out", type=Path, default=None)
+    parser.add_argument("--force", action="store_true", help="overwrite an existing --out")
     args = parser.parse_args(argv)
     if args.seeds < 1:
         parser.error("--seeds must be >= 1")
+    out = args.out or Path(f"results/pd_sweep_{args.plant}.csv")
+    try:
+        refuse_existing_files("--out", (out,), args.force)
+    except ConfigError as error:
+        parser.exit(2, f"error: {error}\n")
     plant = None if args.plant == "nominal" else args.plant
     frame = run_sweep(args.seeds, args.stream, plant)
     with pd.option_context("display.width", 200, "display.max_columns", 20):
         print(summary(frame).round(4).to_string())
-    out = args.out or Path(f"results/pd_sweep_{args.plant}.csv")
     out.parent.mkdir(parents=True, exist_ok=True)
     write_csv(
         out,

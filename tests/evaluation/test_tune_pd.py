@@ -84,3 +84,17 @@ def test_pd_sweep_provenance_names_its_arguments_not_its_output():
         command == "python -m pushctl.evaluation.pd_sweep --plant proxy --seeds 3 --stream tuning"
     )
     assert "elsewhere" not in command
+
+
+def test_pd_sweep_refuses_an_existing_output_before_it_works(tmp_path, capsys):
+    """The sweep writes over a file only with --force, and refuses before any episode runs."""
+    from pushctl.evaluation import pd_sweep
+
+    out = tmp_path / "sweep.csv"
+    out.write_text("kept\n")
+    with pytest.raises(SystemExit) as exit_info:
+        pd_sweep.main(["--seeds", "1", "--out", str(out)])
+    assert exit_info.value.code == 2
+    error = capsys.readouterr().err
+    assert error.count("\n") == 1 and "--force" in error and str(out) in error
+    assert out.read_text() == "kept\n"
