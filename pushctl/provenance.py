@@ -41,11 +41,40 @@ def _git(arguments: list[str], where: Path) -> str:
     ).stdout.strip()
 
 
+NOT_RECORDED = frozenset({"out", "plot", "force", "workers", "address"})
+"""Options that change no byte of what a command computes: where its files go (``--out``,
+``--plot``), whether it may replace them, and how many processes or which Ray cluster make
+them. Provenance lines leave them out, so one command run twice, into two places, writes
+the same bytes (issue 15 item 4); a line still names everything that decides the data."""
+
+_NOT_RECORDED_FLAGS = frozenset({"--force"})
+"""The options of :data:`NOT_RECORDED` that take no value."""
+
+
 def provenance_line(command: str | None = None, extra: str = "") -> str:
-    """The ``# made by:`` line; ``command`` defaults to this process's command line."""
-    command = command or " ".join([Path(sys.argv[0]).name, *sys.argv[1:]])
+    """The ``# made by:`` line; ``command`` defaults to this process's command line without
+    the options of :data:`NOT_RECORDED` (:func:`recorded_argv`)."""
+    command = command or " ".join([Path(sys.argv[0]).name, *recorded_argv(sys.argv[1:])])
     tail = f"; {extra}" if extra else ""
     return f"# made by: {command}; pushctl {pushctl.__version__}; commit {git_commit()}{tail}"
+
+
+def recorded_argv(argv: list[str]) -> list[str]:
+    """``argv`` without the options of :data:`NOT_RECORDED` and their values (``--out F``,
+    ``--out=F``, ``--force``), for a script that builds its provenance line from its
+    command line rather than its parsed options."""
+    recorded: list[str] = []
+    skip_value = False
+    for word in argv:
+        if skip_value:
+            skip_value = False
+            continue
+        name = word.split("=", 1)[0]
+        if word.startswith("--") and name[2:] in NOT_RECORDED:
+            skip_value = "=" not in word and name not in _NOT_RECORDED_FLAGS
+            continue
+        recorded.append(word)
+    return recorded
 
 
 def write_atomic(path: Path, write: Callable[[Path], object]) -> None:

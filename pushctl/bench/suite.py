@@ -36,7 +36,7 @@ from pushctl.bench.rl import rl_rows
 from pushctl.contact.world import World
 from pushctl.errors import ConfigError
 from pushctl.output_guard import refuse_existing_files
-from pushctl.provenance import provenance_line, write_csv
+from pushctl.provenance import provenance_line, recorded_argv, write_csv
 
 
 def _median_us(func, repeats: int) -> float:
@@ -212,7 +212,7 @@ def profile_world_step(steps: int = 2000, top: int = 15) -> str:
 
 
 def _provenance() -> str:
-    command = " ".join(["python -m pushctl.bench", *sys.argv[1:]])
+    command = " ".join(["python -m pushctl.bench", *recorded_argv(sys.argv[1:])])
     machine = f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, one used"
     date = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
     return provenance_line(command, f"{date}; {machine}; arm terms: {native.status()}")

@@ -99,18 +99,13 @@ def write_outputs(
         fail_write(error)
 
 
-NOT_RECORDED = frozenset({"out", "plot", "force", "workers", "address"})
-"""Options that change no byte of what a command computes: where its files go (``--out``,
-``--plot``), whether it may replace them, and how many processes or which Ray cluster make
-them. Provenance lines leave them out, so one command run twice, into two places, writes
-the same bytes (issue 15 item 4); a line still names everything that decides the data."""
-
-
 def invocation(context: typer.Context) -> str:
     """The running command with every option's effective value (defaults included, unset
-    options and :data:`NOT_RECORDED` left out), for provenance lines: ``pushctl simulate
-    --object cube …``."""
+    options and :data:`~pushctl.provenance.NOT_RECORDED` left out), for provenance lines:
+    ``pushctl simulate --object cube …``."""
     import shlex
+
+    from pushctl.provenance import NOT_RECORDED
 
     parts = ["pushctl", context.info_name or ""]
     for param in context.command.params:

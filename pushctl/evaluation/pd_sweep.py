@@ -2,11 +2,12 @@
 
 Run as ``python -m pushctl.evaluation.pd_sweep [--plant sim|proxy|nominal] [--seeds 8]
 [--stream training] [--out results/pd_sweep_sim.csv] [--force]``; like every writing command
-it refuses an existing output file unless ``--force`` (:mod:`pushctl.output_guard`). Scenario i of every object × profile
-is seed i of the stream (:func:`pushctl.episode.draw.draw_scenario`); the CSV records the
-command, and per row the seed, goal, plant parameters and metrics. The summary printed per
-object × profile is the mean of each metric and the share of episodes with more than 1 %
-of their steps in slip or in contact loss (docs/design.md §6 asks for that share).
+it refuses an existing output file unless ``--force`` (:mod:`pushctl.output_guard`).
+Scenario i of every object × profile is seed i of the stream
+(:func:`pushctl.episode.draw.draw_scenario`); the CSV records the command, and per row the
+seed, goal, plant parameters and metrics. The summary printed per object × profile is the
+mean of each metric and the share of episodes with more than 1 % of their steps in slip or
+in contact loss (docs/design.md §6 asks for that share).
 """
 
 from __future__ import annotations
@@ -82,7 +83,7 @@ def summary(frame: pd.DataFrame) -> pd.DataFrame:
 
 def sweep_command(args: argparse.Namespace) -> str:
     """The sweep's provenance command: every argument's effective value except ``--out``,
-    which changes no byte (the rule of ``pushctl.cli.common.NOT_RECORDED``)."""
+    which changes no byte (the rule of ``pushctl.provenance.NOT_RECORDED``)."""
     return (
         f"python -m pushctl.evaluation.pd_sweep --plant {args.plant} --seeds {args.seeds} "
         f"--stream {args.stream}"
