@@ -150,6 +150,7 @@ class SubstepSolver:
     _model: ContactModel
     _last_prongs: tuple[int, ...] | None
     _last_p: np.ndarray | None
+    _bounds_at: tuple[FrictionField, bytes] | None
 
     def _advance_object(self, v_obj: np.ndarray, h: float) -> None: ...
     def _advance_arm(self, v_arm: np.ndarray, h: float) -> None: ...
@@ -185,16 +186,28 @@ class SubstepSolver:
     def _update_friction_bounds(self) -> None:
         """Each support point's μ(p_j) N_j from the friction field at its table position.
         The warm start's ground impulses (the last 2 S rows) scale with their bounds, so a
-        row that slid at its old bound is read as sliding at the new one."""
-        assert self.friction_field is not None
+        row that slid at its old bound is read as sliding at the new one.
+
+        Nothing is computed where the object has not moved since the bounds were last
+        computed (the same pose to the bit, the same field): they would come out the same
+        and scale the warm start by exactly 1 (a bound is > 0, and x / x is 1). That is most
+        steps of a reset's approach, before the prongs reach the object (2250 of 2560 over
+        four resets); the query is 512 cosines, about 6 µs."""
+        field = self.friction_field
+        assert field is not None
+        pose = self.object_pose.tobytes()
+        at = self._bounds_at
+        if at is not None and at[1] == pose and at[0] is field:
+            return
         # in place: the ContactModel holds the limits' array
-        self._last_p = self.friction_field.update_support_bounds(
+        self._last_p = field.update_support_bounds(
             self.object_pose,
             self._support_points,
             self._uniform_limits,
             self._friction_limits,
             self._last_p,
         )
+        self._bounds_at = (field, pose)
 
     def _step_inputs(
         self, h: float, tau: np.ndarray, damping: np.ndarray

@@ -140,6 +140,7 @@ class World(SubstepSolver):
         self._uniform_limits = config.mu_ground * obj.support_loads * (config.gravity / GRAVITY)
         # the bounds of the step: the uniform ones scaled by the friction field, if any
         self._friction_limits = self._uniform_limits.copy()
+        self._bounds_at = None  # the field and pose they were last computed for
         self._slip_directions = np.zeros_like(self._support_points)
         self._sliding = np.zeros(len(self._support_points), dtype=np.bool_)
         # The kernels' world side, once: its arrays are the ones above, updated in place.

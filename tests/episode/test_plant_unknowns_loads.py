@@ -179,3 +179,44 @@ def test_friction_over_the_table_changes_the_plant_forces_not_the_motion():
         * world.friction_field(corners)
     )
     np.testing.assert_allclose(world._friction_limits, expected, rtol=1e-12)
+
+
+def test_bounds_are_not_recomputed_while_the_object_rests_and_the_trace_is_the_same(
+    monkeypatch,
+):
+    """The world skips the field's query where the object's pose is the one the bounds were
+    computed at (most approach steps): the same trace to the byte as a world that queries
+    every step, with fewer queries."""
+    from pushctl.contact.ground_field import FrictionField as Field
+
+    scenario, plan = _scenario(seed=2)
+    rough = PlantUnknowns(ground_variation=0.2, ground_length=0.05, ground_seed=3)
+    queries = []
+    update = Field.update_support_bounds
+
+    def counted(self, *args):
+        queries.append(1)
+        return update(self, *args)
+
+    monkeypatch.setattr(Field, "update_support_bounds", counted)
+    traces, counts = [], []
+    for skip in (True, False):
+        episode = Episode(scenario.with_unknowns(rough), plan=plan)
+        world = episode.world
+        if not skip:  # forget the pose before every step: each one queries the field
+            step = world.step
+
+            def step_forgetting(*args, step=step, world=world, **kwargs):
+                world._bounds_at = None
+                return step(*args, **kwargs)
+
+            world.step = step_forgetting
+        queries.clear()
+        trace = episode.run()
+        counts.append((len(queries), world.stats.steps))
+        traces.append(b"".join(np.ascontiguousarray(a).tobytes() for a in vars(trace).values()
+                               if isinstance(a, np.ndarray)))  # fmt: skip
+    assert len(traces[0]) > 10_000 and traces[0] == traces[1]
+    (skipping, steps), (every, _) = counts
+    assert every == steps  # one query per step without the skip
+    assert skipping < steps - 100  # the approach's resting steps skipped it
