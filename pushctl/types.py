@@ -18,8 +18,10 @@ class StepResult:
     penetration). ``arm_q`` (nq,), ``arm_v`` (nv,). ``mlcp_residual``: the largest
     natural-map residual of the step's solves; ``mlcp_iterations`` their sum.
 
-    A world's results share its state arrays (the world makes new ones every step and never
-    writes into them): read them, copy before writing.
+    A world's results share its state arrays (each step gives the world arrays no one else
+    holds and never writes into one a caller holds: :mod:`pushctl.contact.recycle`): read
+    them, copy before writing. A caller that keeps only a raw pointer to an array's data
+    (``ctypes``, ``__array_interface__``) and not the array must copy it.
     """
 
     object_pose: np.ndarray

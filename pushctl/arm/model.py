@@ -92,7 +92,8 @@ class PusherFrame(NamedTuple):
 
 
 class ArmTerms(NamedTuple):
-    """Dynamics and prong kinematics at one state (fresh arrays, owned by the caller).
+    """Dynamics and prong kinematics at one state (arrays owned by the caller: a world's
+    step never writes into terms a caller holds, :mod:`pushctl.contact.recycle`).
 
     ``M`` (nv, nv) [kg·m², kg·m, kg] symmetric mass matrix including armature;
     ``nle`` (nv,) [N·m] c(q, v) + g(q), without joint damping;
@@ -197,6 +198,12 @@ class ArmModel:
         )
         """``nominal_pusher_frame_id``, −1 for none, for compiled callers."""
         self._nominal_pass: tuple[np.ndarray, PusherFrame] | None = None
+        nv, k = self.nv, self._n_prongs
+        self.term_shapes = ((nv, nv), (nv,), (nv,), (k, 3), (k, 3, nv), (3,), (3, 3), (6, nv))
+        """The shapes of an :class:`ArmTerms`' eight arrays, in its field order: M, nle, g,
+        prong positions and Jacobians, pusher position, rotation and Jacobian."""
+        self.nominal_shapes = ((3,), (3, 3), (6, nv))
+        """The shapes of the nominal pusher frame's position, rotation and Jacobian."""
         self._symmetrise = not _fills_lower_triangle(model, self.data)
         self._bind_views()
         self.ready_ik = self._solve_ready()
@@ -352,18 +359,15 @@ class ArmModel:
         return ArmTerms(*terms)
 
     def empty_terms(self) -> TermArrays:
-        """Eight new uninitialised arrays for a compiled pass to write an :class:`ArmTerms`
-        into, in its field order: M (nv, nv), nle (nv,), g (nv,), prong positions (k, 3),
-        prong Jacobians (k, 3, nv), pusher position (3,), rotation (3, 3), Jacobian
-        (6, nv). Made in Python: numba's boxing of returned arrays costs more."""
-        empty, nv, k = np.empty, self.nv, self.prong_frames.size
-        return (empty((nv, nv)), empty(nv), empty(nv), empty((k, 3)), empty((k, 3, nv)),
-                empty(3), empty((3, 3)), empty((6, nv)))  # fmt: skip
+        """Eight new uninitialised arrays (:attr:`term_shapes`) for a compiled pass to write
+        an :class:`ArmTerms` into. Made in Python: numba's boxing of returned arrays costs
+        more."""
+        return tuple(map(np.empty, self.term_shapes))  # type: ignore[return-value]
 
     def empty_nominal(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """New arrays for the nominal pusher frame a compiled pass writes: position (3,),
-        rotation (3, 3), Jacobian (6, nv)."""
-        return np.empty(3), np.empty((3, 3)), np.empty((6, self.nv))
+        """New arrays for the nominal pusher frame a compiled pass writes
+        (:attr:`nominal_shapes`)."""
+        return tuple(map(np.empty, self.nominal_shapes))  # type: ignore[return-value]
 
     def nominal_pusher(self, terms: ArmTerms) -> PusherFrame | None:
         """Where the pusher frame would be without the plate's mounting yaw (the nominal

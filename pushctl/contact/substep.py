@@ -50,6 +50,7 @@ from pushctl.contact.mlcp import (
     cold_pivot_budget,
     solve_after_pivoting,
 )
+from pushctl.contact.recycle import ArrayRecycler
 from pushctl.contact.rows import PRONG_ROWS
 from pushctl.types import ContactProblem, WorldStats
 
@@ -151,6 +152,7 @@ class SubstepSolver:
     _last_prongs: tuple[int, ...] | None
     _last_p: np.ndarray | None
     _bounds_at: tuple[FrictionField, bytes] | None
+    _step_recyclers: dict[int, ArrayRecycler]
 
     def _advance_object(self, v_obj: np.ndarray, h: float) -> None: ...
     def _advance_arm(self, v_arm: np.ndarray, h: float) -> None: ...
@@ -286,9 +288,8 @@ class SubstepSolver:
         advanced, or None when a solve needs ProxQP: then only the friction boxes have
         changed, which the step in parts sets again first (:func:`warm_slip_step` begins with
         :func:`slip_state`)."""
-        empty = np.empty  # its outputs, made here: numba's boxing of returned arrays cost more
-        v_arm, v_obj = empty(self._nv), empty(3)
-        contact_forces, last_p, pose = empty((len(prongs), 2)), empty(guess.size), empty(3)
+        # its outputs, made here (numba's boxing of returned arrays cost more) or taken again
+        v_arm, v_obj, contact_forces, last_p, pose = self._step_arrays(len(prongs), guess.size)
         status, solves, warm_starts, residual, iterations, worst, pivots, _ = slip_step(
             *inputs, *self._model, guess, DEFAULT_TOL, SLIP_COS_TOLERANCE,
             self.config.stick_fraction, self.config.slip_iterations, _PIVOT_BUDGET, v_arm, v_obj,
@@ -301,6 +302,17 @@ class SubstepSolver:
             self._keep_first_solution()
         self.object_velocity, self.object_pose = v_obj, pose
         return v_arm, contact_forces, residual, True, pivots
+
+    def _step_arrays(self, n_prongs: int, n_rows: int) -> tuple[np.ndarray, ...]:
+        """Arrays for :func:`slip_step`'s outputs with ``n_prongs`` prongs in contact and
+        ``n_rows`` MLCP rows: v_arm (nv,), v_obj (3,), forces (n_prongs, 2), the impulses
+        (n_rows,) and the pose (3,), each contact count's from its own
+        :class:`~pushctl.contact.recycle.ArrayRecycler`."""
+        recycler = self._step_recyclers.get(n_prongs)
+        if recycler is None:
+            shapes = ((self._nv,), (3,), (n_prongs, 2), (n_rows,), (3,))
+            recycler = self._step_recyclers[n_prongs] = ArrayRecycler(shapes)
+        return recycler.take()
 
     def _count_loop(self, prongs, last_p, solves, warm_starts, worst, iterations) -> None:
         """Count a compiled loop's ``solves`` verified solves (``warm_starts`` of them warm,

@@ -31,6 +31,7 @@ from pushctl.arm import ArmModel, ArmTerms
 from pushctl.checks import finite_vector
 from pushctl.config import GRAVITY
 from pushctl.contact.ground_field import FrictionField
+from pushctl.contact.recycle import ArrayRecycler
 from pushctl.contact.rows import edge_array, mask_indices, prong_contacts
 from pushctl.contact.step_end import arm_moved, native_arm_moved, native_arm_moved_nominal
 from pushctl.contact.substep import (
@@ -141,6 +142,7 @@ class World(SubstepSolver):
         # the bounds of the step: the uniform ones scaled by the friction field, if any
         self._friction_limits = self._uniform_limits.copy()
         self._bounds_at = None  # the field and pose they were last computed for
+        self._step_recyclers = {}  # slip_step's output arrays, per number of prongs touching
         self._slip_directions = np.zeros_like(self._support_points)
         self._sliding = np.zeros(len(self._support_points), dtype=np.bool_)
         # The kernels' world side, once: its arrays are the ones above, updated in place.
@@ -156,6 +158,13 @@ class World(SubstepSolver):
             mu_contact=config.mu_contact,
         )
         self._n_prongs = 0 if arm is None else arm.pusher.n_prongs
+        if arm is not None:  # the step end's arrays: q, the contact geometry, the arm terms
+            shapes: tuple[tuple[int, ...], ...] = (
+                (arm.nq,), (self._n_prongs, 5), (self._n_prongs,), *arm.term_shapes
+            )  # fmt: skip
+            if arm.nominal_frame >= 0:
+                shapes += arm.nominal_shapes
+            self._end_arrays = ArrayRecycler(shapes)
         self._nv = 0 if arm is None else arm.nv
         self._damping = np.zeros(self._nv) if arm is None else np.asarray(arm.damping, float)
         self._terms: ArmTerms | None = None
@@ -313,18 +322,20 @@ class World(SubstepSolver):
         arm = self.arm
         assert arm is not None
         k = self._n_prongs
-        q, terms = np.empty(self.q.size), arm.empty_terms()
-        geometry, gaps = np.empty((k, 5)), np.empty(k)
+        arrays = self._end_arrays.take()
+        q, geometry, gaps, terms = arrays[0], arrays[1], arrays[2], arrays[3:11]
         common = (handle, self.q, v_arm, h, arm.prong_frames, arm.pusher_frame_id)
         tail = (self._energy_ledger, old.M, old.nle, old.g, self._edges, self.object_pose,
                 self.config.contact_margin, q, *terms)  # fmt: skip
         if arm.nominal_frame < 0:
-            ledger, energy, contacts, mask = native_arm_moved(*common, *tail, geometry, gaps)
+            ledger, energy, contacts, mask = native_arm_moved(
+                *common, *tail, geometry, gaps
+            )  # type: ignore[call-arg]  # fmt: skip  # numba's Dispatcher hides the signature
         else:
-            nominal = arm.empty_nominal()
+            nominal = arrays[11:]
             ledger, energy, contacts, mask = native_arm_moved_nominal(
                 *common, arm.nominal_frame, *tail, *nominal, geometry, gaps
-            )
+            )  # type: ignore[call-arg]  # fmt: skip  # numba's Dispatcher hides the signature
             arm.record_nominal_pass(terms[-1], nominal)
         self.q, self._energy_ledger, self._gaps = q, ledger, gaps
         self._contacts = geometry if contacts == k else geometry[:contacts]
@@ -391,7 +402,9 @@ class World(SubstepSolver):
 
     def _result(self, forces, residual: float, converged: bool, iterations: int) -> StepResult:
         """The state as a StepResult sharing the world's arrays: every step replaces them
-        with new ones (nothing writes into them in place), so no copies are needed."""
+        with arrays no one else holds (new ones, or an earlier step's that nothing outside
+        the world references any more: :mod:`pushctl.contact.recycle`), and nothing writes
+        into an array a caller holds, so no copies are needed."""
         return StepResult.sharing(
             self.object_pose,
             self.object_velocity,
