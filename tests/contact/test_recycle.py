@@ -88,7 +88,6 @@ def test_the_same_trajectory_with_and_without_taking_arrays_again(monkeypatch, t
     """A step writes every element of a set it takes again before anything reads it: with
     each set poisoned with NaN as it is taken again, the same bytes as with new arrays
     every step (the recycler made to find nothing free)."""
-
     all_free, poisoned = pushctl.contact.recycle._all_free, []
 
     def poisoning(arrays, free):

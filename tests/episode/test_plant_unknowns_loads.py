@@ -187,18 +187,16 @@ def test_bounds_are_not_recomputed_while_the_object_rests_and_the_trace_is_the_s
     """The world skips the field's query where the object's pose is the one the bounds were
     computed at (most approach steps): the same trace to the byte as a world that queries
     every step, with fewer queries."""
-    from pushctl.contact.ground_field import FrictionField as Field
-
     scenario, plan = _scenario(seed=2)
     rough = PlantUnknowns(ground_variation=0.2, ground_length=0.05, ground_seed=3)
     queries = []
-    update = Field.update_support_bounds
+    update = FrictionField.update_support_bounds
 
     def counted(self, *args):
         queries.append(1)
         return update(self, *args)
 
-    monkeypatch.setattr(Field, "update_support_bounds", counted)
+    monkeypatch.setattr(FrictionField, "update_support_bounds", counted)
     traces, counts = [], []
     for skip in (True, False):
         episode = Episode(scenario.with_unknowns(rough), plan=plan)
