@@ -26,10 +26,11 @@ from pushctl.rl.vector_env import PushVectorEnv
 OPTIONS = {"object": "cube", "profile": "chirp", "scenario_seed": 0}
 
 
-def _env_steps_per_s(env: PushEnv, act) -> float:
+def _env_steps_per_s(env: PushEnv, act, seed: int | None = None) -> float:
     """Push steps per second of one whole episode (reset not counted); a step() holds its
-    action for ``action_repeat`` push steps."""
-    obs, _ = env.reset(options=OPTIONS)
+    action for ``action_repeat`` push steps. The episode is :data:`OPTIONS`' scenario, or
+    with a ``seed`` the one ``env.reset(seed=seed)`` draws."""
+    obs, _ = env.reset(options=OPTIONS) if seed is None else env.reset(seed=seed)
     episode = env.episode
     assert episode is not None
     start = time.perf_counter()
@@ -112,7 +113,11 @@ def rl_rows(preset_name: str = "paper", updates: int = 300) -> list[dict[str, An
 
 
 def collection_rows(
-    episodes: int = 4, repeats: int = 3, preset_name: str = "paper", acting_repeats: int = 9
+    episodes: int = 4,
+    repeats: int = 3,
+    preset_name: str = "paper",
+    acting_repeats: int = 9,
+    scenarios: int = 8,
 ):
     """Training collection beside raw stepping, side by side on one core (pinned), the
     repeats interleaved, medians of the per-repeat ratios:
@@ -127,7 +132,11 @@ def collection_rows(
       where the actions jolt the prongs most often. One push each way per repeat,
       alternating, ``acting_repeats`` times (each repeat's actions from its own seed), after
       one untimed push each way (numba loads the cold path's kernels at its first use); the
-      note gives the quartiles: three repeats of whole pushes spread by 1.7× between runs.
+      note gives the quartiles: three repeats of whole pushes spread by 1.7× between runs;
+    - the same ratio over ``scenarios`` of the scenarios ``Push-v0`` itself draws (its
+      defaults all through, the gate's too: ``reset(seed=s)`` for s = 0 … scenarios − 1
+      picks the object, the profile and the scenario, as ``gymnasium.make`` gives it), one
+      pair of pushes each: the one scenario above is one draw from a wide spread.
     """
     configure_torch(1)
     preset = load_preset(preset_name)
@@ -156,6 +165,7 @@ def collection_rows(
             ratios["alone"].append(single / raw)
         ratios["acting"] = _acting_ratios(gate_open, acting_repeats)
         ratios["every"] = _acting_ratios(every_step, acting_repeats)
+        ratios["drawn"] = _acting_ratios(PushEnv(EnvConfig(), gains), scenarios, drawn=True)
     median = statistics.median
     where = f"{preset_name} preset env, {episodes} episodes a round, one core, {repeats} repeats"
     return [
@@ -193,12 +203,21 @@ def collection_rows(
             "note": "as above, a decision every push step (goal <= 1.3); "
             + _quartiles(ratios["every"]),
         },
+        {
+            "name": "rl acting step / zero-residual step, Push-v0's own scenarios",
+            "value": median(ratios["drawn"]),
+            "unit": "ratio",
+            "note": f"Push-v0's defaults, reset(seed=s) for s < {scenarios}: its drawn object, "
+            f"profile and scenario, one pair of pushes each (goal <= 1.3); "
+            f"{min(ratios['drawn']):.2f}-{max(ratios['drawn']):.2f} over the scenarios",
+        },
     ]
 
 
-def _acting_ratios(env: PushEnv, repeats: int) -> list[float]:
-    """Per repeat, a zero-residual push's step rate over an acting push's (uniform random
-    actions from the repeat's own seed), the two pushed one after the other; one untimed
+def _acting_ratios(env: PushEnv, repeats: int, drawn: bool = False) -> list[float]:
+    """Per repeat r, a zero-residual push's step rate over an acting push's (uniform random
+    actions from r's own generator), the two pushed one after the other: of the scenario
+    :data:`OPTIONS`, or with ``drawn`` of the one ``env.reset(seed=r)`` draws. One untimed
     push each way first."""
     zero = np.zeros(3)
 
@@ -209,12 +228,12 @@ def _acting_ratios(env: PushEnv, repeats: int) -> list[float]:
         rng = np.random.default_rng(seed)
         return lambda obs: rng.uniform(-1.0, 1.0, 3)
 
-    _env_steps_per_s(env, still)
-    _env_steps_per_s(env, acting(repeats))
-    return [
-        _env_steps_per_s(env, still) / _env_steps_per_s(env, acting(repeat))
-        for repeat in range(repeats)
-    ]
+    def rate(act, repeat: int) -> float:
+        return _env_steps_per_s(env, act, repeat if drawn else None)
+
+    rate(still, repeats)
+    rate(acting(repeats), repeats)
+    return [rate(still, repeat) / rate(acting(repeat), repeat) for repeat in range(repeats)]
 
 
 def _quartiles(values: list[float]) -> str:
