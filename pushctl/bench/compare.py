@@ -8,7 +8,9 @@ repeat runs one fresh child process per tree, alternating which goes first, pinn
 core (``taskset -c 0`` where it exists). Each child times, on the same inputs:
 
 - ``world step``: the arm pushing the cube at 1 cm/s (:func:`pushctl.bench.suite._pushing_world`),
-  median of 2000 steps [µs];
+  median of 2000 steps [µs] (issue 15's item 2); and the same on other scenes: the cube at
+  5 cm/s, the wedge at 1 and 5 cm/s, and the free arm holding itself up under its own
+  gravity torque, the cube far away (no prong contact);
 - ``cold MLCP``: ``solve_box_mlcp`` on the cold-path problems (the warm active set failed)
   recorded from random-action ``Push-v0`` steps in this tree, median over problems of each
   problem's median of 5 solves [µs];
@@ -61,6 +63,10 @@ REFERENCE = "551bcac"
 
 METRICS = (
     "world step",
+    "world step, cube at 5 cm/s",
+    "world step, wedge at 1 cm/s",
+    "world step, wedge at 5 cm/s",
+    "world step, free arm",
     "cold MLCP",
     "cold MLCP, ProxQP path of the reference",
     "env step, zero residual",
@@ -79,6 +85,7 @@ try:  # the reference tree may predate pushctl/bench/ (a module then)
     from pushctl.bench.suite import _pushing_world
 except ImportError:
     from pushctl.bench import _pushing_world
+import pushctl
 from pushctl.contact.mlcp import solve_box_mlcp
 from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
@@ -86,13 +93,30 @@ from pushctl.rl.env_config import EnvConfig
 def median_us(samples):
     return 1e6 * statistics.median(samples)
 
-world, torque, kv = _pushing_world("cube")
-steps = []
-for _ in range(2000):
-    tau = torque()
-    start = time.perf_counter()
-    world.step(tau, implicit_kv=kv)
-    steps.append(time.perf_counter() - start)
+def world_steps(world, torque, kv):
+    # 2000 steps' times [s], the torque computed outside each
+    steps = []
+    for _ in range(2000):
+        tau = torque()
+        start = time.perf_counter()
+        world.step(tau, implicit_kv=kv)
+        steps.append(time.perf_counter() - start)
+    return steps
+
+def free_arm():
+    # the arm alone, the cube far away: the arm holds itself up under its own g(q)
+    world = pushctl.make_world(object="cube")
+    world.reset(object_pose=(3.0, 3.0, 0.0))
+    return world, world.gravity_torque, 5.0
+
+steps = world_steps(*_pushing_world("cube"))
+scenes = {
+    "world step, cube at 5 cm/s": _pushing_world("cube", 0.05),
+    "world step, wedge at 1 cm/s": _pushing_world("wedge", 0.01),
+    "world step, wedge at 5 cm/s": _pushing_world("wedge", 0.05),
+    "world step, free arm": free_arm(),
+}
+scene_us = {name: median_us(world_steps(*scene)) for name, scene in scenes.items()}
 
 with open(sys.argv[1], "rb") as handle:
     problems = pickle.load(handle)
@@ -170,6 +194,7 @@ env_steps(True)  # warm-up
 unknowns_push_us("shut")
 print(json.dumps({
     "world step": median_us(steps),
+    **scene_us,
     "cold MLCP": median_us(cold),
     "cold_each": cold,
     "methods": methods,
