@@ -8,9 +8,10 @@ repeat runs one fresh child process per tree, alternating which goes first, pinn
 core (``taskset -c 0`` where it exists). Each child times, on the same inputs:
 
 - ``world step``: the arm pushing the cube at 1 cm/s (:func:`pushctl.bench.suite._pushing_world`),
-  median of 2000 steps [µs] (issue 15's item 2); and the same on other scenes: the cube at
-  5 cm/s, the wedge at 1 and 5 cm/s, and the free arm holding itself up under its own
-  gravity torque, the cube far away (no prong contact);
+  median of 2000 steps [µs] (issue 15's item 2); and the same on other scenes, median of
+  400 steps (20 cm of pushing at 5 cm/s): the cube at 5 cm/s, the wedge at 1 and 5 cm/s,
+  and the free arm holding itself up under its own gravity torque, the cube far away (no
+  prong contact);
 - ``cold MLCP``: ``solve_box_mlcp`` on the cold-path problems (the warm active set failed)
   recorded from random-action ``Push-v0`` steps in this tree, median over problems of each
   problem's median of 5 solves [µs];
@@ -93,10 +94,10 @@ from pushctl.rl.env_config import EnvConfig
 def median_us(samples):
     return 1e6 * statistics.median(samples)
 
-def world_steps(world, torque, kv):
-    # 2000 steps' times [s], the torque computed outside each
+def world_steps(world, torque, kv, n=2000):
+    # n steps' times [s], the torque computed outside each
     steps = []
-    for _ in range(2000):
+    for _ in range(n):
         tau = torque()
         start = time.perf_counter()
         world.step(tau, implicit_kv=kv)
@@ -116,7 +117,8 @@ scenes = {
     "world step, wedge at 5 cm/s": _pushing_world("wedge", 0.05),
     "world step, free arm": free_arm(),
 }
-scene_us = {name: median_us(world_steps(*scene)) for name, scene in scenes.items()}
+# 400 steps each: 20 cm of pushing at 5 cm/s, as the bench's 2000 steps at 1 cm/s
+scene_us = {name: median_us(world_steps(*scene, n=400)) for name, scene in scenes.items()}
 
 with open(sys.argv[1], "rb") as handle:
     problems = pickle.load(handle)
