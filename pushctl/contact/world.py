@@ -50,6 +50,9 @@ from pushctl.types import ContactProblem, StepResult, WorldStats
 __all__ = ["MAX_SLIP_ITERATIONS", "SLIP_COS_TOLERANCE", "STICK_FRACTION", "World", "WorldConfig"]
 
 _FLOAT64 = np.dtype(np.float64)
+_TERMS = slice(3, 3 + len(ArmTerms._fields))
+"""Where an :class:`ArmTerms`' arrays sit in a set of the step end's arrays (after q, the
+contact geometry and the gaps; the nominal frame's three follow)."""
 
 
 DEFAULT_OBJECT_POSE = (0.42, 0.0, 0.0)
@@ -322,8 +325,8 @@ class World(SubstepSolver):
         arm = self.arm
         assert arm is not None
         k = self._n_prongs
-        arrays = self._end_arrays.take()
-        q, geometry, gaps, terms = arrays[0], arrays[1], arrays[2], arrays[3:11]
+        arrays = self._end_arrays.take()  # q, geometry, gaps, the terms, the nominal frame's
+        q, geometry, gaps, terms = arrays[0], arrays[1], arrays[2], arrays[_TERMS]
         common = (handle, self.q, v_arm, h, arm.prong_frames, arm.pusher_frame_id)
         tail = (self._energy_ledger, old.M, old.nle, old.g, self._edges, self.object_pose,
                 self.config.contact_margin, q, *terms)  # fmt: skip
@@ -332,7 +335,7 @@ class World(SubstepSolver):
                 *common, *tail, geometry, gaps
             )  # type: ignore[call-arg]  # fmt: skip  # numba's Dispatcher hides the signature
         else:
-            nominal = arrays[11:]
+            nominal = arrays[_TERMS.stop :]
             ledger, energy, contacts, mask = native_arm_moved_nominal(
                 *common, arm.nominal_frame, *tail, *nominal, geometry, gaps
             )  # type: ignore[call-arg]  # fmt: skip  # numba's Dispatcher hides the signature
