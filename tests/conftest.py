@@ -6,7 +6,11 @@ machine and a failure reproduces; set ``HYPOTHESIS_PROFILE=explore`` to draw fre
 
 import os
 
-from hypothesis import settings  # (it does not load numpy)
+# Every direct call of the world step's kernels checks its argument types (pushctl.direct_calls),
+# here and in the subprocesses the tests start.
+os.environ["PUSHCTL_CHECK_CALLS"] = "1"
+
+from hypothesis import settings  # noqa: E402  # (it does not load numpy)
 
 import pushctl  # noqa: F401  # before the test modules load numpy: it pins numpy's CPU code
 

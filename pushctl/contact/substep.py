@@ -15,6 +15,7 @@ makes the same calls in the same order, so the same bits.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -52,6 +53,7 @@ from pushctl.contact.mlcp import (
 )
 from pushctl.contact.recycle import ArrayRecycler
 from pushctl.contact.rows import PRONG_ROWS
+from pushctl.direct_calls import entry_point
 from pushctl.types import ContactProblem, WorldStats
 
 STEP_STATE = (
@@ -153,6 +155,7 @@ class SubstepSolver:
     _last_p: np.ndarray | None
     _bounds_at: tuple[FrictionField, bytes] | None
     _step_recyclers: dict[int, ArrayRecycler]
+    _slip_call: Callable[..., Any] | None  # slip_step's entry point, once resolved
 
     def _advance_object(self, v_obj: np.ndarray, h: float) -> None: ...
     def _advance_arm(self, v_arm: np.ndarray, h: float) -> None: ...
@@ -290,11 +293,13 @@ class SubstepSolver:
         :func:`slip_state`)."""
         # its outputs, made here (numba's boxing of returned arrays cost more) or taken again
         v_arm, v_obj, contact_forces, last_p, pose = self._step_arrays(len(prongs), guess.size)
-        status, solves, warm_starts, residual, iterations, worst, pivots, _ = slip_step(
+        args = (
             *inputs, *self._model, guess, DEFAULT_TOL, SLIP_COS_TOLERANCE,
             self.config.stick_fraction, self.config.slip_iterations, _PIVOT_BUDGET, v_arm, v_obj,
             contact_forces, last_p, pose,
-        )  # type: ignore[call-arg]  # fmt: skip  # numba's Dispatcher hides the signature
+        )  # fmt: skip
+        call = self._slip_call or self._resolve("_slip_call", slip_step, args)
+        status, solves, warm_starts, residual, iterations, worst, pivots, _ = call(*args)
         if status == STEP_UNVERIFIED:
             return None
         self._count_loop(prongs, last_p, solves, warm_starts, worst, iterations)
@@ -302,6 +307,14 @@ class SubstepSolver:
             self._keep_first_solution()
         self.object_velocity, self.object_pose = v_obj, pose
         return v_arm, contact_forces, residual, True, pivots
+
+    def _resolve(self, name: str, kernel: Any, args: tuple) -> Callable[..., Any]:
+        """``kernel``'s compiled entry point for the types of ``args``
+        (:func:`~pushctl.direct_calls.entry_point`), kept as this world's attribute ``name``:
+        its later steps call it past numba's dispatcher, with arguments of the same types."""
+        call = entry_point(kernel, args)
+        setattr(self, name, call)
+        return call
 
     def _step_arrays(self, n_prongs: int, n_rows: int) -> tuple[np.ndarray, ...]:
         """Arrays for :func:`slip_step`'s outputs with ``n_prongs`` prongs in contact and
@@ -478,7 +491,8 @@ class SubstepSolver:
         stats.fallbacks += not result.converged
         stats.warm_starts += result.method == "warm-start"
         stats.max_residual = max(stats.max_residual, result.residual)
-        self._last_prongs, self._last_p = prongs, result.p
+        # contiguous, as every guess the step's kernels are called with (direct_calls)
+        self._last_prongs, self._last_p = prongs, np.ascontiguousarray(result.p)
 
 
 class WarmSolve(NamedTuple):

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -146,6 +147,8 @@ class World(SubstepSolver):
         self._friction_limits = self._uniform_limits.copy()
         self._bounds_at = None  # the field and pose they were last computed for
         self._step_recyclers = {}  # slip_step's output arrays, per number of prongs touching
+        # the step's two kernels' entry points, resolved at their first calls (direct_calls)
+        self._slip_call = self._end_call = None
         self._slip_directions = np.zeros_like(self._support_points)
         self._sliding = np.zeros(len(self._support_points), dtype=np.bool_)
         # The kernels' world side, once: its arrays are the ones above, updated in place.
@@ -182,6 +185,13 @@ class World(SubstepSolver):
             self._damping + self._kv_zero,
         )
         self.reset()
+
+    def __getstate__(self) -> dict:
+        """A copy or a pickle resolves the step's kernels again at its first step: an entry
+        point does not pickle."""
+        state = self.__dict__.copy()
+        state["_slip_call"] = state["_end_call"] = None
+        return state
 
     # ------------------------------------------------------------------ state
 
@@ -330,15 +340,17 @@ class World(SubstepSolver):
         common = (handle, self.q, v_arm, h, arm.prong_frames, arm.pusher_frame_id)
         tail = (self._energy_ledger, old.M, old.nle, old.g, self._edges, self.object_pose,
                 self.config.contact_margin, q, *terms)  # fmt: skip
+        kernel: Any
         if arm.nominal_frame < 0:
-            ledger, energy, contacts, mask = native_arm_moved(
-                *common, *tail, geometry, gaps
-            )  # type: ignore[call-arg]  # fmt: skip  # numba's Dispatcher hides the signature
+            args = (*common, *tail, geometry, gaps)
+            kernel = native_arm_moved
         else:
             nominal = arrays[_TERMS.stop :]
-            ledger, energy, contacts, mask = native_arm_moved_nominal(
-                *common, arm.nominal_frame, *tail, *nominal, geometry, gaps
-            )  # type: ignore[call-arg]  # fmt: skip  # numba's Dispatcher hides the signature
+            args = (*common, arm.nominal_frame, *tail, *nominal, geometry, gaps)
+            kernel = native_arm_moved_nominal
+        call = self._end_call or self._resolve("_end_call", kernel, args)
+        ledger, energy, contacts, mask = call(*args)
+        if arm.nominal_frame >= 0:
             arm.record_nominal_pass(terms[-1], nominal)
         self.q, self._energy_ledger, self._gaps = q, ledger, gaps
         self._contacts = geometry if contacts == k else geometry[:contacts]
@@ -374,13 +386,16 @@ class World(SubstepSolver):
         # where a dot product with zeros took 0.6 and isfinite(...).all() 1.5 (measured).
         # The dtype is compared with ==, not `is`: an array made by a compiled kernel loaded
         # from numba's disk cache (the PD law's torque) has a float64 dtype of its own.
+        # C-contiguous too: the step's kernels are called past numba's dispatcher, which
+        # would have typed a strided vector (pushctl.direct_calls).
         if not (
             type(tau) is np.ndarray
             and tau.dtype == _FLOAT64
             and tau.shape == self._kv_zero.shape
+            and tau.flags.c_contiguous
             and math.isfinite(sum(tau.tolist()))
         ):
-            tau = finite_vector("tau", tau, self._nv)
+            tau = np.ascontiguousarray(finite_vector("tau", tau, self._nv))
         if implicit_kv is None:
             return tau, self._kv_zero
         scalar = self._kv_scalar
