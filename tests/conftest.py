@@ -6,8 +6,8 @@ machine and a failure reproduces; set ``HYPOTHESIS_PROFILE=explore`` to draw fre
 
 import os
 
-# Every direct call of the world step's kernels checks its argument types (pushctl.direct_calls),
-# here and in the subprocesses the tests start.
+# Every direct call of the world step's kernels checks its argument types
+# (pushctl.contact.direct_calls), here and in the subprocesses the tests start.
 os.environ["PUSHCTL_CHECK_CALLS"] = "1"
 
 from hypothesis import settings  # noqa: E402  # (it does not load numpy)

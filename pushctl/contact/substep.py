@@ -34,6 +34,7 @@ from pushctl.contact.cold_step import (
     cold_slip_step,
     slip_step,
 )
+from pushctl.contact.direct_calls import entry_point
 from pushctl.contact.ground_field import FrictionField
 from pushctl.contact.kernels import (
     SLIP_SETTLED,
@@ -53,7 +54,6 @@ from pushctl.contact.mlcp import (
 )
 from pushctl.contact.recycle import ArrayRecycler
 from pushctl.contact.rows import PRONG_ROWS
-from pushctl.direct_calls import entry_point
 from pushctl.types import ContactProblem, WorldStats
 
 STEP_STATE = (
@@ -310,8 +310,9 @@ class SubstepSolver:
 
     def _resolve(self, name: str, kernel: Any, args: tuple) -> Callable[..., Any]:
         """``kernel``'s compiled entry point for the types of ``args``
-        (:func:`~pushctl.direct_calls.entry_point`), kept as this world's attribute ``name``:
-        its later steps call it past numba's dispatcher, with arguments of the same types."""
+        (:func:`~pushctl.contact.direct_calls.entry_point`), kept as this world's attribute
+        ``name``: its later steps call it past numba's dispatcher, with arguments of the same
+        types."""
         call = entry_point(kernel, args)
         setattr(self, name, call)
         return call

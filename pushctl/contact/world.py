@@ -387,7 +387,7 @@ class World(SubstepSolver):
         # The dtype is compared with ==, not `is`: an array made by a compiled kernel loaded
         # from numba's disk cache (the PD law's torque) has a float64 dtype of its own.
         # C-contiguous too: the step's kernels are called past numba's dispatcher, which
-        # would have typed a strided vector (pushctl.direct_calls).
+        # would have typed a strided vector (pushctl.contact.direct_calls).
         if not (
             type(tau) is np.ndarray
             and tau.dtype == _FLOAT64

@@ -1,4 +1,4 @@
-"""The world step's kernels called past numba's dispatcher (pushctl.direct_calls)."""
+"""The world step's kernels called past numba's dispatcher (pushctl.contact.direct_calls)."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import pushctl
-from pushctl import direct_calls
 from pushctl.bench.suite import _pushing_world
+from pushctl.contact import direct_calls
 from pushctl.contact.step_end import prong_geometry
 
 

@@ -21,12 +21,13 @@ import os
 from collections.abc import Callable
 from typing import Any
 
+from numba._dispatcher import compute_fingerprint
 from numba.core import types
 from numba.core.dispatcher import Dispatcher
 from numba.core.typing.typeof import Purpose, typeof
 
 CHECK_CALLS = os.environ.get("PUSHCTL_CHECK_CALLS") == "1"
-"""Check every direct call's argument types (the test suite's setting; costs about 1 µs a call)."""
+"""Check every direct call's argument types (the test suite's setting; about 3 µs a call)."""
 
 
 def argument_types(args: tuple) -> tuple:
@@ -51,22 +52,28 @@ def entry_point(kernel: Dispatcher, args: tuple) -> Callable[..., Any]:
     entry = kernel.compile(kinds)
     if not CHECK_CALLS:
         return entry
-    name = kernel.py_func.__name__
+    name, prints = kernel.py_func.__name__, tuple(map(compute_fingerprint, args))
 
     def checked(*call_args: Any) -> Any:
-        found = argument_types(call_args)
-        if len(found) != len(kinds):
-            raise TypeError(f"{name} called directly with {len(found)} arguments, not {len(kinds)}")
-        wrong = [
-            i
-            for i, (a, b) in enumerate(zip(found, kinds, strict=True))
-            if _as_read(a) != _as_read(b)
-        ]
-        if wrong:
-            raise TypeError(
-                f"{name} called directly with arguments {wrong} of types "
-                f"{[found[i] for i in wrong]}, resolved for {[kinds[i] for i in wrong]}"
-            )
+        # the dispatcher's own fingerprints first (0.1 µs an argument; typeof takes 6 µs
+        # an array): only where they differ are the types compared
+        if tuple(map(compute_fingerprint, call_args)) != prints:
+            _check_types(name, argument_types(call_args), kinds)
         return entry(*call_args)
 
     return checked
+
+
+def _check_types(name: str, found: tuple, kinds: tuple) -> None:
+    """Raise TypeError unless the types ``found`` of a call of kernel ``name`` are the types
+    ``kinds`` its entry point was resolved for, mutability aside."""
+    if len(found) != len(kinds):
+        raise TypeError(f"{name} called directly with {len(found)} arguments, not {len(kinds)}")
+    wrong = [
+        i for i, (a, b) in enumerate(zip(found, kinds, strict=True)) if _as_read(a) != _as_read(b)
+    ]
+    if wrong:
+        raise TypeError(
+            f"{name} called directly with arguments {wrong} of types "
+            f"{[found[i] for i in wrong]}, resolved for {[kinds[i] for i in wrong]}"
+        )
