@@ -1,11 +1,12 @@
 """The world step's two compiled kernels called past numba's dispatcher.
 
 numba's dispatcher types every argument of a call before it enters the compiled code, about
-35 ns an argument. The world step's two kernels take 29 (``slip_step``) and 27 (the step
-end, ``native_arm_moved``) arguments: 1.9 µs of a 27 µs world step (docs/
-reproducibility-and-speed.md, twenty-second pass). The types do not change from step to
-step, so a world resolves each kernel's compiled entry point once, from its first call's
-arguments (:func:`entry_point`), and calls that: the same machine code, so the same bits.
+35 ns an argument. The world step's two kernels take 29 (``slip_step``) and 24 (the step
+end, ``native_arm_moved``; 28 with a nominal frame) arguments: 1–2 µs of a 22–29 µs world
+step (docs/reproducibility-and-speed.md, twenty-second pass). The types do not change from
+step to step, so a world resolves each kernel's compiled entry point once, from its first
+call's arguments (:func:`entry_point`), and calls that: the same machine code, so the same
+bits.
 
 The entry point does not check its arguments: it reads each array with the dtype, number of
 dimensions and layout it was compiled for. A world passes only arrays it made itself (float64,
