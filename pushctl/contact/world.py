@@ -340,17 +340,17 @@ class World(SubstepSolver):
         common = (handle, self.q, v_arm, h, arm.prong_frames, arm.pusher_frame_id)
         tail = (self._energy_ledger, old.M, old.nle, old.g, self._edges, self.object_pose,
                 self.config.contact_margin, q, *terms)  # fmt: skip
+        nominal = arrays[_TERMS.stop :]  # the nominal frame's three, if the arm has one
         kernel: Any
-        if arm.nominal_frame < 0:
-            args = (*common, *tail, geometry, gaps)
-            kernel = native_arm_moved
-        else:
-            nominal = arrays[_TERMS.stop :]
+        if nominal:
             args = (*common, arm.nominal_frame, *tail, *nominal, geometry, gaps)
             kernel = native_arm_moved_nominal
+        else:
+            args = (*common, *tail, geometry, gaps)
+            kernel = native_arm_moved
         call = self._end_call or self._resolve("_end_call", kernel, args)
         ledger, energy, contacts, mask = call(*args)
-        if arm.nominal_frame >= 0:
+        if nominal:
             arm.record_nominal_pass(terms[-1], nominal)
         self.q, self._energy_ledger, self._gaps = q, ledger, gaps
         self._contacts = geometry if contacts == k else geometry[:contacts]
