@@ -1,0 +1,194 @@
+"""The contact solve's share of an acting step and of a zero-residual step, and how much
+faster it would have to be for issue 15's item 1 (an acting step ≤ 1.3 × a zero-residual
+one) with everything else as it is (docs/reproducibility-and-speed.md, twenty-third pass).
+
+Run as ``python -m pushctl.bench.solve_share [--repeats 5] [--out FILE] [--force]``.
+``bench.rl``'s item-1 row on ``Push-v0``'s defaults, taken apart: the cube chirp of
+``bench.rl``'s :data:`~pushctl.bench.rl.OPTIONS`, a decision every push step, the gate held
+open, pushed with zero actions and with uniform random actions (each repeat's from its own
+seed), on one core (pinned). Each repeat pushes four times, alternating the two ways: once
+plainly (the step's time) and once with the world's contact solve timed (its time), the
+same actions, so the same push to the bit. The contact solve is what
+``SubstepSolver._substep`` hands the MLCP to: the compiled step (the warm and cold loops of
+the friction boxes) and the step in parts (a new contact set, ProxQP's continuations).
+
+Per way, medians over the repeats of each push's [µs per push step]: the step, the contact
+solve, the rest; and the solves per step. Then, from the medians:
+
+- ``ratio``: acting step / zero-residual step (``bench.rl``'s row);
+- ``ratio_solve_free``: the same were the contact solve to cost nothing either way;
+- ``solve_cut_needed``: the fraction x of the contact solve's time, cut on both ways alike,
+  that brings the ratio to 1.3: ``(T_a − x S_a) = 1.3 (T_z − x S_z)``; and
+  ``solve_speedup_needed`` = 1 / (1 − x). NaN where no cut reaches 1.3.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import statistics
+import sys
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from pushctl.bench.rl import OPTIONS, _one_core
+from pushctl.control.gains import load_gains
+from pushctl.errors import ConfigError
+from pushctl.output_guard import refuse_existing_files
+from pushctl.provenance import provenance_line, write_csv
+from pushctl.rl.env import PushEnv
+from pushctl.rl.env_config import EnvConfig
+
+TARGET = 1.3
+"""Issue 15's item 1: an acting step costs at most this times a zero-residual step."""
+SOLVE_METHODS = ("_compiled_step", "_step_in_parts")
+"""The world's methods that make a step's contact solve (``SubstepSolver._substep`` calls
+one, or the first and then the second)."""
+WAYS = ("zero", "acting")
+
+
+class SolveClock:
+    """Times the contact solve of one world: each of :data:`SOLVE_METHODS` wrapped on the
+    instance (an instance attribute shadows the class's method), its time summed in
+    ``seconds``. :meth:`remove` takes the wrappers off again."""
+
+    def __init__(self, world: Any) -> None:
+        self.world, self.seconds = world, 0.0
+        for name in SOLVE_METHODS:
+            setattr(world, name, self._timed(getattr(world, name)))
+
+    def _timed(self, method: Callable[..., Any]) -> Callable[..., Any]:
+        clock = time.perf_counter
+
+        def timed(*args: Any) -> Any:
+            start = clock()
+            try:
+                return method(*args)
+            finally:
+                self.seconds += clock() - start
+
+        return timed
+
+    def remove(self) -> None:
+        for name in SOLVE_METHODS:
+            delattr(self.world, name)
+
+
+def push(env: PushEnv, act: Callable[[], np.ndarray], clocked: bool) -> dict[str, float]:
+    """One push of the :data:`~pushctl.bench.rl.OPTIONS` scenario with the actions ``act()``
+    (reset not timed): its step [µs per push step], with ``clocked`` also the contact
+    solve's, and its solves per step."""
+    env.reset(options=OPTIONS)
+    episode = env.episode
+    assert episode is not None
+    world = episode.world
+    clock = SolveClock(world) if clocked else None
+    solves = world.stats.solves
+    start = time.perf_counter()
+    while not episode.done:
+        env.step(act())
+    elapsed = time.perf_counter() - start
+    if clock is not None:
+        clock.remove()
+    steps = episode.n_steps
+    return {
+        "step_us": 1e6 * elapsed / steps,
+        "solve_us": math.nan if clock is None else 1e6 * clock.seconds / steps,
+        "solves_per_step": (world.stats.solves - solves) / steps,
+    }
+
+
+def study(repeats: int) -> pd.DataFrame:
+    """The table of the module docstring: one row per way, then one of the figures drawn
+    from them (see :func:`summarise`)."""
+    env = PushEnv(EnvConfig(gate_threshold=0.0), load_gains())  # Push-v0's, gate open
+    zero = np.zeros(3)
+
+    def actions(way: str, seed: int) -> Callable[[], np.ndarray]:
+        if way == "zero":
+            return lambda: zero
+        rng = np.random.default_rng(seed)
+        return lambda: rng.uniform(-1.0, 1.0, 3)
+
+    runs: dict[str, list[dict[str, float]]] = {way: [] for way in WAYS}
+    with _one_core():
+        for way in WAYS:  # numba loads the cold path's kernels at its first use: untimed
+            push(env, actions(way, repeats), clocked=False)
+        for repeat in range(repeats):
+            order = WAYS if repeat % 2 == 0 else WAYS[::-1]
+            for way in order:
+                plain = push(env, actions(way, repeat), clocked=False)
+                timed = push(env, actions(way, repeat), clocked=True)
+                runs[way].append({**plain, "solve_us": timed["solve_us"]})
+    return summarise(runs)
+
+
+def summarise(runs: dict[str, list[dict[str, float]]]) -> pd.DataFrame:
+    """Per way the medians over its pushes of ``step_us``, ``solve_us`` and their
+    difference, the mean solves per step; and the ratios of the module docstring."""
+    rows = []
+    for way in WAYS:
+        pushes = runs[way]
+        rows.append({
+            "way": way,
+            "step_us": statistics.median(run["step_us"] for run in pushes),
+            "solve_us": statistics.median(run["solve_us"] for run in pushes),
+            "rest_us": statistics.median(run["step_us"] - run["solve_us"] for run in pushes),
+            "solves_per_step": statistics.fmean(run["solves_per_step"] for run in pushes),
+            "pushes": len(pushes),
+        })  # fmt: skip
+    table = pd.DataFrame(rows).set_index("way")
+    zero, acting = table.loc["zero"], table.loc["acting"]
+    cut = solve_cut_needed(acting.step_us, acting.solve_us, zero.step_us, zero.solve_us)
+    figures = {
+        "ratio": acting.step_us / zero.step_us,
+        "ratio_solve_free": acting.rest_us / zero.rest_us,
+        "solve_cut_needed": cut,
+        "solve_speedup_needed": 1.0 / (1.0 - cut) if cut < 1.0 else math.nan,
+    }
+    return pd.concat([table.reset_index(), pd.DataFrame([{"way": "figures", **figures}])])
+
+
+def solve_cut_needed(step_a: float, solve_a: float, step_z: float, solve_z: float) -> float:
+    """The fraction x of the contact solve's time, cut on both ways alike, at which the
+    acting step ``step_a − x solve_a`` is :data:`TARGET` times the zero-residual step
+    ``step_z − x solve_z`` [µs]: 0 if already within it, NaN if no x in [0, 1) does."""
+    over = step_a - TARGET * step_z
+    if over <= 0.0:
+        return 0.0
+    lever = solve_a - TARGET * solve_z
+    x = over / lever if lever > 0.0 else math.inf
+    return x if x < 1.0 else math.nan
+
+
+def main(argv: list[str] | None = None) -> int:
+    doc = (__doc__ or "").splitlines()[0]
+    parser = argparse.ArgumentParser(prog="python -m pushctl.bench.solve_share", description=doc)
+    parser.add_argument("--repeats", type=int, default=5, help="pushes each way, and timed")
+    parser.add_argument("--out", type=Path, default=None, help="also write the table as CSV")
+    parser.add_argument("--force", action="store_true", help="overwrite an existing --out file")
+    args = parser.parse_args(argv)
+    if args.repeats < 1:
+        print(f"error: --repeats must be an integer >= 1, got {args.repeats}", file=sys.stderr)
+        return 2
+    try:
+        refuse_existing_files("--out", [args.out], args.force)
+    except ConfigError as error:
+        print(f"error: {error}", file=sys.stderr)
+        return 2
+    table = study(args.repeats)
+    with pd.option_context("display.width", 160, "display.max_columns", 20):
+        print(table.to_string(index=False, float_format=lambda v: f"{v:.4g}", na_rep=""))
+    if args.out is not None:
+        command = f"python -m pushctl.bench.solve_share --repeats {args.repeats}"
+        write_csv(args.out, table, provenance_line(command))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
