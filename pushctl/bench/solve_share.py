@@ -139,8 +139,9 @@ def study(repeats: int) -> pd.DataFrame:
 
 
 def summarise(runs: dict[str, list[dict[str, float]]]) -> pd.DataFrame:
-    """Per way the medians over its pushes of ``step_us``, ``solve_us`` and their
-    difference, the mean solves per step; and the ratios of the module docstring."""
+    """Per way the medians over its pushes of the plain and the timed step, the contact
+    solve and the timed step less it (``rest_us``), and the mean solves per step; then the
+    figures of the module docstring."""
     rows = []
     for way in WAYS:
         pushes = runs[way]
@@ -184,7 +185,7 @@ def solve_cut_needed(step_a: float, solve_a: float, step_z: float, solve_z: floa
 def main(argv: list[str] | None = None) -> int:
     doc = (__doc__ or "").splitlines()[0]
     parser = argparse.ArgumentParser(prog="python -m pushctl.bench.solve_share", description=doc)
-    parser.add_argument("--repeats", type=int, default=5, help="pushes each way, and timed")
+    parser.add_argument("--repeats", type=int, default=5, help="pushes each way, each made twice")
     parser.add_argument("--out", type=Path, default=None, help="also write the table as CSV")
     parser.add_argument("--force", action="store_true", help="overwrite an existing --out file")
     args = parser.parse_args(argv)
