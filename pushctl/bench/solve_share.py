@@ -2,7 +2,8 @@
 faster it would have to be for issue 15's item 1 (an acting step ≤ 1.3 × a zero-residual
 one) with everything else as it is (docs/reproducibility-and-speed.md, twenty-third pass).
 
-Run as ``python -m pushctl.bench.solve_share [--repeats 5] [--out FILE] [--force]``.
+Run as ``python -m pushctl.bench.solve_share [--repeats 5] [--drawn] [--out FILE]
+[--force]``.
 ``bench.rl``'s item-1 row on ``Push-v0``'s defaults, taken apart: the cube chirp of
 ``bench.rl``'s :data:`~pushctl.bench.rl.OPTIONS`, a decision every push step, the gate held
 open, pushed with zero actions and with uniform random actions (each repeat's from its own
@@ -11,17 +12,21 @@ plainly (the step's time) and once with the world's contact solve timed (its tim
 same actions, so the same push to the bit. The contact solve is what
 ``SubstepSolver._substep`` hands the MLCP to: the compiled step (the warm and cold loops of
 the friction boxes) and the step in parts (a new contact set, ProxQP's continuations).
+With ``--drawn``, ``bench.rl``'s row over ``Push-v0``'s own scenarios instead: its defaults
+all through, the gate's too, repeat r pushing the scenario ``reset(seed=r)`` draws.
 
 Per way, medians over the repeats of each push's [µs per push step]: the step (the plain
 push), the step with its solve timed, the contact solve, the rest (the timed push's step
-less its solve); and the solves per step. Then, from the medians:
+less its solve); and the solves per step. Then, per repeat (its zero-residual push beside
+its acting one, as ``bench.rl`` pairs them), medians over the repeats of:
 
 - ``ratio``: acting step / zero-residual step, plain pushes (``bench.rl``'s row);
 - ``ratio_solve_free``: the same were the contact solve to cost nothing either way (the
   timed pushes' rests);
 - ``solve_cut_needed``: the fraction x of the contact solve's time, cut on both ways alike,
-  that brings the timed pushes' ratio to 1.3: ``(T_a − x S_a) = 1.3 (T_z − x S_z)``; and
-  ``solve_speedup_needed`` = 1 / (1 − x). NaN where no cut reaches 1.3.
+  that brings the timed pushes' ratio to 1.3: ``(T_a − x S_a) = 1.3 (T_z − x S_z)``
+  (infinite where no cut does: ``unreachable`` counts those repeats); and
+  ``solve_speedup_needed`` = 1 / (1 − x) of the median x.
 
 The split is taken within each timed push, not between two pushes: this machine's speed
 moves between pushes by more than the differences sought.
@@ -84,11 +89,17 @@ class SolveClock:
             delattr(self.world, name)
 
 
-def push(env: PushEnv, act: Callable[[], np.ndarray], clocked: bool) -> dict[str, float]:
-    """One push of the :data:`~pushctl.bench.rl.OPTIONS` scenario with the actions ``act()``
-    (reset not timed): its step [µs per push step], with ``clocked`` also the contact
-    solve's, and its solves per step."""
-    env.reset(options=OPTIONS)
+def push(
+    env: PushEnv, act: Callable[[], np.ndarray], clocked: bool, seed: int | None = None
+) -> dict[str, float]:
+    """One push with the actions ``act()`` (reset not timed), of the
+    :data:`~pushctl.bench.rl.OPTIONS` scenario or, with a ``seed``, of the one
+    ``env.reset(seed=seed)`` draws: its step [µs per push step], with ``clocked`` also the
+    contact solve's, and its solves per step."""
+    if seed is None:
+        env.reset(options=OPTIONS)
+    else:
+        env.reset(seed=seed)
     episode = env.episode
     assert episode is not None
     world = episode.world
@@ -108,10 +119,11 @@ def push(env: PushEnv, act: Callable[[], np.ndarray], clocked: bool) -> dict[str
     }
 
 
-def study(repeats: int) -> pd.DataFrame:
+def study(repeats: int, drawn: bool = False) -> pd.DataFrame:
     """The table of the module docstring: one row per way, then one of the figures drawn
-    from them (see :func:`summarise`)."""
-    env = PushEnv(EnvConfig(gate_threshold=0.0), load_gains())  # Push-v0's, gate open
+    from them (see :func:`summarise`); ``drawn``: over ``Push-v0``'s own scenarios."""
+    config = EnvConfig() if drawn else EnvConfig(gate_threshold=0.0)  # Push-v0's; gate open
+    env = PushEnv(config, load_gains())
     zero = np.zeros(3)
 
     def actions(way: str, seed: int) -> Callable[[], np.ndarray]:
@@ -123,12 +135,13 @@ def study(repeats: int) -> pd.DataFrame:
     runs: dict[str, list[dict[str, float]]] = {way: [] for way in WAYS}
     with _one_core():
         for way in WAYS:  # numba loads the cold path's kernels at its first use: untimed
-            push(env, actions(way, repeats), clocked=False)
+            push(env, actions(way, repeats), clocked=False, seed=repeats if drawn else None)
         for repeat in range(repeats):
             order = WAYS if repeat % 2 == 0 else WAYS[::-1]
+            seed = repeat if drawn else None
             for way in order:
-                plain = push(env, actions(way, repeat), clocked=False)
-                timed = push(env, actions(way, repeat), clocked=True)
+                plain = push(env, actions(way, repeat), clocked=False, seed=seed)
+                timed = push(env, actions(way, repeat), clocked=True, seed=seed)
                 runs[way].append({
                     "step_us": plain["step_us"],
                     "clocked_step_us": timed["step_us"],
@@ -141,7 +154,7 @@ def study(repeats: int) -> pd.DataFrame:
 def summarise(runs: dict[str, list[dict[str, float]]]) -> pd.DataFrame:
     """Per way the medians over its pushes of the plain and the timed step, the contact
     solve and the timed step less it (``rest_us``), and the mean solves per step; then the
-    figures of the module docstring."""
+    figures of the module docstring, from each repeat's pair of pushes."""
     rows = []
     for way in WAYS:
         pushes = runs[way]
@@ -150,24 +163,30 @@ def summarise(runs: dict[str, list[dict[str, float]]]) -> pd.DataFrame:
             "step_us": statistics.median(run["step_us"] for run in pushes),
             "clocked_step_us": statistics.median(run["clocked_step_us"] for run in pushes),
             "solve_us": statistics.median(run["solve_us"] for run in pushes),
-            "rest_us": statistics.median(
-                run["clocked_step_us"] - run["solve_us"] for run in pushes
-            ),
+            "rest_us": statistics.median(_rest(run) for run in pushes),
             "solves_per_step": statistics.fmean(run["solves_per_step"] for run in pushes),
             "pushes": len(pushes),
         })  # fmt: skip
-    table = pd.DataFrame(rows).set_index("way")
-    zero, acting = table.loc["zero"], table.loc["acting"]
-    cut = solve_cut_needed(
-        acting.clocked_step_us, acting.solve_us, zero.clocked_step_us, zero.solve_us
-    )
+    pairs = list(zip(runs["zero"], runs["acting"], strict=True))
+    cuts = [
+        solve_cut_needed(a["clocked_step_us"], a["solve_us"], z["clocked_step_us"], z["solve_us"])
+        for z, a in pairs
+    ]
+    cuts = [math.inf if math.isnan(cut) else cut for cut in cuts]
+    cut = statistics.median(cuts)
     figures = {
-        "ratio": acting.step_us / zero.step_us,
-        "ratio_solve_free": acting.rest_us / zero.rest_us,
+        "ratio": statistics.median(a["step_us"] / z["step_us"] for z, a in pairs),
+        "ratio_solve_free": statistics.median(_rest(a) / _rest(z) for z, a in pairs),
         "solve_cut_needed": cut,
-        "solve_speedup_needed": 1.0 / (1.0 - cut) if cut < 1.0 else math.nan,
+        "solve_speedup_needed": 1.0 / (1.0 - cut) if cut < 1.0 else math.inf,
+        "unreachable": sum(math.isinf(cut) for cut in cuts),
     }
-    return pd.concat([table.reset_index(), pd.DataFrame([{"way": "figures", **figures}])])
+    return pd.concat([pd.DataFrame(rows), pd.DataFrame([{"way": "figures", **figures}])])
+
+
+def _rest(run: dict[str, float]) -> float:
+    """A timed push's step less its contact solve [µs per push step]."""
+    return run["clocked_step_us"] - run["solve_us"]
 
 
 def solve_cut_needed(step_a: float, solve_a: float, step_z: float, solve_z: float) -> float:
@@ -186,6 +205,7 @@ def main(argv: list[str] | None = None) -> int:
     doc = (__doc__ or "").splitlines()[0]
     parser = argparse.ArgumentParser(prog="python -m pushctl.bench.solve_share", description=doc)
     parser.add_argument("--repeats", type=int, default=5, help="pushes each way, each made twice")
+    parser.add_argument("--drawn", action="store_true", help="Push-v0's own scenarios")
     parser.add_argument("--out", type=Path, default=None, help="also write the table as CSV")
     parser.add_argument("--force", action="store_true", help="overwrite an existing --out file")
     args = parser.parse_args(argv)
@@ -197,11 +217,12 @@ def main(argv: list[str] | None = None) -> int:
     except ConfigError as error:
         print(f"error: {error}", file=sys.stderr)
         return 2
-    table = study(args.repeats)
+    table = study(args.repeats, args.drawn)
     with pd.option_context("display.width", 160, "display.max_columns", 20):
         print(table.to_string(index=False, float_format=lambda v: f"{v:.4g}", na_rep=""))
     if args.out is not None:
-        command = f"python -m pushctl.bench.solve_share --repeats {args.repeats}"
+        drawn = " --drawn" if args.drawn else ""
+        command = f"python -m pushctl.bench.solve_share --repeats {args.repeats}{drawn}"
         write_csv(args.out, table, provenance_line(command))
     return 0
 

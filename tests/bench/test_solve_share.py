@@ -57,14 +57,22 @@ def test_a_clocked_push_is_the_same_push() -> None:
     assert finals[0] == finals[1]
 
 
-def test_one_repeat_study_splits_each_step() -> None:
-    table = study(1).set_index("way")
+@pytest.mark.parametrize("drawn", [False, True])
+def test_one_repeat_study_splits_each_step(drawn) -> None:
+    table = study(1, drawn).set_index("way")
     for way in ("zero", "acting"):
         row = table.loc[way]
         assert 0.0 < row["solve_us"] < row["clocked_step_us"]
         assert row["rest_us"] == pytest.approx(row["clocked_step_us"] - row["solve_us"])
-    assert table.loc["acting", "solves_per_step"] > table.loc["zero", "solves_per_step"]
     figures = table.loc["figures"]
-    assert figures["ratio"] == pytest.approx(
-        table.loc["acting", "step_us"] / table.loc["zero", "step_us"]
-    )
+    zero, acting = table.loc["zero"], table.loc["acting"]
+    assert figures["ratio"] == pytest.approx(acting["step_us"] / zero["step_us"])
+    assert figures["ratio_solve_free"] == pytest.approx(acting["rest_us"] / zero["rest_us"])
+    x = figures["solve_cut_needed"]
+    assert figures["unreachable"] == (1 if math.isinf(x) else 0)
+    if 0.0 < x < 1.0:  # the cut brings the timed pushes to the target
+        cut_acting = acting["clocked_step_us"] - x * acting["solve_us"]
+        cut_zero = zero["clocked_step_us"] - x * zero["solve_us"]
+        assert cut_acting == pytest.approx(1.3 * cut_zero)
+    if not drawn:  # the cube chirp's random actions slip the prongs
+        assert acting["solves_per_step"] > zero["solves_per_step"]
