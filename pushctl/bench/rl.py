@@ -5,15 +5,14 @@ the ``paper`` preset's network size and batch, and training collection beside ra
 
 from __future__ import annotations
 
-import os
 import statistics
 import time
-from contextlib import contextmanager
 from dataclasses import replace
 from typing import Any
 
 import numpy as np
 
+from pushctl.bench.engines import pinned_to_one_core
 from pushctl.control.gains import load_gains
 from pushctl.rl.collect import Behaviour, collect_episodes, episode_rngs, portable
 from pushctl.rl.ddpg import DDPGAgent, configure_torch
@@ -153,7 +152,7 @@ def collection_rows(
     every_step = PushEnv(EnvConfig(gate_threshold=0.0), gains)  # Push-v0's defaults
     ratios: dict[str, list[float]] = {"together": [], "alone": []}
     rates: dict[str, list[float]] = {"raw": [], "together": [], "alone": []}
-    with _one_core():
+    with pinned_to_one_core():
         for repeat in range(repeats):
             round_ = list(range(1000 + repeat * episodes, 1000 + (repeat + 1) * episodes))
             raw = _rate(_raw_steps, raw_env, round_)
@@ -269,20 +268,6 @@ def _rate(run, *args: Any) -> float:
     start = time.perf_counter()
     steps = run(*args)
     return steps / (time.perf_counter() - start)
-
-
-@contextmanager
-def _one_core():
-    """Pin this process to one of its cores while timing (a no-op where unsupported)."""
-    if not hasattr(os, "sched_setaffinity"):
-        yield
-        return
-    allowed = os.sched_getaffinity(0)
-    os.sched_setaffinity(0, {min(allowed)})
-    try:
-        yield
-    finally:
-        os.sched_setaffinity(0, allowed)
 
 
 if __name__ == "__main__":  # python -m pushctl.bench.rl: the collection rows alone

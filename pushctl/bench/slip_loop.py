@@ -39,7 +39,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from pushctl.bench.rl import _one_core
+from pushctl.bench.engines import pinned_to_one_core
 from pushctl.contact.world import MAX_SLIP_ITERATIONS
 from pushctl.episode.metrics import compute_metrics
 from pushctl.errors import ConfigError
@@ -99,7 +99,7 @@ def study(pushes: int, settings: list[int], environment: str = "training") -> pd
     names: list[str | int] = [MAX_SLIP_ITERATIONS, CHAOS]
     names += [k for k in settings if k != MAX_SLIP_ITERATIONS]
     rows = []
-    with _one_core():
+    with pinned_to_one_core():
         for gate, threshold in GATES.items():
             env = PushEnv(replace(ENVIRONMENTS[environment], gate_threshold=threshold))
             push_once(env, pushes, MAX_SLIP_ITERATIONS, 0.0, gate)  # numba's caches, untimed

@@ -46,7 +46,8 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from pushctl.bench.rl import OPTIONS, _one_core
+from pushctl.bench.engines import pinned_to_one_core
+from pushctl.bench.rl import OPTIONS
 from pushctl.control.gains import load_gains
 from pushctl.errors import ConfigError
 from pushctl.output_guard import refuse_existing_files
@@ -133,7 +134,7 @@ def study(repeats: int, drawn: bool = False) -> pd.DataFrame:
         return lambda: rng.uniform(-1.0, 1.0, 3)
 
     runs: dict[str, list[dict[str, float]]] = {way: [] for way in WAYS}
-    with _one_core():
+    with pinned_to_one_core():
         for way in WAYS:  # numba loads the cold path's kernels at its first use: untimed
             push(env, actions(way, repeats), clocked=False, seed=repeats if drawn else None)
         for repeat in range(repeats):
