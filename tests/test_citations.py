@@ -1,6 +1,7 @@
-"""Every "§" citation in the package, the tests, the docs, the experiments and the README names
-a numbered section of a file that is in the repository (docs/design.md, docs/kinova-facts.md,
-...), so a reader who clones it never follows a citation into a dead end.
+"""Every "§" citation in the package, the tests, the docs, the experiments, the benchmarks, the
+studies and the README names a numbered section of a file that is in the repository
+(docs/design.md, docs/kinova-facts.md, ...), so a reader who clones it never follows a
+citation into a dead end.
 
 A citation is ``FILE.md §N`` (also ``FILE.md's §N``, lists ``§6, §9``, ``§7 and §9`` and ranges
 ``§1–§7``, ``§3–4``), FILE a path from the repository root or from the citing file's folder.
@@ -54,6 +55,8 @@ def citing_files() -> list[Path]:
         ("tests", {".py", ".md", ".toml"}),
         ("docs", {".md"}),
         ("experiments", {".toml", ".md"}),
+        ("benchmarks", {".py", ".md"}),
+        ("studies", {".py", ".md"}),
     ):
         files += [p for p in sorted((ROOT / folder).rglob("*")) if p.suffix in suffixes]
     return [p for p in files if p.resolve() != Path(__file__).resolve()]

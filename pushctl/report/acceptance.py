@@ -10,7 +10,7 @@ difference's whole interval is below zero (RL lower on these trials beyond their
 Beside it the table gives in how many of the cell's trials RL was lower: the interval is a
 mean's, so one trial where RL rescued a push PD-only failed (a difference of −100 % among
 differences of −2 %) can widen it past zero while RL is lower in nearly every trial
-(docs/results.md §0, the `sim` wedge constant).
+(docs/results.md).
 """
 
 from __future__ import annotations
