@@ -136,9 +136,9 @@ def test_the_tour_evaluates_and_reports_with_real_options() -> None:
 
 def test_readme_table_is_the_shipped_results(tmp_path: Path) -> None:
     """The *Does it work?* table shows the committed `results/` as
-    `python -m pushctl.report.readme_table results` renders them, so a regenerated run
+    `python -m studies.readme_table results` renders them, so a regenerated run
     that leaves the README behind fails here; a missing table is a one-line error."""
-    from pushctl.report.readme_table import main, readme_rows
+    from studies.readme_table import main, readme_rows
 
     section = README.read_text().split("\n## Does it work?\n")[1].split("\n## ")[0]
     shown = [line for line in section.splitlines() if line.startswith(("| cube", "| wedge"))]
