@@ -1,7 +1,7 @@
-"""The acceptance of the learned residual read from an evaluation's ``trials.csv``: per cell, plant and
-training seed, RL-assisted against PD-only (and against ``feedback``) on translation and
-angle error, as paired differences over the cell's trials with their 95 % confidence
-interval, and the ratio of the means.
+"""The acceptance of the learned residual, read from an evaluation's ``trials.csv``: per
+cell, plant and training seed, RL-assisted against PD-only (and against ``feedback``) on
+translation and angle error, as paired differences over the cell's trials with their 95 %
+confidence interval, and the ratio of the means.
 
 Run ``python -m studies.acceptance results/evaluation/trials.csv``: Markdown tables
 per plant, then a per-cell summary (:func:`cell_summary`: RL over every policy against

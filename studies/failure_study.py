@@ -8,8 +8,8 @@ seeds ``seed`` … ``seed + 6·per_case − 1``), never the evaluation's; the ga
 ``experiments/feedback_gains.toml``'s k and k_i whatever the setting, or the ``K`` and
 ``K_I`` given. ``python -m studies.failure_study ...`` prints:
 
-- ``[SEED] [PER_CASE] [K K_I]``: the bounds' table (:data:`SETTINGS`; about ten minutes at the defaults
-  on one core);
+- ``[SEED] [PER_CASE] [K K_I]``: the bounds' table (:data:`SETTINGS`; about ten minutes at
+  the defaults on one core);
 - ``turn [SEED PER_CASE K K_I]``: the turn cap's (:data:`TURN_SETTINGS`);
 - ``smoothing PLANT [SEED PER_CASE K K_I]``: the output lag's on ``PLANT``;
 - ``seek PLANT [SEED PER_CASE K K_I]``: the contact-seeking turn's rate on ``PLANT``
