@@ -104,7 +104,9 @@ def transfer_markdown(trials_path: Path, results: Path = SHIPPED) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(
+        prog="python -m studies.mujoco_transfer", description=__doc__.splitlines()[0]
+    )
     parser.add_argument("--trials", type=Path, required=True, help="trials.csv with mujoco rows")
     parser.add_argument("--results", type=Path, default=SHIPPED, help="shipped tables' folder")
     parser.add_argument("--docs", type=Path, help="page whose transfer block to rewrite")

@@ -254,7 +254,9 @@ def replace_block(text: str, block: str, begin: str = BEGIN, end: str = END) -> 
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(
+        prog="python -m studies.mujoco_validation", description=__doc__.splitlines()[0]
+    )
     parser.add_argument("--docs", type=Path, help="page whose generated block to rewrite")
     args = parser.parse_args(argv)
     block = validation_markdown()

@@ -95,7 +95,9 @@ def main(argv: list[str] | None = None) -> int:
     from pushctl.output_guard import refuse_existing_files
     from pushctl.provenance import provenance_line, write_csv
 
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(
+        prog="python -m studies.pd_sweep", description=__doc__.splitlines()[0]
+    )
     parser.add_argument("--plant", choices=("sim", "proxy", "nominal"), default="sim")
     parser.add_argument("--seeds", type=int, default=8)
     parser.add_argument("--stream", choices=("training", "tuning"), default="training")
