@@ -261,7 +261,7 @@ def test_the_steps_are_compressed_from_this_run_s_file_to_the_same_bytes_each_ti
 def test_every_shipped_file_of_the_reproduction_names_its_commit() -> None:
     """Each file ``make reproduce-tables`` wrote into the shipped ``results/`` (the tables,
     trials, per-step means, curves, bench) names the commit of ``results/provenance.md``:
-    none is left over from an earlier run (a hand-compressed ``steps.csv.gz`` once was)."""
+    none is left over from an earlier run."""
     import re
 
     results = Path(__file__).resolve().parents[2] / "results"
