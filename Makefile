@@ -4,7 +4,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: install test lint bench reproduce-tables clean
+.PHONY: install test lint bench reproduce-tables pd-sweep digests clean
 
 NATIVE := pushctl/native/lib/libpushctl_native.so
 
@@ -29,29 +29,34 @@ test: install
 	$(PY) -m pytest -q
 
 lint: install
-	$(PY) -m ruff check pushctl tests
-	$(PY) -m ruff format --check pushctl tests
+	$(PY) -m ruff check pushctl tests benchmarks studies
+	$(PY) -m ruff format --check pushctl tests benchmarks studies
 	$(PY) -m mypy pushctl
 
-# bench.compare: this tree against 551bcac side by side (git archive, interleaved children),
-# then against ac82d3c (before the step with the plant unknowns got cheaper:
-# docs/reproducibility-and-speed.md); bench.evaluation: a short `pushctl evaluate` against
-# 998b653, timed and compared byte for byte (docs/evaluation-speed.md); bench.training: a
-# short paper-shaped `pushctl train` against aee9d1d, likewise (docs/training-speed.md).
+# Timings of this tree beside MuJoCo's, one core, the engines interleaved, medians
+# (benchmarks/): results/bench.csv and the table of docs/performance.md. Comparisons with
+# another commit are opt-in: python -m benchmarks.compare_commits step --against REV.
 bench: install
-	$(PY) -m pushctl.bench --profile --out results/bench.csv --force
-	$(PY) -m pushctl.bench.compare --against 551bcac --out results/bench_compare.csv --force
-	$(PY) -m pushctl.bench.compare --against ac82d3c --out results/bench_compare_unknowns.csv --force
-	$(PY) -m pushctl.bench.evaluation --against 998b653 --out results/bench_evaluation.csv --force
-	$(PY) -m pushctl.bench.training --against aee9d1d --out results/bench_training.csv --force
+	$(PY) -m benchmarks.suite --out results/bench.csv --page docs/performance.md --force
 
 # Train (paper preset, seeds $(SEEDS) on Ray), evaluate (50 trials x 2 objects x 3 profiles x
-# 2 controllers x 2 plants), report, bench; QUICK=1: quick preset, 4 trials, into results-quick/;
-# SEEDS=0: one training seed; PRESET=quick: another training preset, full evaluation
-# (pushctl/cli/reproduce.py).
+# every controller x the plants sim, proxy and mujoco), report, bench: `pushctl reproduce`.
+# QUICK=1: quick preset, 4 trials, into results-quick/; SEEDS=0: one training seed;
+# PRESET=quick: another training preset, full evaluation; FORCE=1: overwrite a results
+# directory an earlier reproduction did not make.
 SEEDS ?= 0,1,2
 reproduce-tables: install
-	$(PY) -m pushctl.cli.reproduce $(if $(filter 1,$(QUICK)),--quick,) $(if $(filter 1,$(FORCE)),--force,) --seeds $(SEEDS) $(if $(PRESET),--preset $(PRESET),)
+	$(PY) -m pushctl.cli reproduce $(if $(filter 1,$(QUICK)),--quick,) $(if $(filter 1,$(FORCE)),--force,) --seeds $(SEEDS) $(if $(PRESET),--preset $(PRESET),)
+
+# The PD baseline on drawn scenarios (studies/pd_sweep.py): results/pd_sweep_{sim,proxy}.csv.
+pd-sweep: install
+	$(PY) -m studies.pd_sweep --plant sim --out results/pd_sweep_sim.csv --force
+	$(PY) -m studies.pd_sweep --plant proxy --out results/pd_sweep_proxy.csv --force
+
+# After a change meant to move results and a new `make reproduce-tables`: record the shipped
+# files' digests and the short runs' (tests/shipped_digests.py) that `make test` checks.
+digests: install
+	$(PY) tests/shipped_digests.py --record
 
 clean:
 	rm -rf $(VENV) .pytest_cache

@@ -29,8 +29,7 @@ from pushctl.errors import ConfigError, MLCPInputError, PushctlError, StateError
 # plugin loader ("gymnasium.envs" group), so pyproject.toml declares none. Without an import,
 # gymnasium.make("pushctl:pushctl/Push-v0") imports pushctl first (Gymnasium's module prefix).
 from pushctl.rl import ENV_ID  # noqa: E402
-
-__version__ = "0.1.0"
+from pushctl.version import VERSION as __version__  # noqa: E402
 
 __all__ = [
     "ENV_ID",

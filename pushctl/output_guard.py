@@ -4,8 +4,8 @@ A command refuses, with one line naming ``--force``, to write
 
 - into an output *directory* that already holds files (``pushctl evaluate``, ``pushctl train``),
 - over an output *file* that already exists (``plan``/``simulate`` ``--out``/``--plot``,
-  ``tune-pd``, ``report``'s tables and figures, ``python -m pushctl.bench``,
-  ``python -m pushctl.evaluation.pd_sweep``),
+  ``tune-pd``, ``report``'s tables and figures, ``python -m benchmarks.suite``,
+  ``python -m studies.pd_sweep``),
 
 unless the user passed ``--force``. The checks run before any work, so a refused command
 costs nothing; the files are then written atomically (:func:`pushctl.provenance.write_atomic`),

@@ -15,7 +15,10 @@ from pathlib import Path
 
 import pandas as pd
 
-import pushctl
+from pushctl.version import VERSION
+
+PACKAGE = Path(__file__).resolve().parent
+"""The package's directory: where :func:`git_commit` looks for the source tree."""
 
 
 def git_commit(source: Path | None = None) -> str:
@@ -23,7 +26,7 @@ def git_commit(source: Path | None = None) -> str:
     this package's), with ``-dirty`` if a tracked file outside ``results/`` differs from the
     commit (the results a run writes do not make the code that wrote them dirty), or
     ``unknown`` outside git."""
-    source = source if source is not None else Path(pushctl.__file__).parent
+    source = source if source is not None else PACKAGE
     try:
         described = _git(["describe", "--always"], source)
         changed = _git(
@@ -56,7 +59,7 @@ def provenance_line(command: str | None = None, extra: str = "") -> str:
     the options of :data:`NOT_RECORDED` (:func:`recorded_argv`)."""
     command = command or " ".join([Path(sys.argv[0]).name, *recorded_argv(sys.argv[1:])])
     tail = f"; {extra}" if extra else ""
-    return f"# made by: {command}; pushctl {pushctl.__version__}; commit {git_commit()}{tail}"
+    return f"# made by: {command}; pushctl {VERSION}; commit {git_commit()}{tail}"
 
 
 def recorded_argv(argv: list[str]) -> list[str]:

@@ -1,5 +1,7 @@
 """The package's layout shows its architecture: no import cycle between pushctl's modules,
-imports flowing one way through the layers, and a top level holding only the shared basics.
+imports flowing one way through the layers (no exceptions), a top level holding only the
+shared basics, modules short enough to read, one command line, and nothing in the installed
+package that belongs to the checkout (the benchmarks and studies).
 
 The import graph is read from the source with :mod:`ast` (every ``import`` statement,
 including those inside functions and under ``TYPE_CHECKING``: a deferred import is still a
@@ -11,9 +13,12 @@ from __future__ import annotations
 import ast
 from pathlib import Path
 
-import pytest
+import tomllib
 
-PACKAGE = Path(__file__).resolve().parents[1] / "pushctl"
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGE = ROOT / "pushctl"
+MAX_LINES = 400
+"""No module longer than this: one job, read at once."""
 
 TOP_LEVEL = {
     "__init__.py",
@@ -29,30 +34,32 @@ TOP_LEVEL = {
     "proxqp_build.py",  # ProxQP from its portable build, for planning and contact alike
     "machine.py",  # the kind of machine a run's last bits belong to (its manifest says)
     "kernel_cache.py",  # numba's cached kernels dropped when a file they compile in changed
+    "version.py",  # the version every provenance line names
 }
 
-# Layer of each subpackage (and of the few modules that sit above their package's layer):
-# a module may import only modules of its own layer or lower. cli → evaluation / rl →
-# episode → control / planning → contact → arm / objects, with the shared basics below all.
+# The layer of each subpackage or top-level module (an entry for a module inside a package
+# sets that module's own layer: the distributed package spans two). A module may import only
+# modules of its own layer or lower. cli → evaluation / rl → episode → control / planning →
+# contact / mujoco → arm / objects, with the shared basics below all; ``pushctl`` itself (the
+# public API, which re-exports from below) above all. A new subpackage or top-level module
+# gets its entry here.
 LAYERS = {
+    "pushctl": 10,  # only the package's own __init__: its API re-exports from every layer
     "pushctl.cli": 9,
-    "pushctl.bench": 9,
     "pushctl.report": 8,  # tables and figures from the evaluation's results
-    "pushctl.mujoco.transfer": 8,  # a study: the evaluation on MuJoCo beside the report's
     "pushctl.distributed.seeds": 7,  # several training runs on Ray
     "pushctl.distributed.sweep": 7,
     "pushctl.distributed.sweep_config": 7,
     "pushctl.evaluation": 6,
     "pushctl.rl": 5,
     "pushctl.episode": 4,
-    "pushctl.mujoco.validation": 4,  # a study: our world against MuJoCo in episodes
     "pushctl.control": 3,
     "pushctl.planning": 3,
     "pushctl.contact": 2,
     "pushctl.mujoco": 2,  # the other engine: a peer of contact (pushctl.contact.build picks)
     "pushctl.arm": 1,
     "pushctl.objects": 1,
-    "pushctl.distributed.engine": 0,  # the Ray session and worker pool: infrastructure
+    "pushctl.distributed": 0,  # the Ray session and worker pool: infrastructure
     "pushctl.native": 0,  # the compiled library (Pinocchio's, ProxSuite's calls): no pushctl
     "pushctl.types": 0,
     "pushctl.errors": 0,
@@ -64,7 +71,13 @@ LAYERS = {
     "pushctl.proxqp_build": 0,
     "pushctl.machine": 0,
     "pushctl.kernel_cache": 0,
+    "pushctl.version": 0,
 }
+CHECKOUT_ONLY = ("benchmarks", "studies")
+"""Top-level directories of the checkout that are not installed: the package never imports
+them."""
+COMMAND_LINE_MAIN = PACKAGE / "cli" / "__main__.py"
+"""The package's one ``__main__``: ``python -m pushctl.cli``, the ``pushctl`` command."""
 
 
 def _modules() -> dict[str, tuple[Path, bool]]:
@@ -135,9 +148,12 @@ def find_cycle(graph: dict[str, set[str]]) -> list[str] | None:
 
 
 def layer(module: str) -> int | None:
-    """The layer of ``module``: its own entry, else its closest package's."""
+    """The layer of ``module``: its own entry, else its closest package's below the root
+    (the root's entry is the package's ``__init__`` alone)."""
+    if module == "pushctl":
+        return LAYERS["pushctl"]
     name = module
-    while name:
+    while name != "pushctl":
         if name in LAYERS:
             return LAYERS[name]
         name = name.rpartition(".")[0]
@@ -166,11 +182,7 @@ def test_find_cycle_finds_one() -> None:
 def test_imports_flow_one_way_through_the_layers() -> None:
     upward = []
     for module, targets in import_graph().items():
-        if module == "pushctl":
-            continue  # the public API: it re-exports from below and registers Push-v0
         for target in targets:
-            if target == "pushctl":
-                continue  # ``import pushctl`` for __version__; covered by the cycle test
             assert layer(module) is not None, f"{module} has no layer in LAYERS"
             assert layer(target) is not None, f"{target} has no layer in LAYERS"
             if layer(target) > layer(module):
@@ -179,11 +191,46 @@ def test_imports_flow_one_way_through_the_layers() -> None:
     assert upward == []
 
 
+def test_the_layers_are_read() -> None:
+    assert layer("pushctl") == 10 and layer("pushctl.cli.plan") == 9
+    assert layer("pushctl.distributed.seeds") == 7 and layer("pushctl.distributed.engine") == 0
+    assert layer("pushctl.nowhere") is None  # a new top-level module needs its entry
+
+
 def test_the_core_never_imports_the_command_line() -> None:
     for module, targets in import_graph().items():
-        if module.startswith(("pushctl.cli", "pushctl.bench")):
+        if module.startswith("pushctl.cli") or module == "pushctl":
             continue
-        assert not {t for t in targets if t.startswith(("pushctl.cli", "pushctl.bench"))}, module
+        assert not {t for t in targets if t.startswith("pushctl.cli")}, module
+
+
+def _imported_top_level_names(path: Path) -> set[str]:
+    names = set()
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.Import):
+            names |= {alias.name.split(".")[0] for alias in node.names}
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            names.add(node.module.split(".")[0])
+    return names
+
+
+def test_the_package_never_imports_the_checkout_s_benchmarks_or_studies() -> None:
+    importers = {
+        path.relative_to(ROOT).as_posix()
+        for path in PACKAGE.rglob("*.py")
+        if _imported_top_level_names(path) & set(CHECKOUT_ONLY)
+    }
+    assert importers == set()
+
+
+def test_the_installed_package_holds_no_benchmarks_or_studies() -> None:
+    """Only ``pushctl*`` is packaged; the benchmarks and studies live beside it, each a
+    package of its own run from the checkout (``python -m benchmarks.suite``)."""
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text())
+    assert project["tool"]["setuptools"]["packages"]["find"]["include"] == ["pushctl*"]
+    assert not (PACKAGE / "bench").exists()
+    for directory in CHECKOUT_ONLY:
+        assert (ROOT / directory / "__init__.py").is_file(), directory
 
 
 def test_top_level_holds_only_the_shared_basics() -> None:
@@ -191,10 +238,39 @@ def test_top_level_holds_only_the_shared_basics() -> None:
     assert files == TOP_LEVEL
 
 
-@pytest.mark.parametrize("package", ["cli", "bench"])
-def test_command_line_and_benchmarks_are_packages(package: str) -> None:
-    assert (PACKAGE / package / "__init__.py").is_file()
-    assert (PACKAGE / package / "__main__.py").is_file()  # python -m pushctl.cli / .bench
+def test_no_module_is_longer_than_the_limit() -> None:
+    lengths = {
+        path.relative_to(ROOT).as_posix(): len(path.read_text().splitlines())
+        for path in PACKAGE.rglob("*.py")
+    }
+    assert len(lengths) > 100
+    assert {name: n for name, n in sorted(lengths.items()) if n > MAX_LINES} == {}
+
+
+def _has_main_block(path: Path) -> bool:
+    """Whether the module runs code under ``if __name__ == "__main__":``."""
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.If) and isinstance(node.test, ast.Compare):
+            sides = [node.test.left, *node.test.comparators]
+            if any(isinstance(side, ast.Name) and side.id == "__name__" for side in sides):
+                return True
+    return False
+
+
+def test_the_command_line_is_the_package_s_one_entry_point() -> None:
+    """One command line (Typer's ``pushctl``): no module of the package is a script of its
+    own, and the one ``__main__.py`` is the command line's (``python -m pushctl.cli``)."""
+    mains = sorted(path.relative_to(ROOT).as_posix() for path in PACKAGE.rglob("__main__.py"))
+    assert mains == [COMMAND_LINE_MAIN.relative_to(ROOT).as_posix()]
+    scripts = sorted(
+        path.relative_to(ROOT).as_posix() for path in PACKAGE.rglob("*.py") if _has_main_block(path)
+    )
+    assert scripts == []
+
+
+def test_a_main_block_is_found() -> None:
+    assert _has_main_block(ROOT / "benchmarks" / "suite.py")
+    assert not _has_main_block(PACKAGE / "cli" / "reproduce.py")
 
 
 def test_the_command_line_loads_no_heavy_library_until_a_command_runs() -> None:

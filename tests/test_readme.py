@@ -144,10 +144,7 @@ def test_readme_table_is_the_shipped_results(tmp_path: Path) -> None:
     """The *Does it work?* table shows the committed `results/` as
     `python -m studies.readme_table results` renders them, so a regenerated run
     that leaves the README behind fails here; a missing table is a one-line error."""
-    try:
-        from studies.readme_table import main, readme_rows
-    except ModuleNotFoundError:  # before the studies left the package
-        from pushctl.report.readme_table import main, readme_rows
+    from studies.readme_table import main, readme_rows
 
     section = readme_section("Does it work?")
     shown = [line for line in section.splitlines() if line.startswith(("| cube", "| wedge"))]

@@ -8,9 +8,9 @@ that work in a ``*_steps`` module imported only when the command runs, so ``push
   ``tune-feedback`` (:mod:`pushctl.cli.tune_feedback_steps`), ``train``
   (:mod:`pushctl.cli.train_steps`; ``--seeds``: :mod:`pushctl.cli.train_seeds`),
   ``evaluate`` (:mod:`pushctl.cli.evaluate_steps`), ``report``
-  (:mod:`pushctl.cli.report_steps`) and ``sweep``;
-- :mod:`pushctl.cli.common`: consoles, the one-line failure, provenance, atomic writes;
-- :mod:`pushctl.cli.reproduce`: ``make reproduce-tables``, which runs these commands.
+  (:mod:`pushctl.cli.report_steps`), ``sweep`` and ``reproduce``
+  (:mod:`pushctl.cli.reproduce_steps`: ``make reproduce-tables``, which runs the others);
+- :mod:`pushctl.cli.common`: consoles, the one-line failure, provenance, atomic writes.
 
 The core never imports this package: imports flow cli → evaluation / rl → episode →
 control / planning → contact → arm / objects (tests/test_layout.py).
@@ -25,6 +25,7 @@ from pushctl.cli import (
     info,
     plan,
     report,
+    reproduce,
     simulate,
     sweep,
     train,
@@ -44,7 +45,8 @@ def _main() -> None:
     """pushctl: multi-point object pushing experiments."""
 
 
-for _command in (info, plan, simulate, tune_pd, tune_feedback, train, evaluate, report, sweep):
+_COMMANDS = (info, plan, simulate, tune_pd, tune_feedback, train, evaluate, report, sweep)
+for _command in (*_COMMANDS, reproduce):  # reproduce: make reproduce-tables, the others in turn
     app.add_typer(_command.app)
 
 __all__ = ["app"]

@@ -38,7 +38,7 @@ WORKER_NICENESS = 0
 ``worker_niceness``, an increment to the niceness they inherit). Ray's default, 15, keeps a
 cluster's driver responsive; here the workers do all of a command's work while the driver
 waits, and at 15 a worker's 0.64 s of work took 18.3 s beside a normal-priority process
-spinning on its core (28×; 2.1× at 0: ``python -m pushctl.bench.worker_priority``). At 0
+spinning on its core (28×; 2.1× at 0: ``python -m benchmarks.worker_priority``). At 0
 they run at the priority of the command that started them: ``nice pushctl train`` still
 runs it all niced (docs/ray.md, *Ray on a laptop*)."""
 AHEAD = 4

@@ -56,7 +56,7 @@ def prong_site_name(i: int) -> str:
 @dataclass(frozen=True)
 class MujocoSettings:
     """Solver and contact parameters of the MuJoCo scene (chosen by measurement, see
-    docs/mujoco.md and :mod:`pushctl.mujoco.validation`).
+    docs/mujoco.md and studies/mujoco_validation.py).
 
     ``substeps``: MuJoCo steps per control step (timestep = dt / substeps). ``cone``:
     ``elliptic`` or ``pyramidal``. ``solref_*`` (time constant [s], damping ratio) and

@@ -12,9 +12,10 @@ import pytest
 from synthetic_results import write_results
 from typer.testing import CliRunner
 
-from pushctl.bench import suite as bench
-from pushctl.cli import app, reproduce
-from pushctl.cli.reproduce import MANIFEST, QUICK
+from pushctl.cli import app
+from pushctl.cli import reproduce_plan as plan
+from pushctl.cli import reproduce_steps as reproduce
+from pushctl.cli.reproduce_plan import MANIFEST, QUICK
 from pushctl.control.gains import PDGains, gains_toml
 
 runner = CliRunner()
@@ -143,27 +144,7 @@ def test_train_twice_into_one_run_directory_and_resume(tmp_path: Path) -> None:
     assert _snapshot(*sorted(out.iterdir())) == before  # started over: the same bytes
 
 
-def test_bench_refuses_an_existing_csv(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture
-) -> None:
-    out = tmp_path / "bench.csv"
-    out.write_text("shipped\n")
-    ran: list[int] = []
-
-    def tiny(repeats: int) -> list[dict]:
-        ran.append(repeats)
-        return [{"name": "x", "value": 1.0, "unit": "µs", "note": "test"}]
-
-    monkeypatch.setattr(bench, "run_benchmarks", tiny)
-    assert bench.main(["--out", str(out), "--repeats", "1"]) == 2
-    error = capsys.readouterr().err.strip()
-    assert error.startswith("error:") and "--force" in error and len(error.splitlines()) == 1
-    assert out.read_text() == "shipped\n" and ran == []  # refused before any timing
-    assert bench.main(["--out", str(out), "--repeats", "1", "--force"]) == 0
-    assert ran == [1] and out.read_text().startswith("# made by:")
-
-
-# --- make reproduce-tables ----------------------------------------------------------------
+# --- pushctl reproduce (make reproduce-tables) ----------------------------------------------------
 
 
 def _setup(tmp_path: Path):
@@ -172,7 +153,7 @@ def _setup(tmp_path: Path):
 
 def _fake_steps(record: list[list[str]]):
     """Each step as a no-op subprocess; ``record`` receives the real argv."""
-    real = reproduce.steps
+    real = plan.steps
 
     def steps(setup):
         listed = real(setup)
@@ -184,13 +165,13 @@ def _fake_steps(record: list[list[str]]):
 
 def test_reproduce_refuses_a_results_directory_it_did_not_make(tmp_path: Path) -> None:
     setup = _setup(tmp_path)
-    assert reproduce.check_owned(setup) is None  # absent
+    assert plan.check_owned(setup) is None  # absent
     setup.results.mkdir()
-    assert reproduce.check_owned(setup) is None  # empty
+    assert plan.check_owned(setup) is None  # empty
     (setup.results / "table3.csv").write_text("someone else's\n")
-    refusal = reproduce.check_owned(setup)
+    refusal = plan.check_owned(setup)
     assert refusal is not None and "--force" in refusal and len(refusal.splitlines()) == 1
-    assert reproduce.check_owned(replace(setup, force=True)) is None
+    assert plan.check_owned(replace(setup, force=True)) is None
 
 
 def test_reproduce_resumes_into_what_it_made(
@@ -210,46 +191,29 @@ def test_reproduce_resumes_into_what_it_made(
     assert "--resume" not in train and "--force" not in train  # a fresh run
     assert evaluate[-1] == "--force" and report[-1] == "--force"
     (setup.results / "table3.csv").write_text("an earlier reproduction's\n")
-    assert reproduce.check_owned(setup) is None  # its own manifest is there
+    assert plan.check_owned(setup) is None  # its own manifest is there
     # Stopped before the run's first checkpoint: its files are this reproduction's.
     setup.run.mkdir(parents=True)
     (setup.run / "curve.csv").write_text("partial\n")
-    assert reproduce.steps(setup)[0][1][-1] == "--force"
-    seed_run = reproduce.seed_run(setup, setup.seeds[0])  # train --seeds: RUN/seed-K/
+    assert plan.steps(setup)[0][1][-1] == "--force"
+    seed_run = plan.seed_run(setup, setup.seeds[0])  # train --seeds: RUN/seed-K/
     seed_run.mkdir(parents=True)
     (seed_run / "checkpoint.pt").write_bytes(b"x")
-    assert reproduce.steps(setup)[0][1][-1] == "--resume"
+    assert plan.steps(setup)[0][1][-1] == "--resume"
     # A run directory the manifest does not name is left to train's own refusal.
     other = replace(setup, run=tmp_path / "runs" / "other")
     other.run.mkdir()
     (other.run / "curve.csv").write_text("someone else's\n")
     assert other.run.name not in (setup.results / MANIFEST).read_text()
-    assert "--force" not in reproduce.steps(other)[0][1]
+    assert "--force" not in plan.steps(other)[0][1]
 
 
-def test_reproduce_main_refuses_with_one_line(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture
-) -> None:
+def test_reproduce_refuses_with_one_line(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     setup = _setup(tmp_path)
     setup.results.mkdir()
     (setup.results / "tables.md").write_text("keep\n")
     monkeypatch.setattr(reproduce, "QUICK", setup)
     monkeypatch.setattr(reproduce, "reproduce", lambda setup: pytest.fail("must not run"))
-    assert reproduce.main(["--quick"]) == 2
-    error = capsys.readouterr().err.strip()
-    assert "--force" in error and len(error.splitlines()) == 1
+    refused = runner.invoke(app, ["reproduce", "--quick"])
+    _refused(refused)
     assert (setup.results / "tables.md").read_text() == "keep\n"
-
-
-def test_bench_compare_refuses_an_unknown_commit_and_an_existing_csv(
-    tmp_path: Path, capsys: pytest.CaptureFixture
-) -> None:
-    from pushctl.bench import compare as bench_compare
-
-    out = tmp_path / "compare.csv"
-    out.write_text("shipped\n")
-    assert bench_compare.main(["--out", str(out), "--repeats", "1"]) == 2
-    assert "--force" in capsys.readouterr().err and out.read_text() == "shipped\n"
-    assert bench_compare.main(["--against", "no-such-commit", "--repeats", "1"]) == 2
-    error = capsys.readouterr().err.strip()
-    assert error.startswith("error: --against no-such-commit") and len(error.splitlines()) == 1

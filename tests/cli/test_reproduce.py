@@ -1,5 +1,5 @@
-"""``make reproduce-tables``'s runner: the commands it types, resuming a run, copying the
-training files, and a manifest written whether the steps succeed or fail."""
+"""``pushctl reproduce`` (``make reproduce-tables``): the commands it types, resuming a run,
+copying the training files, and a manifest written whether the steps succeed or fail."""
 
 from __future__ import annotations
 
@@ -7,21 +7,32 @@ import gzip
 import os
 import sys
 from dataclasses import replace
+from datetime import datetime, timezone
 from pathlib import Path
 
 import pytest
+from typer.testing import CliRunner
 
-from pushctl.cli import reproduce
-from pushctl.cli.reproduce import FULL, MANIFEST, QUICK, TRAINING_FILES, Setup
+from pushctl.cli import app
+from pushctl.cli import reproduce_manifest as manifests
+from pushctl.cli import reproduce_plan as plan
+from pushctl.cli import reproduce_steps as reproduce
+from pushctl.cli.reproduce_plan import FULL, MANIFEST, QUICK, TRAINING_FILES, Setup
 from pushctl.machine import machine_description
 
+runner = CliRunner()
 
-def test_the_full_setup_is_the_issue_s_protocol(
+
+def test_the_full_setup_is_the_paper_s_protocol(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     monkeypatch.chdir(tmp_path)  # no runs/paper here: a fresh run
-    commands = {name: argv for name, argv in reproduce.steps(FULL)}
+    assert [name for name, _ in plan.steps(FULL)] == ["train", "evaluate", "report"]
+    (tmp_path / "benchmarks").mkdir()  # a checkout: its bench runs too
+    (tmp_path / "benchmarks" / "suite.py").write_text("")
+    commands = {name: argv for name, argv in plan.steps(FULL)}
     assert list(commands) == ["train", "evaluate", "report", "bench"]
+    assert commands["bench"][1:4] == ["-m", "benchmarks.suite", "--profile"]
     train = commands["train"]
     assert train[3:] == ["train", "--preset", "paper", "--seeds", "0,1,2", "--out", "runs/paper"]
     evaluate = " ".join(commands["evaluate"])
@@ -33,17 +44,17 @@ def test_the_full_setup_is_the_issue_s_protocol(
 
 
 def test_quick_writes_elsewhere_and_skips_the_bench() -> None:
-    names = [name for name, _ in reproduce.steps(QUICK)]
+    names = [name for name, _ in plan.steps(QUICK)]
     assert names == ["train", "evaluate", "report"]
     assert QUICK.results != FULL.results and QUICK.run != FULL.run
 
 
 def test_a_run_with_a_checkpoint_is_resumed(tmp_path: Path) -> None:
     setup = replace(QUICK, run=tmp_path / "run", results=tmp_path / "results")
-    assert "--resume" not in reproduce.steps(setup)[0][1]
+    assert "--resume" not in plan.steps(setup)[0][1]
     (setup.run / "seed-1").mkdir(parents=True)
     (setup.run / "seed-1" / "checkpoint.pt").write_bytes(b"x")
-    assert reproduce.steps(setup)[0][1][-1] == "--resume"  # the others start, seed 1 resumes
+    assert plan.steps(setup)[0][1][-1] == "--resume"  # the others start, seed 1 resumes
 
 
 def _fake(setup: Setup, codes: dict[str, int]):
@@ -55,7 +66,7 @@ def _fake(setup: Setup, codes: dict[str, int]):
         for name, code in codes.items():
             script = f"import sys; sys.exit({code})"
             if name == "train":
-                runs = [reproduce.seed_run(setup, seed) for seed in setup.seeds]
+                runs = [plan.seed_run(setup, seed) for seed in setup.seeds]
                 for run in runs:
                     run.mkdir(parents=True, exist_ok=True)
                 script = (
@@ -71,6 +82,10 @@ def _fake(setup: Setup, codes: dict[str, int]):
         return listed
 
     return steps
+
+
+def codes_script(code: int) -> str:
+    return f"import sys; sys.exit({code})"
 
 
 def test_successful_steps_copy_the_training_files_and_record_each_step(
@@ -101,7 +116,9 @@ def test_a_failing_step_stops_the_run_and_the_manifest_names_it(
     assert [r.name for r in records] == ["train", "evaluate"]
     assert "failed at evaluate" in (setup.results / MANIFEST).read_text()
     monkeypatch.setattr(reproduce, "QUICK", setup)
-    assert reproduce.main(["--quick"]) == 3
+    done = runner.invoke(app, ["reproduce", "--quick"])
+    assert done.exit_code == 3
+    assert done.stderr.strip() == f"error: step evaluate failed: python -c {codes_script(3)}"
 
 
 def test_results_written_by_a_run_do_not_make_the_commit_dirty(tmp_path: Path) -> None:
@@ -132,35 +149,37 @@ def test_the_training_seeds_are_an_option(tmp_path: Path, monkeypatch: pytest.Mo
     seen = []
     monkeypatch.setattr(reproduce, "QUICK", setup)
     monkeypatch.setattr(reproduce, "reproduce", lambda chosen: seen.append(chosen) or [])
-    assert reproduce.main(["--quick", "--seeds", "4"]) == 0
+    assert runner.invoke(app, ["reproduce", "--quick", "--seeds", "4"]).exit_code == 0
     assert seen[0].seeds == (4,)
-    assert "--seeds 4 " in " ".join(reproduce.steps(seen[0])[0][1]) + " "
-    assert reproduce.main(["--quick", "--seeds", "2-0"]) == 2
+    assert "--seeds 4 " in " ".join(plan.steps(seen[0])[0][1]) + " "
+    refused = runner.invoke(app, ["reproduce", "--quick", "--seeds", "2-0"])
+    assert refused.exit_code == 2 and refused.stderr.startswith("error: ")
+    assert len(refused.stderr.strip().splitlines()) == 1 and len(seen) == 1
 
 
 def test_the_manifest_sets_each_stage_beside_its_budget(tmp_path: Path) -> None:
     setup = replace(FULL, run=tmp_path / "run", results=tmp_path / "results")
     for seed, seconds in ((0, 900.0), (1, 1500.0)):  # seed 2 recorded no time
-        reproduce.seed_run(setup, seed).mkdir(parents=True)
-        (reproduce.seed_run(setup, seed) / "timing.json").write_text(
+        plan.seed_run(setup, seed).mkdir(parents=True)
+        (plan.seed_run(setup, seed) / "timing.json").write_text(
             f'{{"seconds": {seconds}, "sessions": 1}}'
         )
     trials = setup.results / "evaluation" / "trials.csv"
     trials.parent.mkdir(parents=True)
     trials.write_text("# made by: test\nobject,plant\n" + "cube,sim\n" * 2400)
     records = [
-        reproduce.StepRecord("train", "pushctl train", 0, 1600.0),
-        reproduce.StepRecord("evaluate", "pushctl evaluate", 0, 400.0),  # budget 6 min
-        reproduce.StepRecord("report", "pushctl report", 0, 60.0),
+        plan.StepRecord("train", "pushctl train", 0, 1600.0),
+        plan.StepRecord("evaluate", "pushctl evaluate", 0, 400.0),  # budget 6 min
+        plan.StepRecord("report", "pushctl report", 0, 60.0),
     ]
-    rows = {row.stage: row for row in reproduce.budgets(setup, records)}
+    rows = {row.stage: row for row in manifests.budgets(setup, records)}
     assert [rows[f"training, seed {k}"].met for k in (0, 1, 2)] == [True, False, None]
     assert rows["evaluation"].budget == pytest.approx(360.0)
     assert rows["evaluation"].met is False
     assert rows["report"].met is None
     assert rows["whole run"].seconds == pytest.approx(2060.0)
     assert rows["whole run"].budget == 3600.0 and rows["whole run"].met
-    reproduce.write_manifest(setup, records, reproduce.datetime.now(reproduce.timezone.utc))
+    manifests.write_manifest(setup, records, datetime.now(timezone.utc))
     manifest = (setup.results / MANIFEST).read_text()
     assert "2 of 4 budgets met; missed: training, seed 1, evaluation" in manifest
     assert "| training, seed 0 | 15 min 00.0 s | 20 min 00.0 s | yes |" in manifest
@@ -170,10 +189,10 @@ def test_the_manifest_sets_each_stage_beside_its_budget(tmp_path: Path) -> None:
     # the kind of machine the bytes belong to (docs/reproducibility.md)
     assert f"- machine: {machine_description()} (the bytes repeat" in manifest
     one = replace(setup, seeds=(0,))
-    assert reproduce.budgets(one, records)[-1].budget == 30 * 60.0
-    assert "at once" not in reproduce.budgets(one, records)[0].basis
+    assert manifests.budgets(one, records)[-1].budget == 30 * 60.0
+    assert "at once" not in manifests.budgets(one, records)[0].basis
     resumed = [replace(records[0], command="pushctl train --resume"), *records[1:]]
-    assert "this invocation only" in reproduce.budgets(setup, resumed)[-1].basis
+    assert "this invocation only" in manifests.budgets(setup, resumed)[-1].basis
     assert "this invocation only" not in rows["whole run"].basis
 
 
@@ -190,7 +209,7 @@ def test_a_tiny_reproduction_times_every_stage(
         ("evaluate", 0),
         ("report", 0),
     ]
-    rows = {row.stage: row for row in reproduce.budgets(setup, records)}
+    rows = {row.stage: row for row in manifests.budgets(setup, records)}
     trained = rows["training, seed 0"].seconds
     assert trained is not None and 0.0 < trained < records[0].seconds
     assert rows["evaluation"].budget is not None and rows["evaluation"].met is not None
@@ -202,18 +221,23 @@ def test_a_tiny_reproduction_times_every_stage(
 
 
 def test_the_manifest_names_the_command_that_gave_the_setup() -> None:
-    from dataclasses import replace
-
-    from pushctl.cli.reproduce import FULL, QUICK, _commands
-
-    assert _commands(FULL) == ("make reproduce-tables", "python -m pushctl.cli.reproduce")
-    assert _commands(QUICK)[0] == "make reproduce-tables QUICK=1"
+    commands = manifests.commands
+    assert commands(FULL) == ("make reproduce-tables", "pushctl reproduce")
+    assert commands(QUICK) == ("make reproduce-tables QUICK=1", "pushctl reproduce --quick")
     quick_preset = replace(FULL, preset="quick", force=True)
-    assert _commands(quick_preset) == (
+    assert commands(quick_preset) == (
         "make reproduce-tables PRESET=quick FORCE=1",
-        "python -m pushctl.cli.reproduce --preset quick --force",
+        "pushctl reproduce --preset quick --force",
     )
-    assert _commands(replace(FULL, seeds=(0,)))[0] == "make reproduce-tables SEEDS=0"
+    assert commands(replace(FULL, seeds=(0,)))[0] == "make reproduce-tables SEEDS=0"
+
+
+def test_make_reproduce_tables_runs_the_command_with_the_makefile_s_options() -> None:
+    makefile = (Path(__file__).resolve().parents[2] / "Makefile").read_text()
+    recipe = makefile.split("\nreproduce-tables:", 1)[1].split("\n\n", 1)[0]
+    assert "-m pushctl.cli reproduce" in recipe
+    for option in ("--quick", "--force", "--seeds $(SEEDS)", "--preset $(PRESET)"):
+        assert option in recipe, option
 
 
 def test_the_steps_are_compressed_from_this_run_s_file_to_the_same_bytes_each_time(
@@ -236,8 +260,9 @@ def test_the_steps_are_compressed_from_this_run_s_file_to_the_same_bytes_each_ti
 
 def test_every_shipped_file_of_the_reproduction_names_its_commit() -> None:
     """Each file ``make reproduce-tables`` wrote into the shipped ``results/`` (the tables,
-    trials, per-step means, curves, bench) names the commit of ``results/provenance.md``:
-    none is left over from an earlier run (a hand-compressed ``steps.csv.gz`` once was)."""
+    trials, per-step means, curves) names the commit of ``results/provenance.md``: none is
+    left over from an earlier run. (``bench.csv`` is not among them: ``make bench``
+    rewrites it with its own run's commit.)"""
     import re
 
     results = Path(__file__).resolve().parents[2] / "results"
@@ -245,7 +270,7 @@ def test_every_shipped_file_of_the_reproduction_names_its_commit() -> None:
     commit = re.search(r"commit ([0-9a-f]{7,})", manifest)
     assert commit is not None
     made_here = [
-        *(results / name for name in ("table3.csv", "table4.csv", "behaviour.csv", "bench.csv")),
+        *(results / name for name in ("table3.csv", "table4.csv", "behaviour.csv")),
         results / "evaluation" / "trials.csv",
         results / "evaluation" / "steps.csv.gz",
         *sorted((results / "training").rglob("*.csv")),
@@ -262,17 +287,17 @@ def test_the_manifest_sets_the_machine_s_speed_beside_the_budgets_machine(tmp_pa
     setup.results.mkdir()
     (setup.results / "bench.csv").write_text(
         "# made by: test\nname,value,unit,note\n"
-        f'{reproduce.MJ_STEP_ROW},41.6,us,"MuJoCo, one core"\n'
+        f'{manifests.MJ_STEP_ROW},41.6,us,"MuJoCo, one core"\n'
     )
-    started = reproduce.datetime.now(reproduce.timezone.utc)
-    before_bench = [reproduce.StepRecord("report", "pushctl report", 0, 10.0)]
-    reproduce.write_manifest(setup, before_bench, started)  # an earlier run's bench.csv
+    started = datetime.now(timezone.utc)
+    before_bench = [plan.StepRecord("report", "pushctl report", 0, 10.0)]
+    manifests.write_manifest(setup, before_bench, started)  # an earlier run's bench.csv
     assert "this machine's speed" not in (setup.results / MANIFEST).read_text()
-    bench = reproduce.StepRecord("bench", "python -m pushctl.bench", 0, 60.0)
-    reproduce.write_manifest(setup, [*before_bench, bench], started)
+    bench = plan.StepRecord("bench", "python -m benchmarks.suite", 0, 60.0)
+    manifests.write_manifest(setup, [*before_bench, bench], started)
     manifest = (setup.results / MANIFEST).read_text()
     assert "`mj_step` alone took 41.6 µs in this run's bench, 10.4 µs" in manifest
     assert "4.0 times as long" in manifest
     (setup.results / "bench.csv").write_text("name,value\nother,1\n")
-    reproduce.write_manifest(setup, [*before_bench, bench], started)
+    manifests.write_manifest(setup, [*before_bench, bench], started)
     assert "this machine's speed" not in (setup.results / MANIFEST).read_text()

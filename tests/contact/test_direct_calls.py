@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import pushctl
-from pushctl.bench.suite import _pushing_world
+from benchmarks.suite import _pushing_world
 from pushctl.contact import direct_calls
 from pushctl.contact.step_end import prong_geometry
 

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import pushctl
-from pushctl.bench.suite import _pushing_world
+from benchmarks.suite import _pushing_world
 from pushctl.contact.recycle import ArrayRecycler
 from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig

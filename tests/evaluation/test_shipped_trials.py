@@ -8,10 +8,12 @@ skipped."""
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import pandas as pd
 import pytest
+from shipped_digests import EVALUATION_ARGS, MANIFEST, content_digest
 from typer.testing import CliRunner
 
 from pushctl.cli import app
@@ -25,13 +27,11 @@ KEY = ["object", "profile", "plant", "controller", "trial", "policy_seed"]
 def test_a_short_evaluation_writes_the_shipped_rows(tmp_path: Path) -> None:
     out = tmp_path / "evaluation"
     policy = RESULTS / "training" / "seed-0" / "policy.pt"
-    done = CliRunner().invoke(
-        app,
-        ["evaluate", "--object", "cube", "--profile", "constant", "--trials", "2",
-         "--controller", "all", "--plant", "all", "--policy", str(policy), "--seed", "0",
-         "--stream", "evaluation", "--out", str(out)],
-    )  # fmt: skip
+    done = CliRunner().invoke(app, [*EVALUATION_ARGS, "--policy", str(policy), "--out", str(out)])
     assert done.exit_code == 0, done.output
+    # every step of these pushes as recorded with the shipped code (tests/test_shipped_digests.py)
+    recorded = json.loads(MANIFEST.read_text())["evaluation"]
+    assert content_digest(out / "trials.csv", out / "steps.csv") == recorded
     # as text: a row equal in every printed digit
     ours = pd.read_csv(out / "trials.csv", comment="#", dtype=str, keep_default_na=False)
     shipped = pd.read_csv(

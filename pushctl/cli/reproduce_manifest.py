@@ -1,0 +1,226 @@
+"""The manifest ``results/provenance.md`` of ``pushctl reproduce`` (``make
+reproduce-tables``): each step's command, exit code and wall time, the git commit, the seeds
+and the date, and each stage's wall time beside the project's time budget.
+
+It is written atomically before the first step ("running"), after each step, and at the end,
+also when a step fails (then naming it). When the bench ran, a line sets MuJoCo's step on this
+machine beside its time on the machine the budgets were set on (:func:`machine_speed_lines`).
+"""
+
+from __future__ import annotations
+
+import csv
+from dataclasses import dataclass
+from datetime import datetime
+from pathlib import Path
+
+from pushctl.cli.reproduce_plan import (
+    FULL,
+    MANIFEST,
+    QUICK,
+    SEED,
+    SEEDS,
+    Setup,
+    StepRecord,
+    run_line,
+    seed_run,
+)
+from pushctl.machine import machine_description, usable_cores
+from pushctl.provenance import git_commit, write_atomic
+from pushctl.version import VERSION
+
+TRAINING_BUDGET = 20 * 60.0
+"""The budget for one training run of the ``paper`` preset on the reference machine [s]."""
+EVALUATION_BUDGET = 3 * 60.0 / 1200
+"""The evaluation's budget, 3 min for 1200 episodes, per episode [s]."""
+BUDGET_MACHINE_MJ_STEP = 10.4
+"""MuJoCo's step of the arm pushing the cube on the machine the budgets were set on
+(2026-11-23) [µs]: the manifest sets this run's own beside it."""
+MJ_STEP_ROW = "world step arm+cube [mujoco mj_step alone]"
+"""The bench row (``benchmarks/engines.py``) with MuJoCo's step alone [µs]."""
+TOTAL_BUDGETS = {1: 30 * 60.0, 3: 60 * 60.0}
+"""The whole ``make reproduce-tables`` by training seeds [s] (other counts: interpolated):
+60 min with three seeds, 30 min with one."""
+
+
+def commands(setup: Setup) -> tuple[str, str]:
+    """The ``make`` line and the ``pushctl`` line that give ``setup``, for the manifest."""
+    quick = setup.results == QUICK.results
+    default = QUICK if quick else FULL
+    seeds = ",".join(map(str, setup.seeds))
+    flags = [
+        ("QUICK=1", "--quick", quick),
+        (f"PRESET={setup.preset}", f"--preset {setup.preset}", setup.preset != default.preset),
+        (f"SEEDS={seeds}", f"--seeds {seeds}", setup.seeds != SEEDS),
+        ("FORCE=1", "--force", setup.force),
+    ]
+    make = " ".join(["make reproduce-tables", *(m for m, _, on in flags if on)])
+    command = " ".join(["pushctl reproduce", *(a for _, a, on in flags if on)])
+    return make, command
+
+
+def write_manifest(
+    setup: Setup, records: list[StepRecord], started: datetime, running: bool = False
+) -> None:
+    total = sum(r.seconds for r in records)
+    failed = [r for r in records if r.returncode != 0]
+    outcome = "failed at " + failed[0].name if failed else "all steps succeeded"
+    make, command = commands(setup)
+    lines = [
+        f"# How `{setup.results}/` was made",
+        "",
+        f"- command: `{make}` (`{command}`)",
+        f"- pushctl {VERSION}, commit {git_commit()}",
+        f"- seeds: training {','.join(map(str, setup.seeds))} (training stream; "
+        f"`{setup.results}/training/seed-K/`), evaluation {SEED} (evaluation stream) of "
+        f"every training seed's policy",
+        f"- started {started.strftime('%Y-%m-%d %H:%M:%S')} UTC; wall time {minutes(total)}",
+        f"- machine: {machine_description()} (the bytes repeat on a machine of this kind: "
+        "docs/reproducibility.md)",
+        f"- outcome: {'running (or stopped)' if running else outcome}",
+        run_line(setup),
+        "",
+        "| step | command | exit | wall time |",
+        "|---|---|---|---|",
+        *(f"| {r.name} | `{r.command}` | {r.returncode} | {minutes(r.seconds)} |" for r in records),
+        "",
+        *budget_lines(setup, records),
+        "A `train` step that finds its run finished trains nothing and takes seconds; each",
+        "seed's own training wall time (summed over every session that trained it, a stopped",
+        "one up to its last episode) is in its run directory's `timing.json`, which the",
+        "budgets above read.",
+        "",
+    ]
+    setup.results.mkdir(parents=True, exist_ok=True)
+    write_atomic(setup.results / MANIFEST, lambda tmp: tmp.write_text("\n".join(lines)))
+
+
+@dataclass(frozen=True)
+class Budget:
+    """A stage's wall time [s] (None: not recorded) beside its budget [s] (None: none is
+    set), with what the budget is based on."""
+
+    stage: str
+    seconds: float | None
+    budget: float | None
+    basis: str
+
+    @property
+    def met(self) -> bool | None:
+        if self.seconds is None or self.budget is None:
+            return None
+        return self.seconds <= self.budget
+
+
+def budgets(setup: Setup, records: list[StepRecord]) -> list[Budget]:
+    """Each stage's wall time beside its budget: training per seed (its own wall time,
+    :data:`~pushctl.distributed.seeds.TIMING`; the seeds train side by side, which the basis
+    says, as the budget is for one run alone), the evaluation (3 min per 1200 episodes,
+    scaled to the episodes it ran), the report, and the whole run (30 min with one training
+    seed, 60 min with three). A run whose ``train`` step resumed has its whole-run time for
+    this invocation only: the basis says so."""
+    from pushctl.distributed.seeds import TIMING, read_timing  # Ray only when reporting
+
+    took = {record.name: record.seconds for record in records}
+    rows = []
+    other = "" if setup.preset == "paper" else f"; this run: preset {setup.preset}"
+    shared = ""
+    if len(setup.seeds) > 1:  # the budget is for one run alone; say how these ran
+        shared = f"; here {len(setup.seeds)} seeds at once on {usable_cores()} cores"
+    for seed in setup.seeds:
+        timing = read_timing(seed_run(setup, seed) / TIMING)
+        seconds = None if timing is None else float(timing["seconds"])
+        basis = f"the paper preset, one seed{other}{shared}"
+        rows.append(Budget(f"training, seed {seed}", seconds, TRAINING_BUDGET, basis))
+    episodes = _evaluated_episodes(setup.results / "evaluation" / "trials.csv")
+    if episodes:
+        budget, basis = EVALUATION_BUDGET * episodes, f"3 min per 1200 episodes; {episodes} run"
+    else:
+        budget, basis = None, "no trials.csv to count its episodes"
+    rows.append(Budget("evaluation", took.get("evaluate"), budget, basis))
+    rows.append(Budget("report", took.get("report"), None, "no budget set"))
+    count = len(setup.seeds)
+    total = TOTAL_BUDGETS.get(count)
+    basis = f"{count} training seed{'s' if count > 1 else ''}"
+    if total is None:  # between (or beyond) the two set points, on their line
+        total = TOTAL_BUDGETS[1] + (TOTAL_BUDGETS[3] - TOTAL_BUDGETS[1]) / 2 * (count - 1)
+        basis += " (interpolated from 30 min for 1, 60 min for 3)"
+    if any(r.name == "train" and "--resume" in r.command.split() for r in records):
+        basis += "; this invocation only: its training resumed earlier sessions' runs"
+    rows.append(Budget("whole run", sum(took.values()) if records else None, total, basis))
+    return rows
+
+
+def _evaluated_episodes(trials: Path) -> int:
+    """Rows (one push each) of an evaluation's ``trials.csv``, 0 if there is none."""
+    try:
+        lines = trials.read_text().splitlines()
+    except (OSError, UnicodeDecodeError):
+        return 0
+    rows = [line for line in lines if line and not line.startswith("#")]
+    return max(len(rows) - 1, 0)  # the header
+
+
+def budget_lines(setup: Setup, records: list[StepRecord]) -> list[str]:
+    rows = budgets(setup, records)
+    verdicts = [row for row in rows if row.met is not None]
+    missed = [row.stage for row in verdicts if not row.met]
+    summary = f"{len(verdicts) - len(missed)} of {len(verdicts)} budgets met"
+    summary += f"; missed: {', '.join(missed)}" if missed else ""
+    word = {True: "yes", False: "**no**", None: "—"}
+    return [
+        "## Budgets (this machine)",
+        "",
+        "| stage | wall time | budget | met | budget for |",
+        "|---|---|---|---|---|",
+        *(
+            f"| {row.stage} | {_maybe_minutes(row.seconds)} | {_maybe_minutes(row.budget)} "
+            f"| {word[row.met]} | {row.basis} |"
+            for row in rows
+        ),
+        "",
+        f"- {summary}",
+        *machine_speed_lines(setup, records),
+        "",
+    ]
+
+
+def machine_speed_lines(setup: Setup, records: list[StepRecord]) -> list[str]:
+    """The machine's speed beside that of the machine the budgets were set on, as MuJoCo's
+    step alone in this run's bench (none if the bench did not run and succeed here)."""
+    if not any(r.name == "bench" and r.returncode == 0 for r in records):
+        return []
+    step = bench_value(setup.results / "bench.csv", MJ_STEP_ROW)
+    if step is None:
+        return []
+    return [
+        f"- this machine's speed: MuJoCo's `mj_step` alone took {step:.1f} µs in this run's "
+        f"bench, {BUDGET_MACHINE_MJ_STEP} µs on the machine the budgets were set on "
+        f"(2026-11-23): {step / BUDGET_MACHINE_MJ_STEP:.1f} times as long. The budgets "
+        "above are not scaled by it; the machine's speed also swings between and within "
+        "runs (docs/performance.md)."
+    ]
+
+
+def bench_value(bench: Path, name: str) -> float | None:
+    """The value of the row ``name`` of a bench CSV (``# made by:`` line, then name, value,
+    unit, note), None if the file or the row is missing or unreadable."""
+    try:
+        lines = [line for line in bench.read_text().splitlines() if not line.startswith("#")]
+    except (OSError, UnicodeDecodeError):
+        return None
+    for row in csv.DictReader(lines):
+        if row.get("name") == name:
+            try:
+                return float(row["value"])
+            except (TypeError, ValueError):
+                return None
+    return None
+
+
+def _maybe_minutes(seconds: float | None) -> str:
+    return "—" if seconds is None else minutes(seconds)
+
+
+def minutes(seconds: float) -> str:
+    return f"{int(seconds // 60)} min {seconds % 60:04.1f} s"

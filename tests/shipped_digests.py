@@ -1,0 +1,109 @@
+"""Digests that pin what ``results/`` ships: every shipped file's sha256, and the digests of
+two small pieces recomputed from the code (a short evaluation of the shipped seed-0 policy,
+a few training episodes of the ``paper`` preset), recorded in ``tests/data/shipped_digests.json``.
+
+A change that is meant to move results (then ``make reproduce-tables`` makes ``results/``
+again) re-records them: ``python tests/shipped_digests.py --record`` (``make digests``).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import sys
+from dataclasses import replace
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+RESULTS = ROOT / "results"
+MANIFEST = ROOT / "tests" / "data" / "shipped_digests.json"
+UNPINNED = ("bench.csv", "provenance.md")
+"""Shipped files that are not results of a seed: the bench's timings and the manifest of
+the run that made ``results/`` (its dates and wall times)."""
+
+EVALUATION_ARGS = ["evaluate", "--object", "cube", "--profile", "constant", "--trials", "2",
+                   "--controller", "all", "--plant", "all", "--seed", "0",
+                   "--stream", "evaluation"]  # fmt: skip
+"""The short evaluation (with ``--policy`` the shipped seed-0 policy and ``--out``)."""
+TRAINING = {"episodes": 4, "episodes_per_round": 2, "workers": 0, "checkpoint_every": 2,
+            "validate_every": 2, "validation_per_cell": 1}  # fmt: skip
+TRAINING_DDPG = {"warmup_steps": 80, "critic_burn_in": 20}
+"""The ``paper`` preset's [train] and [ddpg] keys replaced for the short training run (its
+seed: 3): two rounds of two episodes in this process, updates after a short warm-up."""
+
+
+def file_digest(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def shipped_files() -> dict[str, str]:
+    """Path under ``results/`` → sha256 of every shipped file but :data:`UNPINNED`."""
+    return {
+        path.relative_to(RESULTS).as_posix(): file_digest(path)
+        for path in sorted(RESULTS.rglob("*"))
+        if path.is_file() and path.name not in UNPINNED
+    }
+
+
+def content_digest(*paths: Path) -> str:
+    """sha256 of the files' text without their comment lines (``# made by: …`` names the
+    command, the commit and the date)."""
+    digest = hashlib.sha256()
+    for path in paths:
+        lines = path.read_text().splitlines(keepends=True)
+        digest.update("".join(line for line in lines if not line.startswith("#")).encode())
+    return digest.hexdigest()
+
+
+def evaluation_digest(out: Path) -> str:
+    """Run the short evaluation into ``out``; the digest of its trials and steps."""
+    from typer.testing import CliRunner
+
+    from pushctl.cli import app
+
+    policy = RESULTS / "training" / "seed-0" / "policy.pt"
+    args = [*EVALUATION_ARGS, "--policy", str(policy), "--out", str(out)]
+    done = CliRunner().invoke(app, args)
+    if done.exit_code != 0:
+        raise RuntimeError(done.output)
+    return content_digest(out / "trials.csv", out / "steps.csv")
+
+
+def training_digest(out: Path) -> str:
+    """Train the short run into ``out``; the digest of its curves and its actor's weights."""
+    from pushctl.rl.presets import load_preset
+    from pushctl.rl.train import Trainer
+
+    paper = load_preset("paper")
+    preset = replace(
+        paper,
+        train=replace(paper.train, **TRAINING),
+        ddpg=replace(paper.ddpg, **TRAINING_DDPG),
+    )
+    trainer = Trainer.start(preset, 3, out)
+    trainer.run(TRAINING["episodes"])
+    digest = hashlib.sha256(content_digest(out / "curve.csv", out / "validation.csv").encode())
+    for name, tensor in sorted(trainer.agent.actor.state_dict().items()):
+        digest.update(name.encode())
+        digest.update(tensor.detach().cpu().contiguous().numpy().tobytes())
+    return digest.hexdigest()
+
+
+def record(scratch: Path) -> dict[str, object]:
+    manifest = {
+        "results": shipped_files(),
+        "evaluation": evaluation_digest(scratch / "evaluation"),
+        "training": training_digest(scratch / "training"),
+    }
+    MANIFEST.parent.mkdir(parents=True, exist_ok=True)
+    MANIFEST.write_text(json.dumps(manifest, indent=1, sort_keys=True) + "\n")
+    return manifest
+
+
+if __name__ == "__main__":
+    import tempfile
+
+    if sys.argv[1:] != ["--record"]:
+        sys.exit("usage: python tests/shipped_digests.py --record")
+    with tempfile.TemporaryDirectory() as scratch:
+        print(json.dumps(record(Path(scratch)), indent=1))
