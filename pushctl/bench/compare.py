@@ -298,7 +298,7 @@ def build_native(tree: Path) -> None:
         shutil.copy2(native.LIBRARY, target / native.LIBRARY.name)
         shutil.copy2(native.STAMP, target / native.STAMP.name)
     subprocess.run(  # does nothing if the copied stamp matches the tree's sources
-        [sys.executable, "-m", "pushctl.native.build", "--optional"],
+        [sys.executable, "-c", "from pushctl.native.build import build; print(build(optional=True))"],
         env={**os.environ, "PYTHONPATH": str(tree)},
         cwd=tree,
         check=False,
