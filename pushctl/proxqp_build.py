@@ -6,7 +6,7 @@ else AVX2, else a portable SSE2 build. The two vectorised builds answer with las
 depend on where a QP's workspace lands in memory. One cold-path MLCP recorded from a push
 (12 rows), solved by 60 QP objects made one after another in one process with allocations
 between, gave two different answers with the AVX-512 build and two with AVX2, one with the
-portable build (docs/reproducibility-and-speed.md, "Long runs"). Within a process one reused
+portable build. Within a process one reused
 QP per size hides it; across processes the addresses differ (address-space randomisation),
 so a push that reached ProxQP could end in a different one of two valid contact solutions
 in two runs of one command. The portable build is the same library on every x86-64 machine.

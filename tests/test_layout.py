@@ -29,6 +29,7 @@ TOP_LEVEL = {
     "proxqp_build.py",  # ProxQP from its portable build, for planning and contact alike
     "machine.py",  # the kind of machine a run's last bits belong to (its manifest says)
     "kernel_cache.py",  # numba's cached kernels dropped when a file they compile in changed
+    "engines.py",  # make_world: our contact world or MuJoCo's, above both engines
 }
 
 # Layer of each subpackage (and of the few modules that sit above their package's layer):
@@ -48,8 +49,9 @@ LAYERS = {
     "pushctl.mujoco.validation": 4,  # a study: our world against MuJoCo in episodes
     "pushctl.control": 3,
     "pushctl.planning": 3,
+    "pushctl.engines": 3,  # make_world: picks one of the two engines below
     "pushctl.contact": 2,
-    "pushctl.mujoco": 2,  # the other engine: a peer of contact (pushctl.contact.build picks)
+    "pushctl.mujoco": 2,  # the other engine: a peer of contact (pushctl.engines picks)
     "pushctl.arm": 1,
     "pushctl.objects": 1,
     "pushctl.distributed.engine": 0,  # the Ray session and worker pool: infrastructure

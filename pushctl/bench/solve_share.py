@@ -57,9 +57,8 @@ from pushctl.rl.env_config import EnvConfig
 
 TARGET = 1.3
 """Issue 15's item 1: an acting step costs at most this times a zero-residual step."""
-SOLVE_METHODS = ("_compiled_step", "_step_in_parts")
-"""The world's methods that make a step's contact solve (``SubstepSolver._substep`` calls
-one, or the first and then the second)."""
+SOLVE_METHODS = ("solve",)
+"""The method of the world's step solver that makes a step's contact solve."""
 WAYS = ("zero", "acting")
 
 
@@ -69,7 +68,7 @@ class SolveClock:
     ``seconds``. :meth:`remove` takes the wrappers off again."""
 
     def __init__(self, world: Any) -> None:
-        self.world, self.seconds = world, 0.0
+        self.world, self.seconds = world.solver, 0.0
         for name in SOLVE_METHODS:
             setattr(world, name, self._timed(getattr(world, name)))
 
