@@ -120,7 +120,7 @@ def test_proxsuite_imported_before_pushctl_is_refused_saying_what_to_do() -> Non
     assert "ImportError: proxsuite was imported with its proxsuite.proxsuite_pywrap_" in (
         done.stderr
     )
-    assert "import pushctl first" in done.stderr
+    assert "import pushctl.proxqp_build before proxsuite" in done.stderr
 
 
 def _slipping_push(steps: int) -> tuple[str, int]:
