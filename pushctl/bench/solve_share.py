@@ -68,7 +68,8 @@ class SolveClock:
     ``seconds``. :meth:`remove` takes the wrappers off again."""
 
     def __init__(self, world: Any) -> None:
-        self.world, self.seconds = world.solver, 0.0
+        world = world.solver
+        self.world, self.seconds = world, 0.0
         for name in SOLVE_METHODS:
             setattr(world, name, self._timed(getattr(world, name)))
 
