@@ -23,7 +23,7 @@ $(STAMP): pyproject.toml
 # QPs behind C entry points, the same bits as through their Python bindings. --optional:
 # without a C++ compiler it prints a note and the bindings are used.
 $(NATIVE): $(STAMP) $(wildcard pushctl/native/*.cpp)
-	$(PY) -m pushctl.native.build --optional
+	$(PY) -c "from pushctl.native.build import build; print(build(optional=True))"
 
 test: install
 	$(PY) -m pytest -q

@@ -7,6 +7,6 @@
   medians), :mod:`benchmarks.episode` (closed loop) and :mod:`benchmarks.rl` (learning);
 - ``python -m benchmarks.compare_commits {step,evaluate,train} --against REV``: this tree
   against another commit, side by side (opt-in; needs that commit in the git history);
-- :mod:`benchmarks.profile_env`, :mod:`benchmarks.slip_loop`, :mod:`benchmarks.solve_share`,
+- :mod:`benchmarks.profile_env`, :mod:`benchmarks.slip_loop`,
   :mod:`benchmarks.worker_priority`: focused measurements, each run alone.
 """

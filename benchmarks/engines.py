@@ -25,9 +25,9 @@ import numpy as np
 
 import pushctl
 from pushctl.arm import ArmTerms
-from pushctl.contact.build import ENGINES
 from pushctl.control import load_gains
 from pushctl.control.pd import PDCommand, PDController
+from pushctl.engines import ENGINES
 from pushctl.episode import Episode, Scenario
 from pushctl.types import PlanarPose
 

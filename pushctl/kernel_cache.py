@@ -1,48 +1,87 @@
 """numba's disk cache of pushctl's kernels kept in step with every file they are compiled from.
 
 numba keys a cached kernel by its own source file (modification time and size) and the
-kernel's bytecode, not by the files of the kernels it calls: ``contact/cold_step.py``
-compiles ``contact/kernels.py``'s and ``contact/pivot_kernels.py``'s kernels into its own,
-``contact/step_end.py`` the library symbols declared in ``native/arm_kernels.py``. After an
+kernel's bytecode, not by the files of the kernels it calls: ``contact/compiled/step.py``
+compiles ``contact/compiled/assembly.py``'s and ``contact/compiled/pivoting.py``'s kernels
+into its own, ``contact/compiled/step_end.py`` the library symbols declared in
+``native/arm_kernels.py``. After an
 edit of a callee's file the caller's cached code still runs the old callee: wrong results,
 or, where a return type changed, numba failing to box a result ("'descr' is NULL").
 
-:func:`drop_stale` runs before any kernel is loaded (``import pushctl``). For each pushctl
-file that defines kernels it hashes the pushctl files that file imports from, directly or
-through the files it imports (numba compiles a callee's callees in too); where the
-hash differs from the one recorded beside the file's cache (``__pycache__/<name>.deps``),
-it removes that file's cached kernels, which numba then compiles afresh, and records the
-new hash. A clean clone records every hash on its first import and removes nothing; two
-processes meeting the same stale cache at worst both compile.
+:func:`drop_stale` is called explicitly, before any kernel is loaded: by the ``pushctl``
+command and by the test suite (``import pushctl`` deletes nothing). For each pushctl file
+that defines kernels it hashes the pushctl files that file imports from, directly or
+through the files it imports (numba compiles a callee's callees in too; the imports are
+read with :mod:`ast`, every form of them); where the hash differs from the one recorded
+beside the file's cache (``__pycache__/<name>.deps``), it removes that file's cached
+kernels, which numba then compiles afresh, and records the new hash. It touches nothing
+outside the package's own ``__pycache__`` directories. A clean clone records every hash on
+its first call and removes nothing; two processes meeting the same stale cache at worst
+both compile.
 """
 
 from __future__ import annotations
 
+import ast
 import hashlib
 import os
-import re
 from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parent
-_KERNEL = re.compile(r"^@njit", re.MULTILINE)
-"""What marks a file as one that defines compiled kernels: a line opening with ``@njit``."""
-_IMPORT = re.compile(r"^from (pushctl(?:\.\w+)+) import", re.MULTILINE)
 
 
 def kernel_files(package: Path = PACKAGE) -> dict[Path, tuple[Path, ...]]:
-    """Each file of ``package`` that defines kernels → the package's files it imports from,
-    directly or through them (its dependencies: whatever of theirs it compiles in, and what
-    those compile in: ``contact/cold_step.py`` compiles ``contact/kernels.py``'s kernels,
-    and with them ``contact/small_algebra.py``'s)."""
+    """Each file of ``package`` that defines kernels (a function decorated with numba's
+    ``njit``) → the package's files it imports from, directly or through them (its
+    dependencies: whatever of theirs it compiles in, and what those compile in)."""
     imports: dict[Path, tuple[Path, ...]] = {}
     kernels = []
     for path in sorted(package.rglob("*.py")):
-        source = path.read_text(encoding="utf-8")
-        modules = sorted(set(_IMPORT.findall(source)))
-        imports[path] = tuple(p for p in (_module_file(package, m) for m in modules) if p)
-        if _KERNEL.search(source):
+        tree = ast.parse(path.read_text(encoding="utf-8"), str(path))
+        modules = _imported_modules(tree, _module_name(package, path))
+        found = (_module_file(package, module) for module in sorted(modules))
+        imports[path] = tuple(sorted({file for file in found if file is not None}))
+        if _defines_kernels(tree):
             kernels.append(path)
     return {path: _reachable(path, imports) for path in kernels}
+
+
+def _imported_modules(tree: ast.Module, name: str) -> set[str]:
+    """The modules of the package that ``tree`` (module ``name``) imports, in any form:
+    ``import a.b``, ``from a import b`` (``a.b`` if a module, else ``a``), relative ones."""
+    root = name.split(".")[0]
+    found: set[str] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            found |= {alias.name for alias in node.names if alias.name.split(".")[0] == root}
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                anchor = name.rsplit(".", node.level)[0]
+                base = f"{anchor}.{base}" if base else anchor
+            if base.split(".")[0] == root:
+                found.add(base)
+                found |= {f"{base}.{alias.name}" for alias in node.names}
+    return found
+
+
+def _defines_kernels(tree: ast.Module) -> bool:
+    """Whether a function in ``tree`` is decorated with ``njit`` (``@njit``, ``@njit(...)``,
+    ``@numba.njit``...)."""
+    for node in ast.walk(tree):
+        if isinstance(node, ast.FunctionDef):
+            for decorator in node.decorator_list:
+                target = decorator.func if isinstance(decorator, ast.Call) else decorator
+                label = target.attr if isinstance(target, ast.Attribute) else target
+                if getattr(label, "id", label) == "njit":
+                    return True
+    return False
+
+
+def _module_name(package: Path, path: Path) -> str:
+    """The dotted name of ``path`` in ``package`` (a package's ``__init__`` is the package)."""
+    parts = [package.name, *path.relative_to(package).with_suffix("").parts]
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
 
 
 def _reachable(start: Path, imports: dict[Path, tuple[Path, ...]]) -> tuple[Path, ...]:
@@ -90,7 +129,8 @@ def drop_stale(package: Path = PACKAGE) -> list[Path]:
 
 
 def _module_file(package: Path, module: str) -> Path | None:
-    """The file of pushctl module ``module`` (a package's ``__init__.py``), or None."""
+    """The file of module ``module`` of ``package`` (a package's ``__init__.py``), or None
+    (a name imported from a module, not a module)."""
     parts = module.split(".")[1:]
     base = package.joinpath(*parts)
     for candidate in (base.with_suffix(".py"), base / "__init__.py"):

@@ -6,14 +6,15 @@ its ``SkylakeX`` kernels with AVX-512 and its ``Haswell`` ones without, and its 
 (``np.sin``, sums, …) have AVX-512 versions too. With either, the same commit and seed
 pushed to other last bits than on a machine without AVX-512; with OpenBLAS's AVX-512
 kernels, two fresh processes on one machine even wrote different bytes, and with numpy's
-AVX-512 loops a ``paper`` training run left the shipped one at episode 95
-(docs/reproducibility.md). Every x86-64 CPU with AVX2 and FMA runs the AVX2 code, so
-:func:`pin_cpu_code` asks for it: ``OPENBLAS_CORETYPE=Haswell``, and on a CPU with AVX-512,
-``NPY_DISABLE_CPU_FEATURES`` naming numpy's AVX-512 targets. Both are read once, when numpy
-loads: ``pushctl/__init__.py`` calls it before anything imports numpy (Ray's workers inherit
-the variables). A value the user set is kept, and a CPU without AVX2 and FMA is left to the
-libraries' choice (OpenBLAS does not check a forced family: those kernels would crash
-there). The manifest names the code that ran (:func:`machine_description`).
+AVX-512 loops a ``paper`` training run left the shipped one (docs/reproducibility.md).
+Every x86-64 CPU with AVX2 and FMA runs the AVX2 code, so :func:`reproducible` asks for it:
+``OPENBLAS_CORETYPE=Haswell``, and on a CPU with AVX-512, ``NPY_DISABLE_CPU_FEATURES``
+naming numpy's AVX-512 targets. Both are read once, when numpy loads, so the call must come
+before anything imports numpy (``import pushctl`` does not; the ``pushctl`` command makes
+the call first; Ray's workers inherit the variables). A value the user set is kept, and a
+CPU without AVX2 and FMA is left to the libraries' choice (OpenBLAS does not check a forced
+family: those kernels would crash there). The manifest names the code that ran
+(:func:`machine_description`).
 
 numpy is imported inside the functions that need it: importing it here would load it
 before the variables are set.
@@ -26,6 +27,7 @@ import importlib
 import os
 import platform
 import sys
+import warnings
 from importlib import metadata
 from pathlib import Path
 
@@ -71,13 +73,22 @@ def code_to_pin(machine: str, flags: frozenset[str], numpy_version: str) -> dict
     return pinned
 
 
-def pin_cpu_code() -> dict[str, str]:
-    """Set :func:`code_to_pin`'s variables for this process and its children before numpy
-    loads, keeping any the user set (numpy refuses both ``NPY_DISABLE_CPU_FEATURES`` and
+class NumpyLoadedFirst(RuntimeWarning):
+    """:func:`reproducible` came after numpy loaded: this process runs the code numpy chose."""
+
+
+def reproducible() -> dict[str, str]:
+    """Pin numpy's and OpenBLAS's CPU code (:func:`code_to_pin`) for this process and its
+    children, so that a seed gives the same bytes on every x86-64 machine. Call it before
+    anything imports numpy::
+
+        import pushctl
+        pushctl.reproducible()
+
+    Variables the user set are kept (numpy refuses both ``NPY_DISABLE_CPU_FEATURES`` and
     ``NPY_ENABLE_CPU_FEATURES``, so a user's ``NPY_ENABLE_CPU_FEATURES`` keeps numpy's part
-    unset). Returns the variables it set; nothing once numpy is loaded (too late)."""
-    if "numpy" in sys.modules:
-        return {}
+    unset). Returns the variables it set. Once numpy is loaded it is too late: it sets
+    nothing and warns (:class:`NumpyLoadedFirst`) if this machine needed any."""
     try:
         numpy_version = metadata.version("numpy")
     except metadata.PackageNotFoundError:
@@ -86,6 +97,15 @@ def pin_cpu_code() -> dict[str, str]:
     if "NPY_ENABLE_CPU_FEATURES" in os.environ:
         wanted.pop("NPY_DISABLE_CPU_FEATURES", None)
     chosen = {name: value for name, value in wanted.items() if name not in os.environ}
+    if chosen and "numpy" in sys.modules:
+        settings = " ".join(f"{name}={value!r}" for name, value in chosen.items())
+        warnings.warn(
+            "numpy was loaded before pushctl.reproducible(): this process keeps the CPU code "
+            f"numpy chose; call it before importing numpy, or start Python with {settings}",
+            NumpyLoadedFirst,
+            stacklevel=2,
+        )
+        return {}
     os.environ.update(chosen)
     return chosen
 

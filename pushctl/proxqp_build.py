@@ -6,15 +6,17 @@ else AVX2, else a portable SSE2 build. The two vectorised builds answer with las
 depend on where a QP's workspace lands in memory. One cold-path MLCP recorded from a push
 (12 rows), solved by 60 QP objects made one after another in one process with allocations
 between, gave two different answers with the AVX-512 build and two with AVX2, one with the
-portable build (docs/reproducibility-and-speed.md, "Long runs"). Within a process one reused
+portable build. Within a process one reused
 QP per size hides it; across processes the addresses differ (address-space randomisation),
 so a push that reached ProxQP could end in a different one of two valid contact solutions
 in two runs of one command. The portable build is the same library on every x86-64 machine.
 
 ProxSuite has no switch for its choice: its ``__init__`` asks its ``instructionset``
 module. While proxsuite is first imported here, that module is a stand-in that reports
-neither AVX2 nor AVX-512. Import ProxQP from this module (``from pushctl.proxqp_build
-import proxqp``), never from ``proxsuite`` directly, so that this import comes first.
+neither AVX2 nor AVX-512 (it is removed again at once). Import ProxQP from this module
+(``from pushctl.proxqp_build import proxqp``), never from ``proxsuite`` directly, and import
+this module before anything that imports proxsuite (qpsolvers does: pushctl.objects.mass
+imports this module first).
 """
 
 from __future__ import annotations
@@ -44,8 +46,9 @@ def _import_portable() -> types.ModuleType:
     name = getattr(loaded, "__name__", "?")
     if name != PORTABLE_MODULE:
         raise ImportError(
-            f"proxsuite was imported with its {name} bindings before pushctl; import pushctl "
-            f"first (it loads {PORTABLE_MODULE}, whose answers do not depend on memory layout)"
+            f"proxsuite was imported with its {name} bindings before pushctl's; import "
+            "pushctl.proxqp_build before proxsuite or qpsolvers (it loads "
+            f"{PORTABLE_MODULE}, whose answers do not depend on memory layout)"
         )
     return proxsuite
 

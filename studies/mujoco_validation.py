@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from pushctl.config import GRAVITY
-from pushctl.contact.build import ENGINES, make_world
+from pushctl.engines import ENGINES, make_world
 from pushctl.episode.metrics import compute_metrics
 from pushctl.episode.runner import Episode
 from pushctl.episode.scenario import Scenario

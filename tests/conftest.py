@@ -6,13 +6,13 @@ machine and a failure reproduces; set ``HYPOTHESIS_PROFILE=explore`` to draw fre
 
 import os
 
-# Every direct call of the world step's kernels checks its argument types
-# (pushctl.contact.direct_calls), here and in the subprocesses the tests start.
-os.environ["PUSHCTL_CHECK_CALLS"] = "1"
+from hypothesis import settings  # (it does not load numpy)
 
-from hypothesis import settings  # noqa: E402  # (it does not load numpy)
+import pushctl
+from pushctl.kernel_cache import drop_stale
 
-import pushctl  # noqa: F401  # before the test modules load numpy: it pins numpy's CPU code
+pushctl.reproducible()  # before the test modules load numpy: the recorded digests' CPU code
+drop_stale()  # before any kernel loads: a kernel's cache does not follow edits of its callees
 
 settings.register_profile("default", derandomize=True)
 settings.register_profile("explore", derandomize=False, max_examples=500)

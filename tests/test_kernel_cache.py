@@ -67,6 +67,21 @@ def test_an_unrecorded_cache_is_dropped_once(tmp_path) -> None:
 def test_the_packages_kernel_files_and_what_they_compile_in() -> None:
     files = {path.relative_to(PACKAGE).as_posix(): {d.name for d in deps}
              for path, deps in kernel_files().items()}  # fmt: skip
-    assert files["contact/cold_step.py"] >= {"kernels.py", "pivot_kernels.py", "small_algebra.py"}
-    assert files["contact/step_end.py"] >= {"arm_kernels.py"}
+    assert files["contact/compiled/step.py"] >= {"assembly.py", "pivoting.py", "algebra.py"}
+    assert files["contact/compiled/step_end.py"] >= {"arm_kernels.py"}
+    # a module imported as a name of its package (``from pkg import module``) counts too
+    assert files["contact/compiled/friction_field.py"] == set()
+    assert "contact/ground_field.py" not in files  # it calls kernels, defines none
     assert "kernel_cache.py" not in files
+
+
+def test_every_form_of_import_is_followed(tmp_path) -> None:
+    package = _package(tmp_path)
+    (package / "sub").mkdir()
+    (package / "sub" / "__init__.py").write_text("")
+    (package / "sub" / "callee.py").write_text("def f():\n    return 1\n")
+    for line in ("from pushctl.sub import callee", "import pushctl.sub.callee",
+                 "from .sub.callee import f"):  # fmt: skip
+        (package / "caller.py").write_text(f"{line}\n\n@njit(cache=True)\ndef g():\n    return 1\n")
+        deps = kernel_files(package)[package / "caller.py"]
+        assert package / "sub" / "callee.py" in deps, line

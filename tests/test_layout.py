@@ -35,6 +35,7 @@ TOP_LEVEL = {
     "machine.py",  # the kind of machine a run's last bits belong to (its manifest says)
     "kernel_cache.py",  # numba's cached kernels dropped when a file they compile in changed
     "version.py",  # the version every provenance line names
+    "engines.py",  # make_world: our contact world or MuJoCo's, above both engines
 }
 
 # The layer of each subpackage or top-level module (an entry for a module inside a package
@@ -55,8 +56,9 @@ LAYERS = {
     "pushctl.episode": 4,
     "pushctl.control": 3,
     "pushctl.planning": 3,
+    "pushctl.engines": 3,  # make_world: picks one of the two engines below
     "pushctl.contact": 2,
-    "pushctl.mujoco": 2,  # the other engine: a peer of contact (pushctl.contact.build picks)
+    "pushctl.mujoco": 2,  # the other engine: a peer of contact (pushctl.engines picks)
     "pushctl.arm": 1,
     "pushctl.objects": 1,
     "pushctl.distributed": 0,  # the Ray session and worker pool: infrastructure

@@ -87,24 +87,31 @@ def test_cpu_flags_reads_the_first_processor_and_nothing_where_there_is_no_file(
 
 
 @pytest.mark.skipif(not _PINNABLE or blas_kernels() == "unknown", reason="no x86-64 AVX2 CPU")
-def test_importing_pushctl_first_runs_the_avx2_code_here_and_in_a_fresh_process() -> None:
-    # this process: tests/conftest.py imports pushctl before the test modules load numpy
+def test_reproducible_first_runs_the_avx2_code_here_and_in_a_fresh_process() -> None:
+    # this process: tests/conftest.py calls it before the test modules load numpy
     assert [blas_kernels(), numpy_simd()] == [PINNED_KERNELS, "X86_V3"]
-    assert _code_in_a_fresh_process("import pushctl") == [PINNED_KERNELS, "X86_V3"]
+    pinned = "import pushctl; pushctl.reproducible()"
+    assert _code_in_a_fresh_process(pinned) == [PINNED_KERNELS, "X86_V3"]
+    # the pushctl command makes the call as it starts
+    assert _code_in_a_fresh_process("import pushctl.cli") == [PINNED_KERNELS, "X86_V3"]
     # what the user asks for is kept
     chosen = _code_in_a_fresh_process(
-        "import pushctl", OPENBLAS_CORETYPE="Sandybridge", NPY_DISABLE_CPU_FEATURES="X86_V3"
+        pinned, OPENBLAS_CORETYPE="Sandybridge", NPY_DISABLE_CPU_FEATURES="X86_V3"
     )
     assert chosen[0] == "Sandybridge" and chosen[1] != "X86_V3"
-    assert _code_in_a_fresh_process("import pushctl", NPY_ENABLE_CPU_FEATURES="X86_V3") == [
+    assert _code_in_a_fresh_process(pinned, NPY_ENABLE_CPU_FEATURES="X86_V3") == [
         PINNED_KERNELS, "X86_V3"
     ]  # fmt: skip
 
 
-def test_numpy_loaded_first_is_left_as_it_is() -> None:
+@pytest.mark.skipif(not _PINNABLE, reason="no x86-64 AVX2 CPU: nothing to pin")
+def test_numpy_loaded_first_is_left_as_it_is_and_said() -> None:
     code = (
-        "import os, numpy, pushctl; from pushctl.machine import pin_cpu_code as pin; "
-        "print(pin(), os.environ.get('OPENBLAS_CORETYPE'))"
+        "import os, warnings, numpy, pushctl; warnings.simplefilter('error'); "
+        "from pushctl.machine import NumpyLoadedFirst\n"
+        "try:\n    pushctl.reproducible()\nexcept NumpyLoadedFirst as warning:\n"
+        "    print('warned' if 'before importing numpy' in str(warning) else warning)\n"
+        "print(os.environ.get('OPENBLAS_CORETYPE'))"
     )
     done = subprocess.run(
         [sys.executable, "-c", code],
@@ -112,7 +119,7 @@ def test_numpy_loaded_first_is_left_as_it_is() -> None:
         env={k: v for k, v in os.environ.items() if k not in _VARIABLES},
     )  # fmt: skip
     assert done.returncode == 0, done.stderr
-    assert done.stdout.split() == ["{}", "None"]
+    assert done.stdout.split() == ["warned", "None"]
 
 
 @pytest.mark.skipif(not _PINNABLE or blas_kernels() == "unknown", reason="no x86-64 AVX2 CPU")

@@ -86,6 +86,7 @@ def record_cold_problems(steps: int = 1500, seed: int = 0) -> list[tuple]:
     import pushctl.contact.substep as world_module  # where the world step calls the solver
     from pushctl.contact.cold_step import HELD
     from pushctl.contact.kernels import assemble
+
     from pushctl.rl.env import PushEnv
     from pushctl.rl.env_config import EnvConfig
 
@@ -166,7 +167,7 @@ def build_native(tree: Path) -> None:
         shutil.copy2(native.LIBRARY, target / native.LIBRARY.name)
         shutil.copy2(native.STAMP, target / native.STAMP.name)
     subprocess.run(  # does nothing if the copied stamp matches the tree's sources
-        [sys.executable, "-m", "pushctl.native.build", "--optional"],
+        [sys.executable, "-c", "from pushctl.native.build import build; print(build(optional=True))"],
         env={**os.environ, "PYTHONPATH": str(tree)},
         cwd=tree,
         check=False,

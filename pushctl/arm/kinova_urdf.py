@@ -240,12 +240,8 @@ def shipped_urdf_path() -> Path:
     return Path(__file__).resolve().parent / "data" / URDF_FILENAME
 
 
-def main() -> None:
+def write_shipped_urdf() -> None:
     """Regenerate ``pushctl/arm/data/kinova_gen2_7dof.urdf``."""
     path = shipped_urdf_path()
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(kinova_gen2_7dof_urdf(), encoding="utf-8")
-
-
-if __name__ == "__main__":
-    main()

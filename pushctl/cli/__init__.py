@@ -18,9 +18,15 @@ control / planning → contact → arm / objects (tests/test_layout.py).
 
 from __future__ import annotations
 
-import typer
+from pushctl.kernel_cache import drop_stale
+from pushctl.machine import reproducible
 
-from pushctl.cli import (
+reproducible()  # before anything loads numpy: the same bytes on every x86-64 machine
+drop_stale()  # before any kernel loads: numba's cache does not follow calls across files
+
+import typer  # noqa: E402
+
+from pushctl.cli import (  # noqa: E402
     evaluate,
     info,
     plan,

@@ -33,8 +33,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.linalg.lapack import dgelsy, dgetrf, dgetrs
 
-from pushctl.contact.pivot_kernels import RANK_RCOND
-from pushctl.contact.small_algebra import SINGULAR_PIVOT
+from pushctl.contact.compiled.algebra import SINGULAR_PIVOT
+from pushctl.contact.compiled.pivoting import RANK_RCOND
 
 
 @dataclass(slots=True)

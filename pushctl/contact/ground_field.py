@@ -20,8 +20,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from pushctl.contact.compiled import friction_field as compiled
 from pushctl.errors import ConfigError
 
 N_MODES = 128
@@ -57,13 +57,15 @@ class FrictionField:
         (compiled: the plant's force plan asks for every support point of every sample)."""
         points = np.asarray(points, dtype=float)
         flat = np.ascontiguousarray(points.reshape(-1, 2))
-        values = _multiplier(flat, self._wavevectors, self._phases, self._amplitude, self.variation)
+        values = compiled.multiplier(
+            flat, self._wavevectors, self._phases, self._amplitude, self.variation
+        )
         return values.reshape(points.shape[:-1])
 
     def at_support_points(self, pose: np.ndarray, support_points: np.ndarray) -> np.ndarray:
         """μ(p_j)/μ_g (S,) at the table positions of ``support_points`` (S, 2) [m] (object
         frame) of an object at ``pose`` (3,): the world's per-step query, compiled."""
-        return _support_multiplier(
+        return compiled.support_multiplier(
             pose, support_points, self._wavevectors, self._phases, self._amplitude, self.variation
         )
 
@@ -81,7 +83,7 @@ class FrictionField:
         last, 2 per support point) with its ground rows scaled by new/old bound (a new
         array; None stays None). Same arithmetic as the numpy form."""
         scaled = _EMPTY if guess is None else np.empty(guess.size)
-        _update_support_bounds(
+        compiled.update_support_bounds(
             pose, support_points, self._wavevectors, self._phases, self._amplitude,
             self.variation, uniform_limits, limits, _EMPTY if guess is None else guess, scaled,
         )  # fmt: skip
@@ -89,53 +91,6 @@ class FrictionField:
 
 
 _EMPTY = np.zeros(0)
-
-
-@njit(cache=True)
-def _update_support_bounds(
-    pose, support_points, wavevectors, phases, amplitude, variation, uniform, limits, guess,
-    scaled,
-):  # fmt: skip
-    """:meth:`FrictionField.update_support_bounds`, writing ``limits`` and ``scaled`` (the
-    caller's arrays: numba's boxing of returned arrays costs more)."""
-    new = uniform * _support_multiplier(
-        pose, support_points, wavevectors, phases, amplitude, variation
-    )
-    if guess.shape[0]:
-        scaled[:] = guess
-        n_support = new.shape[0]
-        start = guess.shape[0] - 2 * n_support
-        for j in range(n_support):
-            ratio = new[j] / max(limits[j], 1e-300)
-            scaled[start + 2 * j] *= ratio
-            scaled[start + 2 * j + 1] *= ratio
-    limits[:] = new
-
-
-@njit(cache=True)
-def _support_multiplier(pose, support_points, wavevectors, phases, amplitude, variation):
-    """:func:`support_positions` of one pose, then :func:`_multiplier`."""
-    c, s = math.cos(pose[2]), math.sin(pose[2])
-    points = np.empty_like(support_points)
-    for j in range(support_points.shape[0]):
-        px, py = support_points[j, 0], support_points[j, 1]
-        points[j, 0] = pose[0] + c * px - s * py
-        points[j, 1] = pose[1] + s * px + c * py
-    return _multiplier(points, wavevectors, phases, amplitude, variation)
-
-
-@njit(cache=True)
-def _multiplier(points, wavevectors, phases, amplitude, variation):
-    """``FrictionField.__call__`` for points (S, 2): 1 + a tanh(f/2), f the mode sum."""
-    out = np.empty(points.shape[0])
-    for j in range(points.shape[0]):
-        total = 0.0
-        for m in range(phases.shape[0]):
-            total += math.cos(
-                points[j, 0] * wavevectors[m, 0] + points[j, 1] * wavevectors[m, 1] + phases[m]
-            )
-        out[j] = 1.0 + variation * math.tanh(0.5 * amplitude * total)
-    return out
 
 
 def support_positions(pose: np.ndarray, support_points: np.ndarray) -> np.ndarray:

@@ -10,9 +10,10 @@ convention): its bounds are ``±mu_i·|p[findex[i]]|`` and its own lo/hi are ign
 Method:
 
 1. ``warm_start`` given (e.g. the last time step's p): solve the active set it implies
-   exactly in one compiled call (:func:`pushctl.contact.kernels.active_set_step`); return at
+   exactly in one compiled call
+   (:func:`pushctl.contact.compiled.assembly.active_set_step`); return at
    once if it verifies (``method="warm-start"``).
-2. Compiled block principal pivoting (:func:`pushctl.contact.pivot_kernels.pivot_solve`,
+2. Compiled block principal pivoting (:func:`pushctl.contact.compiled.pivoting.pivot_solve`,
    at most ``_COLD_PIVOTS`` pivots each) from the warm start's active set
    (``method="warm-start"``), then from "every row free" and from the active set of p = 0
    (``method="active-set"``). This is the cold path of a simulation (a prong starts or stops
@@ -46,9 +47,9 @@ from pushctl.contact.active_set import (
     finish,
     labels_at,
 )
-from pushctl.contact.kernels import active_set_step
+from pushctl.contact.compiled.assembly import active_set_step
+from pushctl.contact.compiled.pivoting import cold_pivot
 from pushctl.contact.mlcp_checks import validated_arrays, warm_vector
-from pushctl.contact.pivot_kernels import cold_pivot
 from pushctl.errors import MLCPInputError
 from pushctl.proxqp_build import proxqp
 

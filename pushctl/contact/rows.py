@@ -7,14 +7,14 @@ mass has object part ``(e_x, e_y, r × e)``. Rows: per prong in contact a normal
 tangential row, then per support point a row along its slip and one across it.
 
 :func:`prong_contacts` finds the prongs' contact geometry; the rows themselves are assembled
-in compiled code, :func:`pushctl.contact.kernels.assemble`.
+in compiled code, :func:`pushctl.contact.compiled.assembly.assemble`.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from pushctl.contact.step_end import prong_geometry
+from pushctl.contact.compiled.step_end import prong_geometry
 from pushctl.objects.geometry import ConvexPolygon
 
 __all__ = ["PRONG_ROWS", "edge_array", "mask_indices", "prong_contacts", "prong_geometry"]

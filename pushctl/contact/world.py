@@ -23,7 +23,6 @@ controller's job.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -31,98 +30,46 @@ import numpy as np
 from pushctl.arm import ArmModel, ArmTerms
 from pushctl.checks import finite_vector
 from pushctl.config import GRAVITY
+from pushctl.contact.compiled.step_end import arm_moved, native_arm_moved, native_arm_moved_nominal
 from pushctl.contact.ground_field import FrictionField
 from pushctl.contact.recycle import ArrayRecycler
-from pushctl.contact.rows import edge_array, mask_indices, prong_contacts
-from pushctl.contact.step_end import arm_moved, native_arm_moved, native_arm_moved_nominal
-from pushctl.contact.substep import (
-    _NO_CONTACTS,
+from pushctl.contact.rows import PRONG_ROWS, edge_array, mask_indices, prong_contacts
+from pushctl.contact.step_solver import SLIP_COS_TOLERANCE, StepSolver
+from pushctl.contact.world_config import (
+    DEFAULT_OBJECT_POSE,
     MAX_SLIP_ITERATIONS,
-    SLIP_COS_TOLERANCE,
     STICK_FRACTION,
-    TIE_BREAK,
-    ContactModel,
-    SubstepSolver,
+    WorldConfig,
 )
-from pushctl.errors import ConfigError, StateError
+from pushctl.errors import StateError
 from pushctl.objects import ObjectSpec
 from pushctl.types import ContactProblem, StepResult, WorldStats
 
-__all__ = ["MAX_SLIP_ITERATIONS", "SLIP_COS_TOLERANCE", "STICK_FRACTION", "World", "WorldConfig"]
+__all__ = [
+    "DEFAULT_OBJECT_POSE",
+    "MAX_SLIP_ITERATIONS",
+    "SLIP_COS_TOLERANCE",
+    "STICK_FRACTION",
+    "World",
+    "WorldConfig",
+]
 
 _FLOAT64 = np.dtype(np.float64)
 _TERMS = slice(3, 3 + len(ArmTerms._fields))
 """Where an :class:`ArmTerms`' arrays sit in a set of the step end's arrays (after q, the
 contact geometry and the gaps; the nominal frame's three follow)."""
+_NO_CONTACTS = np.zeros((0, 5))
+_NO_JACOBIANS = np.zeros((0, 3, 0))
+_NO_ARM_MATRIX = np.zeros((0, 0))
 
 
-DEFAULT_OBJECT_POSE = (0.42, 0.0, 0.0)
-"""Object pose (x [m], y [m], θ [rad]) of ``World.reset()`` without arguments: 12 cm ahead
-of the ready pusher of the Kinova arm, pushed face towards it."""
+class World:
+    """Arm (optional) + pusher + one object on the table. Build it with
+    :func:`pushctl.engines.make_world`.
 
-
-@dataclass(frozen=True)
-class WorldConfig:
-    """Numerical and friction parameters of the world step (SI units).
-
-    ``dt`` [s] is the control and output step; ``substeps`` splits it internally.
-    ``contact_margin`` [m]: prongs nearer than this to the footprint enter the MLCP (with a
-    positive gap the row only acts if the step would close it: speculative contact).
-    ``stabilisation`` (0, 1]: fraction of a penetration removed per (sub)step.
-    ``gravity`` [m/s²]: magnitude, for the arm and the object's support loads.
-    ``slip_iterations``: re-solves of a step whose ground friction directions move (see
-    ``World._substep``); a step not settled after them keeps its first solution. 6, the
-    default, is what ``results/`` was made with; fewer saves solves where objects slip, but
-    under a tenth of a training push step's time (docs/reproducibility-and-speed.md, *The
-    slip loop's length*).
-    ``stick_fraction`` [0, 1): the stick rule (:func:`~pushctl.contact.kernels.refine_slip`):
-    a sliding support point that moves and whose along-row friction impulse comes out
-    below this fraction of its bound gets the rest box, and the step is solved again. 0,
-    the default, turns it off and is what ``results/`` was made with; 1 − 10⁻⁶
-    (:data:`STICK_FRACTION`) is the rule as measured (docs/reproducibility-and-speed.md,
-    ninth to eleventh passes), not yet validated enough to be the default.
-    """
-
-    dt: float = 0.01
-    mu_ground: float = 0.3
-    mu_contact: float = 0.4
-    substeps: int = 1
-    contact_margin: float = 0.01
-    stabilisation: float = 0.3
-    gravity: float = GRAVITY
-    slip_iterations: int = MAX_SLIP_ITERATIONS
-    stick_fraction: float = 0.0
-
-    def __post_init__(self) -> None:
-        if not (math.isfinite(self.dt) and self.dt > 0.0):
-            raise ConfigError(f"dt must be a positive number of seconds, got {self.dt!r}")
-        for name in ("mu_ground", "mu_contact"):
-            value = getattr(self, name)
-            if not (math.isfinite(value) and value >= 0.0):
-                raise ConfigError(f"{name} must be a finite number >= 0, got {value!r}")
-        if not (isinstance(self.substeps, int) and self.substeps >= 1):
-            raise ConfigError(f"substeps must be an integer >= 1, got {self.substeps!r}")
-        iterations = self.slip_iterations
-        if isinstance(iterations, bool) or not (isinstance(iterations, int) and iterations >= 0):
-            raise ConfigError(f"slip_iterations must be an integer >= 0, got {iterations!r}")
-        stick = self.stick_fraction
-        if isinstance(stick, bool) or not (isinstance(stick, (int, float)) and 0 <= stick < 1):
-            raise ConfigError(f"stick_fraction must be a number in [0, 1), got {stick!r}")
-        object.__setattr__(self, "stick_fraction", float(stick))  # one compiled signature
-        if not (math.isfinite(self.contact_margin) and self.contact_margin > 0.0):
-            raise ConfigError(f"contact_margin must be > 0 m, got {self.contact_margin!r}")
-        if not (0.0 < self.stabilisation <= 1.0):
-            raise ConfigError(f"stabilisation must be in (0, 1], got {self.stabilisation!r}")
-        if not (math.isfinite(self.gravity) and self.gravity >= 0.0):
-            raise ConfigError(f"gravity must be a finite number >= 0 m/s², got {self.gravity!r}")
-
-
-class World(SubstepSolver):
-    """Arm (optional) + pusher + one object on the table. Build it with :func:`make_world`.
-
-    The state, the step's orchestration and integration live here; solving one (sub)step's
-    MLCP (its inputs, the compiled warm solve, the friction boxes' refinement, the full
-    MLCP) in :class:`~pushctl.contact.substep.SubstepSolver`."""
+    The state, the step's integration and the contact geometry live here; the contact
+    solve of each (sub)step in :attr:`solver` (a
+    :class:`~pushctl.contact.step_solver.StepSolver`)."""
 
     def __init__(
         self,
@@ -136,33 +83,12 @@ class World(SubstepSolver):
         self.object = obj
         self.friction_field = friction_field
         self.arm = arm
-        self.config = config
+        self._config = config
         self.stats = WorldStats()
-        self._M_obj_inv = np.array([1.0 / obj.mass, 1.0 / obj.mass, 1.0 / obj.inertia_z])
-        self._support_points = np.ascontiguousarray(obj.support_points, dtype=float)
         self._edges = edge_array(obj.polygon)
         # Support loads are computed at GRAVITY; the friction bounds follow the world's.
-        self._uniform_limits = config.mu_ground * obj.support_loads * (config.gravity / GRAVITY)
-        # the bounds of the step: the uniform ones scaled by the friction field, if any
-        self._friction_limits = self._uniform_limits.copy()
-        self._bounds_at = None  # the field and pose they were last computed for
-        self._step_recyclers = {}  # slip_step's output arrays, per number of prongs touching
-        # the step's two kernels' entry points, resolved at their first calls (direct_calls)
-        self._slip_call = self._end_call = None
-        self._slip_directions = np.zeros_like(self._support_points)
-        self._sliding = np.zeros(len(self._support_points), dtype=np.bool_)
-        # The kernels' world side, once: its arrays are the ones above, updated in place.
-        self._model = ContactModel(
-            obj_mass_inv=self._M_obj_inv,
-            support_points=self._support_points,
-            friction_limits=self._friction_limits,
-            slip_directions=self._slip_directions,
-            sliding=self._sliding,
-            h=config.dt / config.substeps,
-            stabilisation=config.stabilisation,
-            tie_break=TIE_BREAK,
-            mu_contact=config.mu_contact,
-        )
+        uniform_limits = config.mu_ground * obj.support_loads * (config.gravity / GRAVITY)
+        self.solver = StepSolver(obj, config, friction_field, self.stats, uniform_limits)
         self._n_prongs = 0 if arm is None else arm.pusher.n_prongs
         if arm is not None:  # the step end's arrays: q, the contact geometry, the arm terms
             shapes: tuple[tuple[int, ...], ...] = (
@@ -186,12 +112,15 @@ class World(SubstepSolver):
         )
         self.reset()
 
-    def __getstate__(self) -> dict:
-        """A copy or a pickle resolves the step's kernels again at its first step: an entry
-        point does not pickle."""
-        state = self.__dict__.copy()
-        state["_slip_call"] = state["_end_call"] = None
-        return state
+    @property
+    def config(self) -> WorldConfig:
+        """The world's settings (its solver's too)."""
+        return self._config
+
+    @config.setter
+    def config(self, config: WorldConfig) -> None:
+        """Replace the settings of the steps to come; ``dt`` and ``substeps`` must stay."""
+        self._config = self.solver.config = config
 
     # ------------------------------------------------------------------ state
 
@@ -214,12 +143,7 @@ class World(SubstepSolver):
             self.q = finite_vector("arm_q", q, self.arm.nq).copy()
             v = np.zeros(self._nv) if arm_v is None else arm_v
             self.v = finite_vector("arm_v", v, self._nv).copy()
-        # At rest the ground boxes align with e_n until a slip direction is seen.
-        theta = self.object_pose[2]
-        self._slip_directions[:] = (math.cos(theta), math.sin(theta))
-        self._sliding[:] = False
-        self._last_prongs: tuple[int, ...] | None = None
-        self._last_p: np.ndarray | None = None
+        self.solver.reset(self.object_pose[2])  # at rest the boxes align with e_n
         self._energy_ledger = 0.0  # spurious arm kinetic energy not yet removed [J]
         self._refresh_arm_terms()
         self._find_contacts()
@@ -258,10 +182,9 @@ class World(SubstepSolver):
         scalar = self._kv_scalar
         damping = scalar[2] if kv is scalar[1] else self._damping + kv
         n_sub = self.config.substeps
-        h = self.config.dt / n_sub
-        forces, residual, converged, iterations = self._substep(h, tau_arm, damping)
+        forces, residual, converged, iterations = self._substep(tau_arm, damping)
         for _ in range(n_sub - 1):
-            more_forces, more_residual, more_converged, more = self._substep(h, tau_arm, damping)
+            more_forces, more_residual, more_converged, more = self._substep(tau_arm, damping)
             forces = forces + more_forces
             iterations += more
             if more_residual > residual:  # the worst substep's solve is reported
@@ -274,18 +197,47 @@ class World(SubstepSolver):
         """The MLCP the next (sub)step would solve, without stepping: for inspection and
         benchmarks. Arguments as in :meth:`step`."""
         tau_arm, kv = self._check_command(tau, implicit_kv)
-        directions, sliding = self._slip_directions.copy(), self._sliding.copy()
-        h = self.config.dt / self.config.substeps
-        self._start_slip_state()
-        problem = self._build_problem(h, tau_arm, self._damping + kv)
-        self._slip_directions[:], self._sliding[:] = directions, sliding  # keep the state
-        return problem
+        prongs, state = self._step_state(tau_arm, self._damping + kv)
+        return self.solver.problem(state, prongs)
 
-    def _advance_object(self, v_obj: np.ndarray, h: float) -> None:
-        """Semi-implicit Euler: the pose moves with the new velocity. θ is not wrapped: the
-        plan and the metrics compare continuous angles."""
-        self.object_velocity = v_obj
-        self.object_pose = self.object_pose + h * v_obj
+    def _substep(self, tau: np.ndarray, damping: np.ndarray):
+        """One (sub)step: the contact solve, then the object and the arm moved. Returns
+        (prong forces (k, 2) [N], the solve's residual, whether it converged, its pivots)."""
+        prongs, state = self._step_state(tau, damping)
+        solved = self.solver.solve(state, prongs)
+        if len(prongs) == self._n_prongs:
+            forces = solved.forces
+        else:
+            forces = np.zeros((self._n_prongs, 2))
+            for row, prong in enumerate(prongs):  # a loop: 1 µs less than a list index
+                forces[prong] = solved.forces[row]
+        # semi-implicit Euler: the pose moved with the new velocity (θ is not wrapped: the
+        # plan and the metrics compare continuous angles)
+        self.object_velocity, self.object_pose = solved.v_obj, solved.pose
+        if self.arm is not None:
+            self._advance_arm(solved.v_arm, self.solver.model.h)  # which finds the contacts
+        else:
+            self._find_contacts()
+        return forces, solved.residual, solved.converged, solved.pivots
+
+    def _step_state(self, tau: np.ndarray, damping: np.ndarray) -> tuple[tuple[int, ...], tuple]:
+        """The prongs in contact and the step's state: the kernels' leading arguments
+        (:data:`~pushctl.contact.step_solver.STEP_STATE`). ``damping`` (nv,) [N·m·s/rad]:
+        all joint damping applied implicitly."""
+        terms = self._terms
+        prongs: tuple[int, ...]
+        if terms is None:
+            prongs, contacts, jacobians = (), _NO_CONTACTS, _NO_JACOBIANS
+            M, nle = _NO_ARM_MATRIX, self.v
+        else:
+            prongs, contacts = self._prongs, self._contacts
+            jacobians = terms.prong_jacobians
+            if len(prongs) < self._n_prongs:  # take with a kept index array: 1.2 µs less
+                jacobians = jacobians.take(PRONG_ROWS[prongs], axis=0)  # than a list index
+            M, nle = terms.M, terms.nle
+        state = (contacts, jacobians, M, nle, self.v, tau, damping, self.object_pose,
+                 self.object_velocity)  # fmt: skip
+        return prongs, state
 
     def _advance_arm(self, v_arm: np.ndarray, h: float) -> None:
         """Move the arm with its new velocity, then remove spurious energy it has gained;
@@ -348,8 +300,7 @@ class World(SubstepSolver):
         else:
             args = (*common, *tail, geometry, gaps)
             kernel = native_arm_moved
-        call = self._end_call or self._resolve("_end_call", kernel, args)
-        ledger, energy, contacts, mask = call(*args)
+        ledger, energy, contacts, mask = kernel(*args)
         if nominal:
             arm.record_nominal_pass(terms[-1], nominal)
         self.q, self._energy_ledger, self._gaps = q, ledger, gaps
@@ -386,8 +337,7 @@ class World(SubstepSolver):
         # where a dot product with zeros took 0.6 and isfinite(...).all() 1.5 (measured).
         # The dtype is compared with ==, not `is`: an array made by a compiled kernel loaded
         # from numba's disk cache (the PD law's torque) has a float64 dtype of its own.
-        # C-contiguous too: the step's kernels are called past numba's dispatcher, which
-        # would have typed a strided vector (pushctl.contact.direct_calls).
+        # C-contiguous too: one compiled signature of the step's kernels.
         if not (
             type(tau) is np.ndarray
             and tau.dtype == _FLOAT64

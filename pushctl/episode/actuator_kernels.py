@@ -4,7 +4,7 @@ q̂ of the new joint velocity and the joint impulse the step added besides the a
 
 A proxy step spent 16–28 µs (timeit) in this arithmetic as numpy calls on 7-vectors and a
 7 × 7 solve (docs/evaluation-speed.md, item 7), more than the arithmetic itself. The algebra is
-:mod:`pushctl.contact.small_algebra`'s loops, as in the world's step: one summation order on
+:mod:`pushctl.contact.compiled.algebra`'s loops, as in the world's step: one summation order on
 every machine, where numpy's OpenBLAS and LAPACK pick their kernels by CPU.
 """
 
@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from pushctl.contact.small_algebra import matvec, plus_diagonal, spd_solve
+from pushctl.contact.compiled.algebra import matvec, plus_diagonal, spd_solve
 
 
 @njit(cache=True)

@@ -31,7 +31,7 @@ import numpy as np
 from pushctl.arm import ArmConfig, ArmModel, ArmTerms, BelievedTerms, load_arm
 from pushctl.checks import finite_vector
 from pushctl.config import PusherConfig
-from pushctl.contact.build import make_world
+from pushctl.engines import make_world
 from pushctl.contact.ground_field import FrictionField
 from pushctl.contact.world import World
 from pushctl.control.gains import PDGains, load_gains

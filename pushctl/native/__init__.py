@@ -3,8 +3,9 @@ points, so that the hot loops reach them without a Python call each.
 
 - ``arm_terms.cpp``: the arm's pass of every world step (:meth:`pushctl.arm.ArmModel.compute`:
   computeAllTerms and the frames' Jacobians; and ``integrate``), called from numba kernels
-  (:mod:`pushctl.native.arm_kernels`, ``pushctl.contact.step_end``). Through the bindings it
-  was one Python call to computeAllTerms and one per frame: about a third of a world step.
+  (:mod:`pushctl.native.arm_kernels`, ``pushctl.contact.compiled.step_end``). Through the
+  bindings it was one Python call to computeAllTerms and one per frame: about a third of a
+  world step.
 - ``force_qps.cpp``: the force distribution's sequence of small ProxQP problems, one per
   planned step (:class:`pushctl.planning.forces._StepQP`), about 7500 per reset, each a
   Python round trip through the bindings.
@@ -14,7 +15,7 @@ installed ``libpinocchio_default``; ProxSuite's header-only solver built, like t
 bindings pushctl loads, for the baseline x86-64 instruction set), so every number is the
 bindings' to the bit (tests/native/).
 
-The library is built at install (``python -m pushctl.native.build``; the Makefile does it).
+The library is built at install (``pushctl.native.build.build()``; the Makefile does it).
 :func:`available` says whether it is in use: only if it was built for the installed
 Pinocchio and ProxSuite from today's sources (its stamp) and ``PUSHCTL_NATIVE`` is not
 ``0``. Otherwise the callers keep to the bindings, with the same results, slower.
@@ -114,7 +115,7 @@ def status() -> str:
     if os.environ.get("PUSHCTL_NATIVE", "1") == "0":
         return "Pinocchio's and ProxSuite's Python bindings (PUSHCTL_NATIVE=0)"
     if not LIBRARY.exists():
-        return "the Python bindings (not built: python -m pushctl.native.build)"
+        return "the Python bindings (not built: pushctl.native.build.build())"
     if _load_error is not None:
         return f"the Python bindings (the library did not load: {_load_error}; rebuild it)"
     return "the Python bindings (built for other versions or sources: rebuild it)"

@@ -1,6 +1,6 @@
 """The numba side of the compiled arm terms: :func:`native_terms` and
 :func:`native_terms_nominal` call the library's ``pushctl_arm_terms`` (``arm_terms.cpp``)
-by its symbol, in :func:`arm_pass`; ``pushctl.contact.step_end`` calls that and
+by its symbol, in :func:`arm_pass`; ``pushctl.contact.compiled.step_end`` calls that and
 ``pushctl_arm_integrate`` too.
 
 :func:`native_terms` is :func:`native_terms_nominal` without the nominal pusher's frame.
@@ -75,7 +75,7 @@ def arm_pass(
 ):  # fmt: skip  # pragma: no cover - compiled
     """The library's pass at (q, v), contiguous float64 arrays as they are, into the arrays
     after them (``nominal`` −1: the nominal frame's are empty). :func:`native_terms_nominal`
-    makes its q and v so first; the world's step end (``pushctl.contact.step_end``) has
+    makes its q and v so first; the world's step end (``pushctl.contact.compiled.step_end``) has
     them so."""
     _arm_terms(
         handle, q.ctypes, v.ctypes, prongs.size, prongs.ctypes, pusher, nominal,

@@ -1,27 +1,25 @@
 """Build pushctl's compiled library (:mod:`pushctl.native`) against the installed Pinocchio
 and ProxSuite.
 
-Run as ``python -m pushctl.native.build [--optional] [--force]`` (the Makefile's
-``install`` does, with ``--optional``). It compiles the package's C++ sources with the C++
+Call :func:`build` (``make install`` does: ``python -c "from pushctl.native.build import
+build; print(build(optional=True))"``). It compiles the package's C++ sources with the C++
 compiler (``$CXX``, else ``g++``) against the headers and ``libpinocchio_default`` of the
 ``pin`` wheel in this environment, ProxSuite's headers from the same prefix and Eigen's
 from ``cmeel-eigen``, into ``pushctl/native/lib/libpushctl_native.so``, with a stamp naming
 the versions and the sources' SHA-256: a later run with all unchanged does nothing, and
 the loader refuses a library whose stamp does not match. The library is written to a
-temporary file and renamed. Without ``--optional`` a failure is an error (exit 1); with it,
-a one-line note and exit 0: the project then runs the same calls through the Python
+temporary file and renamed. A failure raises :class:`BuildError`; with ``optional`` it is
+a one-line note instead: the project then runs the same calls through the Python
 bindings, to the same bits, slower. About 45 s here (the sources side by side).
 """
 
 from __future__ import annotations
 
-import argparse
 import importlib.util
 import json
 import os
 import shutil
 import subprocess
-import sys
 import tempfile
 from pathlib import Path
 
@@ -91,8 +89,23 @@ def _run_all(commands: list[list[str]]) -> None:
             raise BuildError(f"{command[0]} failed: {first.strip()[:300]}")
 
 
-def build(force: bool = False) -> str:
-    """Build the library unless an up-to-date one exists; returns what was done."""
+def build(force: bool = False, optional: bool = False) -> str:
+    """Build the library unless an up-to-date one exists (``force``: rebuild); returns what
+    was done. A failure raises :class:`BuildError`, or with ``optional`` is returned as a
+    note (the Python bindings are then used)."""
+    try:
+        return _build(force)
+    except BuildError as error:
+        if not optional:
+            raise
+        return (
+            f"note: pushctl's compiled library was not built ({error}); "
+            "the Python bindings compute the same numbers, slower"
+        )
+
+
+def _build(force: bool) -> str:
+    """:func:`build` without the note."""
     stamp = expected_stamp()
     if not force and LIBRARY.exists() and STAMP.exists():
         if json.loads(STAMP.read_text()) == stamp:
@@ -118,32 +131,3 @@ def build(force: bool = False) -> str:
     stamp_partial.write_text(json.dumps(stamp, indent=1) + "\n")
     os.replace(stamp_partial, STAMP)
     return f"built {LIBRARY}"
-
-
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(
-        prog="python -m pushctl.native.build", description=__doc__.splitlines()[0]
-    )
-    parser.add_argument(
-        "--optional",
-        action="store_true",
-        help="on failure print a note and exit 0 (the Python bindings are used)",
-    )
-    parser.add_argument("--force", action="store_true", help="rebuild even if up to date")
-    args = parser.parse_args(argv)
-    try:
-        print(build(force=args.force))
-    except BuildError as error:
-        if args.optional:
-            print(
-                f"note: pushctl's compiled library was not built ({error}); "
-                "the Python bindings compute the same numbers, slower"
-            )
-            return 0
-        print(f"error: {error}", file=sys.stderr)
-        return 1
-    return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -41,22 +41,6 @@ def test_the_ratio_is_the_median_of_the_pairs_so_a_drift_between_pairs_cancels()
     assert paired_ratio([9.0, 18.0, 27.0], [10.0, 20.0, 30.0]) == 0.9
 
 
-def test_the_cold_problems_are_recorded_from_every_step_that_left_the_warm_active_set() -> None:
-    """The recording makes each step in parts (the compiled step, slip_step, would solve
-    most cold steps inside one call, unseen): random actions send many steps to the cold
-    path; afterwards the world steps in one call again."""
-    import pushctl.contact.substep as substep_module
-    from benchmarks.commits.step import record_cold_problems
-
-    compiled_step = substep_module.SubstepSolver._compiled_step
-    problems = record_cold_problems(steps=300)
-    # 300 random-action steps: about 40 % leave the warm active set; a new contact set
-    # alone (what the recording saw when the compiled step was left in place) about 2 %
-    assert len(problems) > 60
-    assert all(warm is None or warm.shape == b.shape for _, b, *_, warm in problems)
-    assert substep_module.SubstepSolver._compiled_step is compiled_step
-
-
 def _runs_compiled(tree: Path) -> bool:
     """Whether pushctl at ``tree`` loads its compiled library, in a fresh process."""
     done = subprocess.run(

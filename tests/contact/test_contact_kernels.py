@@ -7,7 +7,7 @@ import pytest
 
 import pushctl
 from pushctl.contact.active_set import labels_at, solve_labels
-from pushctl.contact.kernels import active_set_step
+from pushctl.contact.compiled.assembly import active_set_step
 from pushctl.contact.mlcp import _box_problem
 from pushctl.contact.mlcp_checks import validated_arrays
 

@@ -72,81 +72,34 @@ def test_arm_terms_of_a_deep_copy_follow_its_own_state():
     assert not np.shares_memory(twin._data_M, arm._data_M)
 
 
-def _slipping_push_digest():
-    """SHA-256 of the observations and rewards of a random-action wedge push, and its stats."""
-    import hashlib
-
-    from pushctl.rl.env import PushEnv
-    from pushctl.rl.env_config import EnvConfig
-
-    env = PushEnv(EnvConfig(duration=3.0, gate_threshold=0.0))
-    env.reset(seed=3, options={"object": "wedge", "profile": "chirp"})
-    rng = np.random.default_rng(3)
-    digest = hashlib.sha256()
-    for _ in range(300):
-        obs, reward, terminated, truncated, _ = env.step(rng.uniform(-1, 1, 3).astype(np.float32))
-        digest.update(obs.tobytes())
-        digest.update(np.float64(reward).tobytes())
-        if terminated or truncated:
-            break
-    return digest.hexdigest(), env.episode.world.stats
-
-
-def test_compiled_slip_loop_matches_the_python_loop_bit_for_bit(monkeypatch):
-    """World._substep's compiled refine-and-re-solve loop (slip_step) against the Python
-    loop it replaces, on a push whose boxes are refined and re-solved many times."""
-    import pushctl.contact.substep as substep_module
-    import pushctl.contact.world as world_module
-    from pushctl.contact.kernels import slip_state
-
-    compiled, stats = _slipping_push_digest()
-    original = world_module.World._solve_step
-
-    def python_solve(self, h, tau, damping, inputs, guess, try_warm=True):
-        return original(self, h, tau, damping, inputs, guess)  # always tries the warm step
-
-    def never(*args):  # the kernel's first warm solve fails: only the boxes are set
-        pose, velocity, model = args[7], args[8], substep_module.ContactModel(*args[9:18])
-        slip_state(pose, velocity, model.support_points, model.slip_directions, model.sliding)
-        return (0, 0, 0.0, 0, 0, 0.0)  # status 0: nothing else is read
-
-    monkeypatch.setattr(substep_module, "warm_slip_step", never)
-    monkeypatch.setattr(world_module.World, "_compiled_step", lambda self, *args: None)
-    monkeypatch.setattr(world_module.World, "_solve_step", python_solve)
-    python, python_stats = _slipping_push_digest()
-    assert compiled == python
-    assert stats == python_stats
-    assert stats.slip_iterations > 50 and stats.slip_unsettled > 0  # the loop ran, both ends
-
-
 def test_step_state_and_contact_model_name_the_kernels_parameters():
     """The world calls the kernels as ``kernel(*state, *model, ...)``: STEP_STATE and the
     ContactModel's fields must be their parameters in order, or arrays would land in the
     wrong parameter."""
     import inspect
 
-    from pushctl.contact.cold_step import cold_contact_step, cold_slip_step, slip_step
-    from pushctl.contact.kernels import assemble, warm_contact_step, warm_slip_step
-    from pushctl.contact.substep import STEP_STATE, ContactModel
+    from pushctl.contact.compiled.assembly import assemble
+    from pushctl.contact.compiled.step import resume_step, slip_step
+    from pushctl.contact.step_solver import STEP_STATE, ContactModel
 
     names = list(STEP_STATE) + list(ContactModel._fields)
     assert len(names) == 18
-    kernels = (assemble, warm_contact_step, warm_slip_step, cold_contact_step, cold_slip_step)
-    for kernel in (*kernels, slip_step):
+    for kernel in (assemble, slip_step, resume_step):
         parameters = list(inspect.signature(kernel.py_func).parameters)
         assert parameters[:18] == names, kernel.py_func.__name__
     assert list(inspect.signature(assemble.py_func).parameters) == names
 
 
 def test_the_contact_model_follows_the_worlds_arrays():
-    """Built once per world: its arrays are the world's, so updates in place reach it."""
+    """Built once per world, its arrays updated in place: a contact problem leaves the
+    boxes as they were."""
     from pushctl import make_world
 
     world = make_world("cube")
-    model = world._model
-    assert model.slip_directions is world._slip_directions
-    assert model.sliding is world._sliding
-    assert model.friction_limits is world._friction_limits
+    model = world.solver.model
+    directions = model.slip_directions
     assert model.h == world.config.dt / world.config.substeps
+    before = directions.copy()
     world.contact_problem(np.zeros(world.v.size))  # restores the boxes in place
-    assert model.slip_directions is world._slip_directions
+    assert world.solver.model.slip_directions is directions
+    assert np.array_equal(directions, before)

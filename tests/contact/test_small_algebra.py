@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pushctl.contact.small_algebra import lu_solve, matmul, matvec, plus_diagonal, spd_solve
+from pushctl.contact.compiled.algebra import lu_solve, matmul, matvec, plus_diagonal, spd_solve
 
 
 def _spd(rng: np.random.Generator, n: int) -> np.ndarray:

@@ -1,6 +1,6 @@
 """The stick rule (``WorldConfig.stick_fraction``, off by default): a sliding support point
 whose along-row friction impulse comes out inside its bound gets the rest box
-(pushctl/contact/kernels.py, ``refine_slip``)."""
+(``pushctl.contact.compiled.assembly.refine_slip``)."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from pushctl.contact.kernels import refine_slip
+from pushctl.contact.compiled.assembly import refine_slip
 from pushctl.contact.world import STICK_FRACTION, World, WorldConfig
 from pushctl.errors import ConfigError
 from pushctl.rl.env import PushEnv

@@ -9,7 +9,7 @@ import pytest
 
 from pushctl.arm import ArmConfig, load_arm
 from pushctl.config import PusherConfig
-from pushctl.contact.build import make_world
+from pushctl.engines import make_world
 from pushctl.control import (
     PDController,
     PDGains,

@@ -15,7 +15,7 @@ from dataclasses import fields, replace
 import numpy as np
 import pytest
 
-from pushctl.contact.build import make_world
+from pushctl.engines import make_world
 from pushctl.control import PDGains
 from pushctl.episode import Episode, Scenario
 from pushctl.episode.draw import draw_planned_scenario

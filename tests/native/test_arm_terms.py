@@ -15,7 +15,7 @@ import pytest
 
 from pushctl.arm import ArmConfig, ArmModel, ArmTerms, load_arm
 from pushctl.config import PusherConfig
-from pushctl.contact.build import make_world
+from pushctl.engines import make_world
 
 
 def _through_bindings(arm: ArmModel, q: np.ndarray, v: np.ndarray) -> ArmTerms:

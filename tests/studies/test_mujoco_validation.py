@@ -5,7 +5,7 @@ import math
 import pytest
 
 from pushctl.config import GRAVITY
-from pushctl.contact.build import ENGINES
+from pushctl.engines import ENGINES
 from studies import mujoco_validation as validation
 
 

@@ -5,7 +5,7 @@ at the new state too (:func:`native_arm_moved`), whose library calls are declare
 :mod:`pushctl.native.arm_kernels` (symbols, not kernels: nothing there is compiled into
 these).
 
-:mod:`pushctl.contact.rows` re-exports :func:`prong_geometry`.
+:mod:`pushctl.contact.rows` calls :func:`prong_geometry`.
 """
 
 from __future__ import annotations
@@ -45,8 +45,8 @@ def native_arm_moved(
     Writes into the arrays the caller passes (``q_new`` (nq,), the eight of an
     :class:`~pushctl.arm.ArmTerms` and ``geometry`` (k, 5), ``gaps`` (k,)) instead of
     returning new ones: numba's boxing of a returned array cost about 0.4–0.8 µs each, an
-    array made by ``np.empty`` in Python and passed in about 0.25 (eleven a step; measured
-    in ``python -m pushctl.bench.compare``). Returns ``(ledger, energy, contacts, mask)``:
+    array made by ``np.empty`` in Python and passed in about 0.25 (eleven a step, measured).
+    Returns ``(ledger, energy, contacts, mask)``:
     the first ``contacts`` rows of ``geometry`` are the prongs in contact."""
     return native_arm_moved_nominal(
         handle, q, v_new, h, prongs, pusher, -1, ledger, M_old, nle_old, g_old, edges, pose,
@@ -87,7 +87,7 @@ def coriolis_energy_error(ledger, v_new, M_old, nle_old, g_old, M_new, h):
     kinetic energy ``½ v⁺ᵀ M(q⁺) v⁺`` [J] (see ``World._advance_arm``).
 
     The error is ``½ v⁺ᵀ (M(q⁺) − M(q)) v⁺ − h v⁺ᵀ C(q, v) v``, with ``C(q, v) v = nle − g``;
-    the products are loops (no BLAS calls: :mod:`pushctl.contact.kernels`).
+    the products are loops (no BLAS calls: :mod:`pushctl.contact.compiled.assembly`).
     """
     n = v_new.shape[0]
     new_e = old_e = work = 0.0

@@ -3,7 +3,7 @@ sizes (n ≈ 8–16 rows, nv = 7).
 
 Not numba's BLAS and LAPACK calls (``@``, ``np.linalg.solve``): at these sizes a library
 call costs more than its arithmetic (OpenBLAS and LAPACK took about a fifth of a world
-step's time, perf-sampled: docs/reproducibility-and-speed.md), and OpenBLAS picks its
+step's time, perf-sampled), and OpenBLAS picks its
 kernels by CPU, so its sums rounded differently from one machine to another
 (:mod:`pushctl.machine`). A loop's sum has one order everywhere.
 """

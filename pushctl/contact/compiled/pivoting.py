@@ -23,7 +23,7 @@ import numpy as np
 from numba import njit, types
 from numba.extending import get_cython_function_address
 
-from pushctl.contact.small_algebra import lu_solve, lu_solve_in_place
+from pushctl.contact.compiled.algebra import lu_solve, lu_solve_in_place
 
 RANK_RCOND = 1e-11
 """Relative threshold of the rank decision in the minimum-norm solve of a singular system."""

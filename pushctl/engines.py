@@ -1,4 +1,7 @@
-"""``make_world``: the one call that puts an arm, a pusher and an object on the table."""
+"""``make_world``: the one call that puts an arm, a pusher and an object on the table, in
+either physics engine: our box-friction MLCP world (:mod:`pushctl.contact`) or MuJoCo
+(:mod:`pushctl.mujoco`, loaded only when asked for). Both engines sit below this module;
+neither imports the other."""
 
 from __future__ import annotations
 
@@ -7,7 +10,8 @@ from typing import TYPE_CHECKING
 from pushctl.arm import ArmConfig, ArmModel, load_arm
 from pushctl.config import GRAVITY, PusherConfig
 from pushctl.contact.ground_field import FrictionField
-from pushctl.contact.world import MAX_SLIP_ITERATIONS, World, WorldConfig
+from pushctl.contact.world import World
+from pushctl.contact.world_config import MAX_SLIP_ITERATIONS, WorldConfig
 from pushctl.errors import ConfigError
 from pushctl.objects import ObjectSpec, resolve_object, with_masses
 
@@ -100,7 +104,8 @@ def _build(
             raise ConfigError(
                 "a ground friction field is not available on the mujoco engine; "
                 "accepted there: uniform mu_ground (friction_field=None)"
-            )  # imported here: MuJoCo is loaded only when asked for
+            )
+        # imported here: MuJoCo is loaded only when asked for
         from pushctl.mujoco import MujocoSettings, MujocoWorld, MujocoWorldConfig
 
         settings = MujocoSettings(config.substeps)

@@ -1,26 +1,15 @@
-"""Compiled kernels of the per-step hot path (numba).
+"""The MLCP of one world step, assembled in compiled code, and the friction boxes of the
+ground refined against a solved step.
 
-At the sizes of one simulation step (n ≈ 8–16 rows, nv = 7) the cost of the step is the
-number of Python-level numpy calls, about 1 µs each, not the arithmetic. These kernels do a
-step's small dense algebra in one compiled call each. They implement nothing the rest of
-the package does not also do in plain numpy (:mod:`pushctl.contact.active_set` holds the
-reference implementation of the active-set solve; the tests compare the two), and they are
-compiled once and cached on disk (``cache=True``).
+At the sizes of one step (n ≈ 8–16 rows, nv = 7) a step costs the number of Python-level
+numpy calls, about 1 µs each, not the arithmetic, so the step's small dense algebra is done
+here in loops (:mod:`~pushctl.contact.compiled.algebra`). :func:`active_set_step` is the
+compiled twin of :mod:`pushctl.contact.active_set`'s ``labels_at``/``solve_labels``/
+``evaluate`` (the tests compare the two).
 
-The algebra is loops (:mod:`pushctl.contact.small_algebra`), not numba's BLAS and LAPACK
-calls; a singular active-set system is solved by LAPACK's dgelsy, the routine of the
-reference and of the cold path's pivoting (:func:`pushctl.contact.pivot_kernels.lu_or_min_norm`).
-
-numba's disk cache is invalidated per source file and does not follow calls or globals into
-other files, so a kernel calling a kernel elsewhere could run stale code after an edit.
-Where a file calls another's (:mod:`pushctl.contact.cold_step` calls these, these call the
-small algebra and the minimum-norm solve), :mod:`pushctl.kernel_cache` drops its cached
-kernels at import once a file it imports from, directly or not, has changed.
-
-The step's kernels (:func:`assemble`, :func:`warm_contact_step`, :func:`warm_slip_step`)
-take the step's state and then the world's contact model, named by
-:data:`~pushctl.contact.substep.STEP_STATE` and
-:class:`~pushctl.contact.substep.ContactModel`.
+The kernels that take a step's state take it as the parameters named by
+:data:`~pushctl.contact.step_solver.STEP_STATE` followed by those of
+:class:`~pushctl.contact.step_solver.ContactModel` (shapes and units in :func:`assemble`).
 """
 
 from __future__ import annotations
@@ -30,8 +19,8 @@ import math
 import numpy as np
 from numba import njit
 
-from pushctl.contact.pivot_kernels import lu_or_min_norm
-from pushctl.contact.small_algebra import matmul, matvec, plus_diagonal, spd_solve
+from pushctl.contact.compiled.algebra import matmul, matvec, plus_diagonal, spd_solve
+from pushctl.contact.compiled.pivoting import lu_or_min_norm
 
 SLIP_SPEED = 1e-6
 """A support point moving slower than this [m/s] counts as sticking: both its friction rows
@@ -249,7 +238,7 @@ def refine_slip(
     sliding (Coulomb's friction is at its
     bound while a point slides): it gets the rest box. Without the rule the along row held
     such a point and the free cross row let it move across the box at 90°, which turning the
-    box did not change (docs/reproducibility-and-speed.md, ninth pass).
+    box did not change.
 
     A sliding point whose new velocity (from ``velocity`` (3,), the step's result) leaves
     its slip direction by more than acos(``cos_tolerance``) gets the bisector of the two
@@ -292,164 +281,3 @@ def apply_impulses(p, v_arm_free, Minv_At_arm, velocity, Minv_At_obj, h):
     v_arm = v_arm_free + matvec(Minv_At_arm, p_prong)
     v_obj = velocity + matvec(Minv_At_obj, p)
     return v_arm, v_obj, p_prong.reshape(-1, 2) / h
-
-
-@njit(cache=True)
-def warm_contact_step(
-    contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
-    support_points, friction_limits, slip_directions, sliding, h, stabilisation, tie_break,
-    mu_contact, guess, tol,
-):  # fmt: skip
-    """:func:`assemble`, the MLCP solved on the active set of ``guess`` (n,) (the previous
-    step's impulses), and :func:`apply_impulses`, in one compiled call: the common step.
-
-    Returns ``(verified, p, w, residual, v_arm, v_obj, forces)``; when ``verified`` is False
-    the caller solves the step's MLCP in full (ProxQP and pivoting) instead. Moving arrays
-    between Python and compiled code costs about a microsecond each, so the step's matrices
-    stay in here.
-    """
-    arm = arm_part(contacts, jacobians, M, nle, v_arm, tau, joint_damping, h)
-    return warm_solve(
-        arm, contacts, pose, velocity, obj_mass_inv, support_points, friction_limits,
-        slip_directions, sliding, h, stabilisation, tie_break, mu_contact, guess, tol,
-    )  # fmt: skip
-
-
-@njit(cache=True)
-def warm_solve(
-    arm, contacts, pose, velocity, obj_mass_inv, support_points, friction_limits,
-    slip_directions, sliding, h, stabilisation, tie_break, mu_contact, guess, tol,
-):  # fmt: skip
-    """:func:`warm_contact_step` from the step's :func:`arm_part` ``arm``."""
-    problem = assemble_on(
-        arm, contacts, pose, velocity, obj_mass_inv, support_points, friction_limits,
-        slip_directions, sliding, h, stabilisation, tie_break, mu_contact,
-    )  # fmt: skip
-    return warm_solve_on(problem, velocity, h, guess, tol)
-
-
-@njit(cache=True)
-def warm_solve_on(problem, velocity, h, guess, tol):
-    """:func:`warm_solve` of the :func:`assemble_on` output ``problem``."""
-    D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, _ = problem
-    threshold = tol * max(1.0, np.max(np.abs(b)))
-    p, w, residual, verified = active_set_step(D, b, lo, hi, findex, mu, guess, threshold)
-    v_arm_new, v_obj, forces = apply_impulses(p, v_arm_free, Minv_At_arm, velocity, Minv_At_obj, h)
-    return verified, p, w, residual, v_arm_new, v_obj, forces
-
-
-@njit(cache=True)
-def write_solve(solve, last_p, next_pose, out_v_arm, out_v_obj, out_forces, out_last_p, out_pose):
-    """Write what the world reads of a kept :func:`warm_contact_step` solve ``(p, w,
-    residual, v_arm, v_obj, forces)`` (its velocities and forces), the next warm start and
-    the object's next pose into the caller's arrays; return the solve's residual."""
-    out_v_arm[:] = solve[3]
-    out_v_obj[:] = solve[4]
-    out_forces[:] = solve[5]
-    out_last_p[:] = last_p
-    out_pose[:] = next_pose
-    return solve[2]
-
-
-SLIP_SETTLED, SLIP_UNSETTLED, SLIP_WARM_FAILED = 1, 2, 3
-"""Outcomes of :func:`warm_slip_step` (0: its first warm solve failed, nothing changed)."""
-
-
-@njit(cache=True)
-def warm_slip_step(
-    contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
-    support_points, friction_limits, slip_directions, sliding, h, stabilisation, tie_break,
-    mu_contact, guess, tol, cos_tolerance, stick_fraction, max_iterations, out_v_arm, out_v_obj,
-    out_forces, out_last_p, out_pose,
-):  # fmt: skip
-    """``World._substep``'s solve-and-refine loop of the friction boxes, compiled, while
-    every solve is a verified :func:`warm_contact_step` (the same calls in the same order as
-    the Python loop, so the same bits). A slipping step re-solves one to six times; in
-    Python each round trip cost more than its compiled solve.
-
-    The step's friction boxes are set first (:func:`slip_state`, from ``velocity``; one
-    compiled call fewer per step than calling it from Python).
-
-    Returns ``(status, solves, residual, attempt, iterations, worst)`` and writes into the
-    caller's arrays (made by ``np.empty`` in Python: numba's boxing of a returned array
-    cost more than making one and passing it in, measured): ``out_v_arm`` (nv,),
-    ``out_v_obj`` (3,) and ``out_forces`` (p, 2) [N] of the solve the step keeps (see
-    ``status``; its impulses are not written: nothing reads them) and ``residual`` is its
-    residual; ``out_last_p`` (m,) the impulses of the latest verified solve (the next warm
-    start); ``out_pose`` (3,) the object's pose after the step, ``pose + h v_obj`` with the
-    kept velocity (the semi-implicit Euler of ``World._advance_object``; ``pose`` itself
-    when the caller goes on in Python). ``solves`` counts the verified solves,
-    ``iterations`` the re-solves for the slip directions, ``worst`` is the largest
-    residual of the verified solves. ``status`` 0: the first warm solve failed (the boxes
-    are as :func:`slip_state` set them; the arrays hold that failed solve); ``SLIP_SETTLED``:
-    the kept solve is the latest; ``SLIP_UNSETTLED``: not settled after
-    ``max_iterations``, the kept solve is the first (the caller restores its boxes);
-    ``SLIP_WARM_FAILED``: the boxes were refined at loop index ``attempt`` (< max) and the
-    warm re-solve from the written ``out_last_p`` failed: the caller continues the loop
-    from there, with the kept (first) solve as the one to keep if it does not settle.
-    """
-    outs = (out_v_arm, out_v_obj, out_forces, out_last_p, out_pose)
-    status, solves, attempt, iterations, worst, first, last, _, _ = warm_slip_loop(
-        contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
-        support_points, friction_limits, slip_directions, sliding, h, stabilisation,
-        tie_break, mu_contact, guess, tol, cos_tolerance, stick_fraction, max_iterations,
-    )  # fmt: skip
-    if status == 0:
-        return 0, 0, write_solve(first, first[0], pose, *outs), 0, 0, 0.0
-    if status == SLIP_SETTLED:
-        residual = write_solve(last, last[0], pose + h * last[4], *outs)
-    elif status == SLIP_WARM_FAILED:
-        residual = write_solve(first, last[0], pose, *outs)
-    else:  # the step keeps its first solve
-        residual = write_solve(first, last[0], pose + h * first[4], *outs)
-    return status, solves, residual, attempt, iterations, worst
-
-
-@njit(cache=True)
-def warm_slip_loop(
-    contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
-    support_points, friction_limits, slip_directions, sliding, h, stabilisation, tie_break,
-    mu_contact, guess, tol, cos_tolerance, stick_fraction, max_iterations,
-):  # fmt: skip
-    """The loop of :func:`warm_slip_step` (arguments as there), for the compiled callers:
-    returns ``(status, solves, attempt, iterations, worst, first, last, arm, problem)`` with
-    ``status``, ``solves``, ``attempt``, ``iterations`` and ``worst`` as
-    :func:`warm_slip_step` returns them, ``first`` and ``last`` the first and the latest
-    verified solves ``(p, w, residual, v_arm, v_obj, forces)`` (on status 0, ``first`` is the
-    failed solve), ``arm`` the step's :func:`arm_part` and ``problem`` the
-    :func:`assemble_on` output of the latest solve: when a warm solve failed, the problem it
-    failed on (from ``guess`` on status 0, from ``last``'s impulses on ``SLIP_WARM_FAILED``),
-    with the boxes it was built on left in ``slip_directions`` and ``sliding``."""
-    slip_state(pose, velocity, support_points, slip_directions, sliding)
-    inputs_velocity = velocity
-    arm = arm_part(contacts, jacobians, M, nle, v_arm, tau, joint_damping, h)
-    problem = assemble_on(
-        arm, contacts, pose, inputs_velocity, obj_mass_inv, support_points, friction_limits,
-        slip_directions, sliding, h, stabilisation, tie_break, mu_contact,
-    )  # fmt: skip
-    ok, p, w, res, va, vo, f = warm_solve_on(problem, inputs_velocity, h, guess, tol)
-    first = (p, w, res, va, vo, f)
-    if not ok:
-        return 0, 0, 0, 0, 0.0, first, first, arm, problem
-    last = first
-    solves, iterations, worst = 1, 0, res
-    for attempt in range(max_iterations + 1):
-        if not refine_slip(pose, last[4], support_points, slip_directions, sliding, cos_tolerance,
-                           last[0], friction_limits, h, stick_fraction):  # fmt: skip
-            return SLIP_SETTLED, solves, attempt, iterations, worst, first, last, arm, problem
-        if attempt == max_iterations:
-            break
-        iterations += 1
-        problem = assemble_on(
-            arm, contacts, pose, inputs_velocity, obj_mass_inv, support_points,
-            friction_limits, slip_directions, sliding, h, stabilisation, tie_break,
-            mu_contact,
-        )  # fmt: skip
-        ok, p, w, res, va, vo, f = warm_solve_on(problem, inputs_velocity, h, last[0], tol)
-        if not ok:
-            return SLIP_WARM_FAILED, solves, attempt, iterations - 1, worst, first, last, arm, \
-                problem  # fmt: skip
-        last = (p, w, res, va, vo, f)
-        solves += 1
-        worst = max(worst, res)
-    return SLIP_UNSETTLED, solves, max_iterations, iterations, worst, first, last, arm, problem

@@ -1,0 +1,283 @@
+"""The contact solve of one world (sub)step: its MLCP, solved with the ground's friction
+boxes refined against the solved slip (:class:`StepSolver`, held by
+:class:`~pushctl.contact.world.World`).
+
+The whole solve is one compiled call (:func:`~pushctl.contact.compiled.step.slip_step`).
+Only a solve that the compiled pivoting does not verify comes back here: ProxQP solves
+that problem (:func:`~pushctl.contact.mlcp.solve_after_pivoting`) and the compiled loop
+resumes (:func:`~pushctl.contact.compiled.step.resume_step`).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from pushctl.contact.compiled.assembly import apply_impulses, assemble, slip_state
+from pushctl.contact.compiled.step import NEEDS_PROXQP, UNSETTLED, resume_step, slip_step
+from pushctl.contact.ground_field import FrictionField
+from pushctl.contact.mlcp import DEFAULT_TOL, MLCPResult, cold_pivot_budget, solve_after_pivoting
+from pushctl.contact.recycle import ArrayRecycler
+from pushctl.contact.world_config import WorldConfig
+from pushctl.objects import ObjectSpec
+from pushctl.types import ContactProblem, WorldStats
+
+STEP_STATE = (
+    "contacts", "jacobians", "M", "nle", "v_arm", "tau", "joint_damping", "pose", "velocity"
+)  # fmt: skip
+"""The leading parameters of the step's kernels (:func:`~pushctl.contact.compiled.assembly.
+assemble`, :func:`~pushctl.contact.compiled.step.slip_step`, ``resume_step``): the state of
+one step, which changes every step (shapes and units in ``assemble``). The world passes them
+as a plain tuple in this order, then the solver's :class:`ContactModel`."""
+
+TIE_BREAK = 1e-6
+"""Relative diagonal term added to the prong rows of D [-] (docs/design.md §3: 1e-6·diag D)."""
+
+SLIP_COS_TOLERANCE = math.cos(math.radians(5.0))
+"""A sliding support point whose velocity after a step leaves the slip direction its friction
+box was built on by more than 5° gets a corrected box and the step is solved again."""
+
+
+class ContactModel(NamedTuple):
+    """The world's side of the step's kernels, fixed for one world (built once, its arrays
+    updated in place): their parameters after :data:`STEP_STATE`, in this order, called as
+    ``kernel(*state, *model, ...)``. Arrays are float64 unless said otherwise. Passed
+    unpacked: numba types a NamedTuple argument in Python at every call."""
+
+    obj_mass_inv: np.ndarray
+    """(3,) (1/m, 1/m, 1/I_z) [1/kg, 1/kg, 1/(kg·m²)]."""
+    support_points: np.ndarray
+    """(S, 2) the object's support points, object frame [m]."""
+    friction_limits: np.ndarray
+    """(S,) μ(p_j) N_j at each support point [N] (rewritten in place where a friction field
+    makes μ vary over the table)."""
+    slip_directions: np.ndarray
+    """(S, 2) each support point's friction box direction (unit), world frame; updated in
+    place by the kernels."""
+    sliding: np.ndarray
+    """(S,) bool: whether each support point slides (its box has no cross bound)."""
+    h: float
+    """The (sub)step [s]."""
+    stabilisation: float
+    """Fraction of a penetration removed per (sub)step, (0, 1]."""
+    tie_break: float
+    """Relative diagonal term on the prong rows of D [-]."""
+    mu_contact: float
+    """Prong–object Coulomb friction μ_c."""
+
+
+class SolvedStep(NamedTuple):
+    """A solved (sub)step: new arm velocity (nv,) [rad/s], object velocity (3,) and pose
+    (3,) after the step, the forces (k, 2) [N] (normal, tangential) of the k prongs in
+    contact, the kept solve's residual, whether it converged and its pivots."""
+
+    v_arm: np.ndarray
+    v_obj: np.ndarray
+    pose: np.ndarray
+    forces: np.ndarray
+    residual: float
+    converged: bool
+    pivots: int
+
+
+class StepSolver:
+    """Solves a world's (sub)steps: owns the friction boxes of the object's support points,
+    their bounds (from a friction field, if any) and the previous step's impulses (the next
+    warm start); counts its solves in ``stats`` (the world's)."""
+
+    def __init__(
+        self,
+        obj: ObjectSpec,
+        config: WorldConfig,
+        friction_field: FrictionField | None,
+        stats: WorldStats,
+        uniform_limits: np.ndarray,
+    ) -> None:
+        """``uniform_limits`` (S,) [N]: μ_g N_j at each support point without a field."""
+        self.config = config
+        self.friction_field = friction_field
+        self.stats = stats
+        self.pivot_budget = cold_pivot_budget()
+        self._uniform_limits = uniform_limits
+        self._bounds_at: tuple[FrictionField, bytes] | None = None
+        support_points = np.ascontiguousarray(obj.support_points, dtype=float)
+        self.model = ContactModel(
+            obj_mass_inv=np.array([1.0 / obj.mass, 1.0 / obj.mass, 1.0 / obj.inertia_z]),
+            support_points=support_points,
+            friction_limits=uniform_limits.copy(),
+            slip_directions=np.zeros_like(support_points),
+            sliding=np.zeros(len(support_points), dtype=np.bool_),
+            h=config.dt / config.substeps,
+            stabilisation=config.stabilisation,
+            tie_break=TIE_BREAK,
+            mu_contact=config.mu_contact,
+        )
+        self._outputs: dict[int, ArrayRecycler] = {}  # per number of prongs in contact
+        self.reset(0.0)
+
+    def reset(self, theta: float) -> None:
+        """No warm start; the boxes of an object at rest at heading ``theta`` [rad] (along
+        its e_n until a slip direction is seen)."""
+        self.model.slip_directions[:] = (math.cos(theta), math.sin(theta))
+        self.model.sliding[:] = False
+        self.last_prongs: tuple[int, ...] | None = None
+        self.last_p: np.ndarray | None = None
+
+    def solve(self, state: tuple, prongs: tuple[int, ...]) -> SolvedStep:
+        """The (sub)step of ``state`` (the kernels' leading arguments, :data:`STEP_STATE`)
+        with ``prongs`` in contact.
+
+        Ground friction is Coulomb's, against each support point's slip velocity *after*
+        the step: a first solve with each box aligned with the point's velocity before the
+        step, then, where the solved velocity leaves a box's direction by more than 5°, the
+        box turned half-way towards it and the step solved again, until they agree. Without
+        this a turning object's rotation rate alternated step by step between stuck and
+        twice its true value (a lagging box is frictionless across the motion). Not settled
+        after ``config.slip_iterations`` re-solves, the step keeps its first solution (the
+        one-step-lag model, dissipative whatever the directions)."""
+        pose = state[7]
+        if self.friction_field is not None:
+            self._update_friction_bounds(pose)
+        guess = self.last_p if prongs == self.last_prongs else None
+        n_rows = 2 * len(prongs) + 2 * len(self.model.support_points)
+        outputs = self._take_outputs(state[2].shape[0], len(prongs), n_rows)
+        config = self.config
+        status, attempt, solves, warm, worst, iterations, residual, pivots, failed = slip_step(
+            *state, *self.model, _NO_GUESS if guess is None else guess, guess is not None,
+            DEFAULT_TOL, self.pivot_budget, SLIP_COS_TOLERANCE, config.stick_fraction,
+            config.slip_iterations, *outputs,
+        )  # fmt: skip
+        self._count(solves, warm, worst, iterations)
+        converged = True
+        if status == NEEDS_PROXQP:
+            first = None
+            if attempt >= 0:  # the outputs hold the step's first solve
+                first = (residual, pivots, *(array.copy() for array in outputs[:3]), True)
+            status, residual, converged, pivots = self._with_proxqp(
+                state, guess, attempt, failed, first, outputs
+            )
+        if status == UNSETTLED:  # the step keeps its first solution and its boxes
+            slip_state(pose, state[8], self.model.support_points, self.model.slip_directions,
+                       self.model.sliding)  # fmt: skip
+            self.stats.slip_unsettled += 1
+        v_arm, v_obj, forces, last_p, next_pose = outputs
+        self.last_prongs, self.last_p = prongs, last_p
+        return SolvedStep(v_arm, v_obj, next_pose, forces, residual, converged, pivots)
+
+    def problem(self, state: tuple, prongs: tuple[int, ...]) -> ContactProblem:
+        """The MLCP the next (sub)step would solve first, without solving it (the boxes and
+        bounds are left as they were)."""
+        model = self.model
+        directions, sliding = model.slip_directions.copy(), model.sliding.copy()
+        if self.friction_field is not None:
+            self._update_friction_bounds(state[7])
+        slip_state(state[7], state[8], model.support_points, model.slip_directions,
+                   model.sliding)  # fmt: skip
+        problem = self._problem(state, prongs)
+        model.slip_directions[:], model.sliding[:] = directions, sliding
+        return problem
+
+    def _problem(self, state: tuple, prongs: tuple[int, ...]) -> ContactProblem:
+        """The MLCP of ``state`` with the current boxes."""
+        assembled = assemble(*state, *self.model)  # type: ignore[call-arg]  # numba
+        D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, A_arm = assembled
+        h = self.model.h
+        return ContactProblem(
+            h, D, b, lo, hi, findex, mu, prongs, A_arm, v_arm_free, Minv_At_arm, Minv_At_obj
+        )
+
+    def _with_proxqp(self, state, guess, attempt, failed, first, outputs):
+        """Finish a step whose solve at loop index ``attempt`` (−1: the first, from
+        ``guess``) verified nothing in ``failed`` pivots: ProxQP solves it and the compiled
+        loop resumes, as often as needed. ``first``: the step's first solve (residual,
+        pivots, v_arm, v_obj, forces, converged), None if it is the one ProxQP solves.
+        Returns the step's (status, residual, converged, pivots)."""
+        config, last_p = self.config, outputs[3]
+        while True:
+            used = guess if attempt < 0 else last_p.copy()
+            result, va, vo, f = self._proxqp_solve(state, used, failed)
+            self._record(result)
+            latest = (result.residual, result.iterations, va, vo, f, result.converged)
+            first = latest if first is None else first
+            status, attempt, solves, warm, worst, iterations, residual, pivots, failed = (
+                resume_step(
+                    *state, *self.model, DEFAULT_TOL, self.pivot_budget, SLIP_COS_TOLERANCE,
+                    config.stick_fraction, config.slip_iterations, attempt + 1,
+                    np.ascontiguousarray(result.p), *latest[:5], *first[:5], *outputs,
+                )
+            )  # fmt: skip
+            self._count(solves, warm, worst, iterations)
+            if status != NEEDS_PROXQP:
+                break
+        if status == UNSETTLED:
+            return status, residual, first[5], pivots
+        # settled on ProxQP's solve (no solve after it) or on a later, verified one
+        return status, residual, latest[5] if solves == 0 else True, pivots
+
+    def _proxqp_solve(self, state: tuple, guess: np.ndarray | None, pivots: int):
+        """The step's MLCP with the current boxes by ProxQP and pivoting, after the compiled
+        pivoting from ``guess`` (None or empty: none) verified nothing in ``pivots`` pivots:
+        (MLCPResult, v_arm, v_obj, forces)."""
+        if guess is not None and len(guess) == 0:
+            guess = None
+        problem = self._problem(state, ())
+        threshold = DEFAULT_TOL * max(1.0, float(np.abs(problem.b).max()))
+        result = solve_after_pivoting(
+            problem.D, problem.b, problem.lo, problem.hi, problem.findex, problem.mu,
+            guess, threshold, pivots,
+        )  # fmt: skip
+        v_arm, v_obj, forces = apply_impulses(
+            result.p, problem.v_arm_free, problem.Minv_At_arm, state[8], problem.Minv_At_obj,
+            self.model.h,
+        )  # fmt: skip
+        return result, v_arm, v_obj, forces
+
+    def _count(self, solves: int, warm: int, worst: float, iterations: int) -> None:
+        """Add compiled solves to the stats: ``solves`` verified (``warm`` of them warm
+        starts, ``worst`` their largest residual) and ``iterations`` re-solves."""
+        stats = self.stats
+        stats.solves += solves
+        stats.warm_starts += warm
+        stats.max_residual = max(stats.max_residual, worst)
+        stats.slip_iterations += iterations
+
+    def _record(self, result: MLCPResult) -> None:
+        """Add a ProxQP solve to the stats."""
+        stats = self.stats
+        stats.solves += 1
+        stats.fallbacks += not result.converged
+        stats.warm_starts += result.method == "warm-start"
+        stats.max_residual = max(stats.max_residual, result.residual)
+
+    def _take_outputs(self, nv: int, n_prongs: int, n_rows: int) -> tuple[np.ndarray, ...]:
+        """Arrays for :func:`slip_step`'s outputs: v_arm (nv,), v_obj (3,), forces
+        (n_prongs, 2), the impulses (n_rows,) and the pose (3,), from an
+        :class:`~pushctl.contact.recycle.ArrayRecycler` per contact count."""
+        recycler = self._outputs.get(n_prongs)
+        if recycler is None:
+            shapes = ((nv,), (3,), (n_prongs, 2), (n_rows,), (3,))
+            recycler = self._outputs[n_prongs] = ArrayRecycler(shapes)
+        return recycler.take()
+
+    def _update_friction_bounds(self, pose: np.ndarray) -> None:
+        """Each support point's μ(p_j) N_j from the friction field at its table position;
+        the warm start's ground impulses (the last 2 S rows) scale with their bounds, so a
+        row that slid at its old bound is read as sliding at the new one. Nothing is
+        computed where the object has not moved since (the same pose to the bit, the same
+        field): most steps of an approach, before the prongs reach the object."""
+        field = self.friction_field
+        assert field is not None
+        key = pose.tobytes()
+        at = self._bounds_at
+        if at is not None and at[1] == key and at[0] is field:
+            return
+        self.last_p = field.update_support_bounds(
+            pose, self.model.support_points, self._uniform_limits, self.model.friction_limits,
+            self.last_p,
+        )  # fmt: skip
+        self._bounds_at = (field, key)
+
+
+_NO_GUESS = np.zeros(0)
