@@ -159,9 +159,9 @@ def _paired(seeds: SeedTables) -> list[str]:
         cells.append(" / ".join(str(n) for n in sorted(counts)))
         for metric in PAIRED_METRICS:
             mean, ci = float(row[f"{metric}_diff"]), float(row[f"{metric}_diff_ci95"])
-            shown = "–" if not math.isfinite(mean) else f"{mean:+.3f}"
+            shown = "–" if not math.isfinite(mean) else f"{mean:+.4f}"
             if math.isfinite(mean) and math.isfinite(ci):
-                shown += f" ± {ci:.3f}" + (" (below 0)" if mean + ci < 0.0 else "")
+                shown += f" ± {ci:.4f}" + (" (below 0)" if mean + ci < 0.0 else "")
             cells.append(shown)
         rows.append(cells)
     return [

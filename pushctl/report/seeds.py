@@ -123,15 +123,19 @@ TRIAL_KEYS = ["object", "profile", "plant", "trial"]
 
 def trial_means(trials: pd.DataFrame) -> pd.DataFrame:
     """``trials`` with the ``rl`` rows of every seed replaced by one row per trial: each
-    numeric column the mean over the seeds of its finite values (NaN if none), the others
-    the first seed's; ``policy_seed`` empty."""
+    numeric column (any column with a number in it) the mean over the seeds of its finite
+    values (NaN if none), the others the first seed's; ``policy_seed`` empty."""
     rl = trials["controller"] == "rl"
     if not rl.any():
         return trials
-    rows = trials[rl].replace([np.inf, -np.inf], np.nan)
-    numeric = [
-        c for c in rows.select_dtypes("number").columns if c not in TRIAL_KEYS + ["policy_seed"]
-    ]
+    rows = trials[rl].copy()
+    numeric = []
+    for column in rows.columns.difference([*TRIAL_KEYS, "controller", "policy_seed"]):
+        # the tables read a column as floats whatever its dtype (a reader may leave text)
+        values = pd.to_numeric(rows[column], errors="coerce")
+        if values.notna().any():
+            rows[column] = values.replace([np.inf, -np.inf], np.nan)
+            numeric.append(column)
     grouped = rows.groupby(TRIAL_KEYS, sort=False)
     merged = grouped.first()
     merged[numeric] = grouped[numeric].mean()

@@ -162,7 +162,7 @@ def test_the_markdown_shows_ratios_across_seeds_and_each_seed_s_table():
     assert "interval over the trials" in text and "`_seed_sd`" in text
     diff = 2.5 * (MEAN_SCALE - 1.25)  # wedge/chirp sim, RL − feedback [pp]
     ci = _trial_ci(np.arange(1.0, 5.0) * (MEAN_SCALE - 1.25))
-    assert f"| wedge | chirp | sim | 4 | {diff:+.3f} ± {ci:.3f} (below 0) |" in text
+    assert f"| wedge | chirp | sim | 4 | {diff:+.4f} ± {ci:.4f} (below 0) |" in text
     ratio = 1.0333333333333334 / 2.0
     ci = _ci([m / 2.0 for m in SCALES.values()])
     assert f"| wedge | chirp | {ratio:.2f} ± {ci:.2g} |" in text
@@ -216,3 +216,14 @@ def test_the_report_writes_the_per_seed_csv_with_several_seeds(tmp_path: Path):
     assert list(written["policy_seed"]) == [0, 1, 2] * 6
     np.testing.assert_allclose(written["translation_rl_pd"], np.tile([0.4, 0.5, 0.65], 6))
     assert "Each training seed's own ratios" in (out / "tables.md").read_text()
+
+
+def test_a_metric_read_as_text_is_averaged_over_the_seeds_too():
+    """The report's reader may leave a column as text (``force_error_landed`` in the
+    shipped trials): RL's per-trial mean over the seeds must still be its mean."""
+    frame = seeded_frame()
+    text = frame.assign(force_error=frame["force_error"].astype(str))
+    want = seed_tables(frame).table4.values
+    got = seed_tables(text).table4.values
+    for column in ("force_error_rl_sim", "force_error_rl_sim_ci95", "force_error_rl_proxy"):
+        np.testing.assert_allclose(got[column], want[column], rtol=1e-12)
