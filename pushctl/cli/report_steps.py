@@ -115,7 +115,11 @@ def make_report(in_dir: Path, command: str) -> Report:
                 if seeds.several
                 else table3_proxy(inputs.trials.frame)
             ),
-            BEHAVIOUR_FILE: behaviour_table(inputs.trials.frame),
+            BEHAVIOUR_FILE: (
+                across_seeds(inputs.trials.frame, behaviour_table, seeds.seeds)
+                if seeds.several
+                else behaviour_table(inputs.trials.frame)
+            ),
         },
     )
 
