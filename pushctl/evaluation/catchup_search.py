@@ -18,7 +18,8 @@ each plant; each push is reset once and every candidate pushes a copy of it. The
 the mean over every push of both plants of translation error % + angle error % (angle over
 the pushes that turn), as ``tune-feedback``'s; a failed push (a non-finite state) makes it
 infinite. Stage ``coarse`` scores every candidate on ``per_case`` = 10; stage ``fine``
-scores the best :data:`N_FINE` of the coarse stage (and ``steady``) on all 50.
+scores the best :data:`N_FINE` of the coarse stage (and ``steady``) on all 50; stage
+``refine`` scores the neighbours (:func:`neighbours`) of the fine stage's best on all 50.
 
 Rows go to ``runs/law_search/<plant>.csv`` as each push ends (one row per candidate and
 push); a run skips the rows its file already holds, so a killed run resumes. The fine stage
@@ -27,6 +28,7 @@ Run (the coarse stage on both plants before the fine stage on either)::
 
     python -m pushctl.evaluation.catchup_search run sim coarse
     python -m pushctl.evaluation.catchup_search run sim fine
+    python -m pushctl.evaluation.catchup_search refine sim
     python -m pushctl.evaluation.catchup_search summary [PER_CASE]
 """
 
@@ -84,33 +86,89 @@ COLUMNS = (
 RUNS = Path("runs/law_search")
 
 
-def candidates(steady: FeedbackGains | None = None) -> dict[str, FeedbackGains]:
-    """The named candidates (module doc), in a fixed order."""
-    steady = steady or load_feedback_gains()
-    named = {"steady": steady}
+Point = tuple[float, float, float, float, float, float | None]
+"""(catchup_time, catchup_k, cap, catchup_force, gate_threshold, turn cap or None: the
+lateral cap's value)."""
 
-    def point(time: float, k: float, cap: float, force: float, gate: float) -> FeedbackGains:
-        return replace(
-            steady,
-            catchup_time=time,
-            catchup_k=k,
-            catchup_k_i=steady.k_i,
-            catchup_lateral_ratio=cap,
-            catchup_turn_ratio=cap,
-            catchup_force=force,
-            catchup_gate=0.0,
-            gate_threshold=gate,
-        )
 
-    named["hand"] = point(3.0, 3.0, 0.15, steady.contact_force, 0.0)
-    named["hand_guarded"] = point(3.0, 3.0, 0.15, 0.2, 0.0)
+def point_name(point: Point) -> str:
+    time, k, cap, force, gate, turn = point
+    name = f"T{time:g}_k{k:g}_c{cap:g}_F{force:g}_g{gate * 1e3:g}"
+    return name if turn is None else f"{name}_w{turn:g}"
+
+
+def point_gains(steady: FeedbackGains, point: Point) -> FeedbackGains:
+    time, k, cap, force, gate, turn = point
+    return replace(
+        steady,
+        catchup_time=time,
+        catchup_k=k,
+        catchup_k_i=steady.k_i,
+        catchup_lateral_ratio=cap,
+        catchup_turn_ratio=cap if turn is None else turn,
+        catchup_force=force,
+        catchup_gate=0.0,
+        gate_threshold=gate,
+    )
+
+
+def points() -> dict[str, Point]:
+    """The coarse stage's points by name (module doc), in a fixed order."""
+    named: dict[str, Point] = {
+        "hand": (3.0, 3.0, 0.15, 0.05, 0.0, None),
+        "hand_guarded": (3.0, 3.0, 0.15, 0.2, 0.0, None),
+    }
     rng = np.random.default_rng(SPACE_SEED)
     grid = list(itertools.product(*SPACE.values()))
     for index in rng.choice(len(grid), size=N_RANDOM, replace=False):
         time, k, cap, force, gate = grid[int(index)]
-        name = f"T{time:g}_k{k:g}_c{cap:g}_F{force:g}_g{gate * 1e3:g}"
-        named[name] = point(time, k, cap, force, gate)
+        named[point_name((time, k, cap, force, gate, None))] = (time, k, cap, force, gate, None)
     return named
+
+
+def neighbours(centre: Point) -> dict[str, Point]:
+    """The refinement around ``centre``: one parameter moved at a time (the time, k, the
+    caps and the force times 0.75 and 1.5 (k: 0.7 and 1.4); the gate toggled between 0 and
+    0.15 mm; the turn cap left at the steady 0.05)."""
+    time, k, cap, force, gate, turn = centre
+    moved: list[Point] = []
+    for factor in (0.75, 1.5):
+        moved.append((time * factor, k, cap, force, gate, turn))
+    for factor in (0.7, 1.4):
+        moved.append((time, round(k * factor, 3), cap, force, gate, turn))
+    for factor in (0.7, 1.4):
+        moved.append((time, k, round(cap * factor, 4), force, gate, turn))
+    for factor in (0.75, 1.5):
+        moved.append((time, k, cap, round(force * factor, 3), gate, turn))
+    moved.append((time, k, cap, force, 0.0 if gate > 0.0 else 1.5e-4, turn))
+    moved.append((time, k, cap, force, gate, 0.05))
+    return {point_name(p): p for p in moved}
+
+
+def candidates(steady: FeedbackGains | None = None) -> dict[str, FeedbackGains]:
+    """The coarse stage's candidates: ``steady`` and :func:`points`, in a fixed order."""
+    steady = steady or load_feedback_gains()
+    return {"steady": steady} | {n: point_gains(steady, p) for n, p in points().items()}
+
+
+def refine_centre() -> Point:
+    """The best coarse-stage candidate on all :data:`PER_CASE` pushes (the fine stage's)."""
+    found = summary([RUNS / "sim.csv", RUNS / "proxy.csv"], PER_CASE)
+    full = 2 * len(OBJECT_NAMES) * len(PROFILE_NAMES) * PER_CASE
+    named = points()
+    ranked = [n for n in named if n in found and found[n]["pushes"] == full]
+    return named[min(ranked, key=lambda n: found[n]["objective"])]
+
+
+def all_candidates() -> dict[str, FeedbackGains]:
+    """Every candidate the stages may push (the refinement's when the fine stage is done)."""
+    steady = load_feedback_gains()
+    pool = candidates(steady)
+    try:
+        centre = refine_centre()
+    except (ValueError, FileNotFoundError, KeyError):  # no fine stage yet
+        return pool
+    return pool | {n: point_gains(steady, p) for n, p in neighbours(centre).items()}
 
 
 def _done(path: Path) -> set[tuple[str, str, str, int]]:
@@ -125,7 +183,7 @@ def _done(path: Path) -> set[tuple[str, str, str, int]]:
 
 def run(plant: str, names: list[str], per_case: int, out: Path) -> None:
     """Push every (case, seed < per_case) with each of ``names`` on ``plant``; append rows."""
-    pool = candidates()
+    pool = all_candidates()
     done = _done(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     fresh = not out.is_file()
@@ -196,7 +254,7 @@ def catchup_toml(name: str, found: dict[str, dict[str, float]], command: str) ->
     """The text of experiments/feedback_gains_catchup.toml: candidate ``name``'s gains and a
     ``[search]`` record of ``found`` (:func:`summary`): its figures and every candidate's
     objective beside the steady law's."""
-    gains = candidates()[name]
+    gains = all_candidates()[name]
     entry = found.get(name, {})
     record: dict[str, object] = {
         "procedure": "seeded random search, coarse then fine (pushctl.evaluation.catchup_search)",
@@ -245,7 +303,8 @@ def _toml(value: object) -> str:
 
 
 def main(argv: list[str]) -> None:
-    """``run PLANT coarse|fine``, ``summary [PER_CASE]`` or ``write NAME [PER_CASE]``."""
+    """``run PLANT coarse|fine``, ``refine PLANT``, ``summary [PER_CASE]`` or
+    ``write NAME [PER_CASE]``."""
     if argv[0] == "write":
         per_case = int(argv[2]) if len(argv) > 2 else PER_CASE
         found = summary([RUNS / "sim.csv", RUNS / "proxy.csv"], per_case)
@@ -264,6 +323,9 @@ def main(argv: list[str]) -> None:
                 (n for n in found if n != "steady"), key=lambda n: found[n]["objective"]
             )
             run(plant, ["steady", *ranked[:N_FINE]], PER_CASE, out)
+    elif argv[0] == "refine":
+        plant = argv[1]
+        run(plant, list(neighbours(refine_centre())), PER_CASE, RUNS / f"{plant}.csv")
     else:
         per_case = int(argv[1]) if len(argv) > 1 else PER_CASE
         found = summary([RUNS / "sim.csv", RUNS / "proxy.csv"], per_case)
