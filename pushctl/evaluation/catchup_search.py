@@ -257,7 +257,8 @@ def catchup_toml(name: str, found: dict[str, dict[str, float]], command: str) ->
     gains = all_candidates()[name]
     entry = found.get(name, {})
     record: dict[str, object] = {
-        "procedure": "seeded random search, coarse then fine (pushctl.evaluation.catchup_search)",
+        "procedure": "seeded random search, coarse, fine, then one-at-a-time refinement "
+        "(pushctl.evaluation.catchup_search)",
         "objective": "mean over the pushes of both plants of translation error % + angle error %",
         "stream": "tuning",
         "plants": ["sim", "proxy"],
