@@ -18,8 +18,10 @@ each plant; each push is reset once and every candidate pushes a copy of it. The
 the mean over every push of both plants of translation error % + angle error % (angle over
 the pushes that turn), as ``tune-feedback``'s; a failed push (a non-finite state) makes it
 infinite. Stage ``coarse`` scores every candidate on ``per_case`` = 10; stage ``fine``
-scores the best :data:`N_FINE` of the coarse stage (and ``steady``) on all 50; stage
-``refine`` scores the neighbours (:func:`neighbours`) of the fine stage's best on all 50.
+scores the best :data:`N_FINE` of the coarse stage (and ``steady``) on all 50; a round of
+stage ``refine`` scores, on all 50, the neighbours (:func:`neighbours`) of the best
+candidate scored on all 50 so far (:func:`refine_centre`): rounds repeated until the best
+is a centre whose neighbours are all scored are a greedy coordinate search.
 
 Rows go to ``runs/law_search/<plant>.csv`` as each push ends (one row per candidate and
 push); a run skips the rows its file already holds, so a killed run resumes. The fine stage
@@ -38,6 +40,7 @@ import copy
 import csv
 import itertools
 import math
+import re
 import sys
 from dataclasses import replace
 from pathlib import Path
@@ -151,24 +154,45 @@ def candidates(steady: FeedbackGains | None = None) -> dict[str, FeedbackGains]:
     return {"steady": steady} | {n: point_gains(steady, p) for n, p in points().items()}
 
 
+NAME = re.compile(
+    r"T(?P<time>[\d.]+)_k(?P<k>[\d.]+)_c(?P<cap>[\d.]+)_F(?P<force>[\d.]+)"
+    r"_g(?P<gate>[\d.]+)(_w(?P<turn>[\d.]+))?"
+)
+
+
+def parse_name(name: str) -> Point | None:
+    """The point a :func:`point_name` names (None: a named candidate, or none at all)."""
+    found = NAME.fullmatch(name)
+    if found is None:
+        return None
+    turn = found["turn"]
+    values = (float(found[key]) for key in ("time", "k", "cap", "force"))
+    return (*values, float(found["gate"]) * 1e-3, None if turn is None else float(turn))
+
+
 def refine_centre() -> Point:
-    """The best coarse-stage candidate on all :data:`PER_CASE` pushes (the fine stage's)."""
+    """The best candidate other than ``steady`` scored on all :data:`PER_CASE` pushes of
+    both plants so far (the fine stage's, then the refinement's)."""
     found = summary([RUNS / "sim.csv", RUNS / "proxy.csv"], PER_CASE)
     full = 2 * len(OBJECT_NAMES) * len(PROFILE_NAMES) * PER_CASE
     named = points()
+    named |= {n: p for n in found if (p := parse_name(n)) is not None and n not in named}
     ranked = [n for n in named if n in found and found[n]["pushes"] == full]
     return named[min(ranked, key=lambda n: found[n]["objective"])]
 
 
 def all_candidates() -> dict[str, FeedbackGains]:
-    """Every candidate the stages may push (the refinement's when the fine stage is done)."""
+    """Every candidate the stages may push: the coarse stage's, every point the rows name,
+    and the neighbours of :func:`refine_centre` once the fine stage is done."""
     steady = load_feedback_gains()
     pool = candidates(steady)
     try:
+        found = summary([RUNS / "sim.csv", RUNS / "proxy.csv"], PER_CASE)
         centre = refine_centre()
     except (ValueError, FileNotFoundError, KeyError):  # no fine stage yet
         return pool
-    return pool | {n: point_gains(steady, p) for n, p in neighbours(centre).items()}
+    named = {n: p for n in found if (p := parse_name(n)) is not None} | neighbours(centre)
+    return pool | {n: point_gains(steady, p) for n, p in named.items() if n not in pool}
 
 
 def _done(path: Path) -> set[tuple[str, str, str, int]]:
@@ -324,7 +348,7 @@ def main(argv: list[str]) -> None:
                 (n for n in found if n != "steady"), key=lambda n: found[n]["objective"]
             )
             run(plant, ["steady", *ranked[:N_FINE]], PER_CASE, out)
-    elif argv[0] == "refine":
+    elif argv[0] == "refine":  # one round: the neighbours of the best so far
         plant = argv[1]
         run(plant, list(neighbours(refine_centre())), PER_CASE, RUNS / f"{plant}.csv")
     else:
