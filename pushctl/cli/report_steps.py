@@ -28,7 +28,12 @@ from pushctl.report.figures import (
 from pushctl.report.inputs import ResultsTable, read_report_inputs, summary
 from pushctl.report.markdown import tables_markdown
 from pushctl.report.seeds import across_seeds, seed_tables
-from pushctl.report.tables import ResultTable, behaviour_table, table3_proxy
+from pushctl.report.tables import (
+    INTERVALS_NOTE,
+    ResultTable,
+    behaviour_table,
+    table3_proxy,
+)
 
 TABLE3_FILE = "table3.csv"
 TABLE4_FILE = "table4.csv"
@@ -100,7 +105,7 @@ def make_report(in_dir: Path, command: str) -> Report:
     return Report(
         table3=three,
         table4=four,
-        table_provenance=f"{made_by}; inputs: {_source(inputs.trials)}",
+        table_provenance=f"{made_by}; inputs: {_source(inputs.trials)}\n{INTERVALS_NOTE}",
         markdown=markdown,
         figures=figures,
         per_seed=seeds.per_seed if seeds.several else None,  # one seed: as before
@@ -110,7 +115,11 @@ def make_report(in_dir: Path, command: str) -> Report:
                 if seeds.several
                 else table3_proxy(inputs.trials.frame)
             ),
-            BEHAVIOUR_FILE: behaviour_table(inputs.trials.frame),
+            BEHAVIOUR_FILE: (
+                across_seeds(inputs.trials.frame, behaviour_table, seeds.seeds)
+                if seeds.several
+                else behaviour_table(inputs.trials.frame)
+            ),
         },
     )
 

@@ -61,6 +61,15 @@ wedge spun away (27 % angle error; PD-only 3.2 %). At 0.5 mm the guard keeps tha
 corrections and costs 46-50 % of the law's translation error, so it is off
 (docs/residual-and-feedback.md, "Seventh pass").
 
+A catch-up phase (off unless the gains file sets ``catchup_time``) runs the push's first
+seconds at higher gains with relaxed caps: 46 % of the steady law's mean error accrues in
+the first 3 s, where the object's placement and mounting errors (1.4 mm, 0.55°) are caught up
+at the caps' pace (about 0.3 mm/s). Its caps are relaxed only on steps where every prong
+carries at least ``catchup_force``: unguarded, one wedge trapezoid tuning push of 50 came
+off one prong and spun (63 % angle error). With ``gate_threshold`` set the law has its own
+dead band, one during the catch-up (``catchup_gate``) and one after, in place of the
+environment's (:mod:`pushctl.control.feedback_gains`).
+
 The output is a residual twist like a policy's: it goes through the same residual path
 (:mod:`pushctl.control.residual`). On the ``reference`` path it is the rate of the reference
 offset, so the offset is k ∫ e + k_i ∬ e: integral and double-integral action on the pose.
@@ -70,106 +79,31 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
-from pathlib import Path
-from typing import Any
 
 import numpy as np
 
-from pushctl.errors import ConfigError
-from pushctl.toml_files import check_keys, read_toml
+from pushctl.control.feedback_gains import (
+    CATCHUP_FEEDBACK_FILE,
+    DEFAULT_FEEDBACK_FILE,
+    FeedbackGains,
+    load_feedback_gains,
+)
 
-DEFAULT_FEEDBACK_FILE = Path(__file__).resolve().parents[2] / "experiments" / "feedback_gains.toml"
-"""The tuned gains (``python -m pushctl.evaluation.tune_feedback`` writes them)."""
-
-
-@dataclass(frozen=True)
-class FeedbackGains:
-    """``k`` [1/s] and ``k_i`` [1/s²]: the proportional and integral gains, one each for the
-    translation and the angle error; ``contact_force`` [N]: the integral is frozen while a
-    prong's measured normal force is below it; ``hold_off_contact``: then the whole output
-    is zero too. On the ``reference`` path the P term is itself integrated into the offset,
-    and a correction that made a prong lose contact would otherwise wind the offset up
-    (tens of mm and degrees on the tuning pushes, docs/residual-and-feedback.md).
-    ``lateral_ratio`` [-]: the sideways rate's cap as a fraction of the plan's speed
-    (``inf``: no cap). ``seek_rate`` [rad/s]: the turn that re-closes a prong's gap while
-    others carry load (0: hold still then too), reached ``seek_ramp`` [s] after a prong
-    came off (0: at once). ``turn_ratio`` [-]: the object turn's cap, as the speed it gives
-    the farthest prong about the object's centre over the plan's speed (``inf``: no cap).
-    ``smoothing`` [s]: the time constant of a first-order lag on the output (0: none).
-    ``slide_limit`` [m]: how far the prongs may have moved across the push from where they
-    landed before the law stops pushing sideways that way (``inf``, the default: never
-    stops), as read through a first-order lag of ``slide_filter`` [s] (0: none; the
-    proxy's camera has σ = 1 mm)."""
-
-    k: float = 0.5
-    k_i: float = 0.0
-    contact_force: float = 0.05
-    hold_off_contact: bool = True
-    lateral_ratio: float = 0.05
-    seek_rate: float = 0.1
-    seek_ramp: float = 0.2
-    turn_ratio: float = 0.05
-    smoothing: float = 0.1
-    slide_limit: float = math.inf
-    slide_filter: float = 1.0
-
-    def __post_init__(self) -> None:
-        if not isinstance(self.hold_off_contact, bool):
-            raise ConfigError(
-                f"feedback hold_off_contact must be true or false, got {self.hold_off_contact!r}"
-            )
-        for name in (
-            "k",
-            "k_i",
-            "contact_force",
-            "seek_rate",
-            "seek_ramp",
-            "smoothing",
-            "slide_filter",
-        ):
-            value = getattr(self, name)
-            ok = isinstance(value, int | float) and not isinstance(value, bool)
-            if not ok or not math.isfinite(value) or value < 0.0:
-                raise ConfigError(f"feedback {name} must be a finite number >= 0, got {value!r}")
-        for name in ("lateral_ratio", "turn_ratio", "slide_limit"):
-            ratio = getattr(self, name)
-            if isinstance(ratio, bool) or not isinstance(ratio, int | float) or not ratio >= 0.0:
-                raise ConfigError(
-                    f"feedback {name} must be a number >= 0 (inf: no cap), got {ratio!r}"
-                )
-
-
-def load_feedback_gains(path: str | Path | None = None) -> FeedbackGains:
-    """The ``[feedback]`` table of ``path`` (default :data:`DEFAULT_FEEDBACK_FILE`);
-    ConfigError (one line) for a missing file, a missing table or a bad key."""
-    path = Path(path) if path is not None else DEFAULT_FEEDBACK_FILE
-    data: dict[str, Any] = read_toml(path, "feedback gains file")
-    table = data.get("feedback")
-    if not isinstance(table, dict):
-        raise ConfigError(f"{path}: no [feedback] table; expected k, k_i and contact_force")
-    names = [
-        "k",
-        "k_i",
-        "contact_force",
-        "hold_off_contact",
-        "lateral_ratio",
-        "seek_rate",
-        "seek_ramp",
-        "turn_ratio",
-        "smoothing",
-        "slide_limit",
-        "slide_filter",
-    ]
-    check_keys(table, names, f"{path} [feedback]", all_required=False)
-    return FeedbackGains(**table)
+__all__ = [
+    "CATCHUP_FEEDBACK_FILE",
+    "DEFAULT_FEEDBACK_FILE",
+    "FeedbackGains",
+    "FeedbackLaw",
+    "load_feedback_gains",
+]
 
 
 class FeedbackLaw:
     """The PI law of one push (state: the error's integral). ``lever`` (2,) [m]: the pusher
     origin from the object's centre, plan frame; ``dt`` [s]: the time each call covers;
     ``prongs`` (k,) [m]: the prongs' offsets along the plate from its centre (the pusher
-    frame's y, :meth:`PusherConfig.prong_offsets`; None: no contact seeking).
+    frame's y, :meth:`PusherConfig.prong_offsets`; None: no contact seeking);
+    ``gate_length`` [m]: the angle's weight in the law's own gate (``gains.gate_threshold``).
 
     The arithmetic runs on Python floats (:meth:`twist_floats`): the law runs at every 10 ms
     step under a policy, and numpy's per-call cost on 3-vectors was most of its time. Each
@@ -182,8 +116,10 @@ class FeedbackLaw:
         lever: np.ndarray,
         dt: float,
         prongs: np.ndarray | None = None,
+        gate_length: float = 0.05,
     ) -> None:
         self.gains = gains
+        self.gate_length = float(gate_length)
         self.lever = np.asarray(lever, dtype=float).copy()
         self._lever = (float(self.lever[0]), float(self.lever[1]))
         self.dt = float(dt)
@@ -217,20 +153,23 @@ class FeedbackLaw:
         normal_forces: np.ndarray,
         speed: float | None = None,
         offset: np.ndarray | None = None,
+        time: float | None = None,
     ) -> np.ndarray:
         """The pusher twist (3,) [m/s, m/s, rad/s], plan frame, for the pose ``error`` (3,)
         [m, m, rad] (planned minus actual) and the prongs' measured ``normal_forces`` (k,) [N];
         integrates the error unless a prong is below the contact threshold. ``speed`` [m/s]:
         the plan's object speed now, which caps the sideways rate (None: no cap). ``offset``
         (3,) [m, m, rad]: the pusher reference's offset built so far (the ``reference`` path),
-        which the slide guard needs (None: no guard). With ``smoothing`` τ > 0 the output
-        follows the law through a first-order lag of τ."""
+        which the slide guard needs (None: no guard). ``time`` [s]: since the push began,
+        which the catch-up phase needs (None: no catch-up). With ``smoothing`` τ > 0 the
+        output follows the law through a first-order lag of τ."""
         return np.array(
             self.twist_floats(
                 np.asarray(error, dtype=float).tolist(),
                 np.asarray(normal_forces, dtype=float).tolist(),
                 speed,
                 None if offset is None else np.asarray(offset, dtype=float).tolist(),
+                time,
             )
         )
 
@@ -240,10 +179,19 @@ class FeedbackLaw:
         normal_forces: Sequence[float],
         speed: float | None = None,
         offset: Sequence[float] | None = None,
+        time: float | None = None,
     ) -> tuple[float, float, float]:
         """:meth:`twist` on Python floats: ``error`` (e_x, e_y, e_θ), one normal force per
-        prong, ``offset`` (x, y, yaw) or None; returns (v_x, v_y, ω)."""
-        raw = self._law(error, normal_forces, speed, offset)
+        prong, ``offset`` (x, y, yaw) or None; returns (v_x, v_y, ω). Inside the law's own
+        gate the output is zero and the state (integral, lag, seek) stays as it was, as when
+        the environment's gate is shut and the law is not called."""
+        catching_up = time is not None and time < self.gains.catchup_time
+        if self.gains.gate_threshold is not None:
+            threshold = self.gains.catchup_gate if catching_up else self.gains.gate_threshold
+            e_x, e_y, e_w = error
+            if math.hypot(e_x, e_y, self.gate_length * e_w) <= threshold:
+                return (0.0, 0.0, 0.0)
+        raw = self._law(error, normal_forces, speed, offset, catching_up)
         tau = self.gains.smoothing
         if tau <= 0.0:
             return raw
@@ -272,8 +220,10 @@ class FeedbackLaw:
         normal_forces: Sequence[float],
         speed: float | None = None,
         offset: Sequence[float] | None = None,
+        catching_up: bool = False,
     ) -> tuple[float, float, float]:
-        """The law's twist before the lag (:meth:`twist_floats`)."""
+        """The law's twist before the lag (:meth:`twist_floats`); ``catching_up``: in the
+        catch-up phase (its gains; its caps if every prong carries ``catchup_force``)."""
         gains = self.gains
         e_x, e_y, e_w = (float(value) for value in error)
         loaded = [force >= gains.contact_force for force in normal_forces]
@@ -310,15 +260,21 @@ class FeedbackLaw:
                 return self._seek(np.array(loaded))
             return (0.0, 0.0, 0.0)
         k, k_i = gains.k, gains.k_i
+        lateral_ratio, turn_ratio = gains.lateral_ratio, gains.turn_ratio
+        if catching_up:
+            k, k_i = gains.catchup_k, gains.catchup_k_i
+            if min(normal_forces) >= gains.catchup_force:  # every prong carries load
+                lateral_ratio = gains.catchup_lateral_ratio
+                turn_ratio = gains.catchup_turn_ratio
         i_x, i_y, i_w = self._integral
         u_x, u_y, u_w = k * e_x + k_i * i_x, k * e_y + k_i * i_y, k * e_w + k_i * i_w
         r_x, r_y = self._lever
-        if self._reach is not None and speed is not None and math.isfinite(gains.turn_ratio):
-            cap = gains.turn_ratio * abs(speed) / self._reach
+        if self._reach is not None and speed is not None and math.isfinite(turn_ratio):
+            cap = turn_ratio * abs(speed) / self._reach
             u_w = min(max(u_w, -cap), cap)
         lateral = u_y + u_w * r_x
-        if speed is not None and math.isfinite(gains.lateral_ratio):
-            cap = gains.lateral_ratio * abs(speed)
+        if speed is not None and math.isfinite(lateral_ratio):
+            cap = lateral_ratio * abs(speed)
             lateral = min(max(lateral, -cap), cap)
         if guarded and lateral * slid > 0.0:
             lateral = 0.0

@@ -20,6 +20,8 @@ import math
 
 import numpy as np
 
+from pushctl.episode.proxy import ProxyEffects, camera_frames, draw_camera_noise, proxy_rng
+
 LANDING_PURPOSE = "landing"
 """The proxy generator's purpose (:func:`~pushctl.episode.proxy.proxy_rng`) of the camera
 frames read while the plate backs off: their own stream, so the push's frames, and PD-only's
@@ -58,3 +60,14 @@ def landing_shift(
     if largest > bound:
         shift *= bound / largest
     return shift
+
+
+def camera_noise_at_rest(
+    effects: ProxyEffects, duration: float, seed: int | None, case: str
+) -> np.ndarray:
+    """The mean noise (3,) [m, m, rad] of the proxy camera's frames over ``duration`` [s]
+    of an object at rest (the plate backing off), from their own generator
+    (:data:`LANDING_PURPOSE`; ``seed`` and ``case``, object/profile, name it)."""
+    frames = camera_frames(duration, effects.camera_rate)
+    rng = proxy_rng(seed, LANDING_PURPOSE, case)
+    return draw_camera_noise(effects, frames, rng).mean(axis=0)

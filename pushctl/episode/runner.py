@@ -23,68 +23,37 @@ gains the camera's object poses, which the metrics then use.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pushctl.arm import ArmConfig, ArmModel, ArmTerms, BelievedTerms, load_arm
+from pushctl.arm import ArmModel, ArmTerms, BelievedTerms
 from pushctl.checks import finite_vector
-from pushctl.config import PusherConfig
 from pushctl.engines import make_world
 from pushctl.contact.ground_field import FrictionField
 from pushctl.contact.world import World
 from pushctl.control.gains import PDGains, load_gains
 from pushctl.control.pd import PDCommand, PDController
-from pushctl.control.reference import (
-    PusherReference,
-    concatenate,
-    hold,
-    minimum_jerk,
-    push_reference,
-)
+from pushctl.control.reference import PusherReference, concatenate, minimum_jerk, push_reference
 from pushctl.control.residual import ReferenceOffset, check_residual_path
-from pushctl.episode.proxy import (
-    ProxyActuators,
-    ProxyEffects,
-    camera_frames,
-    camera_poses,
-    draw_camera_noise,
-    proxy_rng,
-)
-from pushctl.episode.relanding import LANDING_PURPOSE, landing_shift
+from pushctl.episode import plant as plant_setup
+from pushctl.episode.approach import ApproachSettings, approach_path, onto_face, standoff_point
+from pushctl.episode.proxy import ProxyActuators, ProxyEffects
+from pushctl.episode.proxy_run import ProxyRun
+from pushctl.episode.recording import Recording
+from pushctl.episode.relanding import camera_noise_at_rest, landing_shift
 from pushctl.episode.scenario import Scenario
-from pushctl.episode.trace import Trace, contact_torques
-from pushctl.episode.unknowns import friction_field, friction_limits, with_unknown_loads
+from pushctl.episode.trace import Trace
+from pushctl.episode.unknowns import friction_field
 from pushctl.errors import ConfigError, StateError
-from pushctl.objects import ObjectSpec, resolve_object
-from pushctl.planning import ForcePlan, ForceSettings, Plan, make_plan
-from pushctl.planning.forces import distribute_forces
+from pushctl.objects import ObjectSpec
+from pushctl.planning import ForcePlan, Plan
 from pushctl.types import StepResult
 
 if TYPE_CHECKING:
     from pushctl.mujoco import MujocoWorld
 
-
-@dataclass(frozen=True)
-class ApproachSettings:
-    """The approach, from the ready configuration to the prongs touching the pushed face at
-    the plan's offset (not part of the trace or the metrics): a minimum-jerk move of
-    ``move_time`` [s] to ``standoff`` [m] behind the face, then one of ``creep_time`` [s] onto
-    it, then ``settle_time`` [s] holding there."""
-
-    standoff: float = 0.010
-    move_time: float = 2.0
-    creep_time: float = 1.0
-    settle_time: float = 0.2
-
-    def __post_init__(self) -> None:
-        for name in ("standoff", "move_time", "creep_time", "settle_time"):
-            value = getattr(self, name)
-            if not (math.isfinite(value) and value >= 0.0):
-                raise ConfigError(f"approach {name} must be finite and >= 0, got {value!r}")
-        if self.move_time <= 0.0 or self.creep_time <= 0.0:
-            raise ConfigError("approach move_time and creep_time must be > 0 s")
+__all__ = ["ApproachSettings", "Episode"]
 
 
 class Episode:
@@ -121,45 +90,18 @@ class Episode:
         self.effects = effects
         self.gains = gains if gains is not None else load_gains()
         self.approach = approach or ApproachSettings()
-        plant, nominal = scenario.true_parameters, scenario.nominal
-        nominal_obj = resolve_object(
-            scenario.object, mass=nominal.object_mass, pusher_mass=scenario.pusher_mass(nominal)
-        )
+        plant = scenario.true_parameters
         # The plant's needs (plant_forces) are those of the world that runs: MuJoCo's carries
         # neither the centre-of-pressure offset nor the friction field.
         unknowns = scenario.unknowns.acting_in(engine)
-        self.object: ObjectSpec = with_unknown_loads(
-            resolve_object(
-                scenario.object, mass=plant.object_mass, pusher_mass=scenario.pusher_mass(plant)
-            ),
-            unknowns,
-        )
+        self.object: ObjectSpec = plant_setup.plant_object(scenario, unknowns)
         self.friction_field: FrictionField | None = friction_field(unknowns)
-        planning_pusher = scenario.pusher_config(nominal_obj.pusher_mass)
-        self.plan: Plan = (
-            plan
-            if plan is not None
-            else make_plan(
-                nominal_obj,
-                scenario.goal.as_array(),
-                start=None if scenario.start is None else scenario.start.as_array(),
-                profile=scenario.profile,
-                duration=scenario.duration,
-                dt=scenario.dt,
-                forces=ForceSettings(mu_contact=nominal.mu_contact, mu_ground=nominal.mu_ground),
-                arm=load_arm(ArmConfig(name=scenario.arm, pusher=planning_pusher)),
-                gravity=scenario.gravity,
-            )
-        )
+        self.plan: Plan = plan if plan is not None else plant_setup.nominal_plan(scenario)
         self.plan.raise_if_infeasible()
-        pusher = scenario.pusher_config(self.object.pusher_mass)
-        if unknowns.has_mounting_error:
-            pusher = replace(
-                pusher,
-                mount_yaw=unknowns.mount_yaw,
-                prong_errors=unknowns.prong_errors_for(pusher.n_prongs),
-            )
-        self._friction_limits = self._plant_friction_limits()
+        pusher = plant_setup.true_pusher(scenario, self.object.pusher_mass, unknowns)
+        self._friction_limits = plant_setup.plant_friction_limits(
+            self.object, scenario, self.friction_field, self.plan
+        )
         self._true_pusher = pusher
         self.plant_forces: ForcePlan = self.plant_forces_at(0.0)
         self.world: World | MujocoWorld = make_world(
@@ -173,13 +115,12 @@ class Episode:
             friction_field=self.friction_field,  # None on MuJoCo (acting_in above)
             engine=engine,  # "mujoco": the same scene on MuJoCo (an independent plant)
         )
-        # The controller's model of the arm: the world's own unless the pusher is mounted
-        # other than the controller believes (then the nominal pusher, same mass).
-        self.controller_arm: ArmModel = self._nominal_arm(pusher)
         world_arm = self.world.arm
+        assert world_arm is not None
+        self.controller_arm: ArmModel = plant_setup.believed_arm(world_arm, self.scenario, pusher)
         self._believed = (
             None
-            if world_arm is None or self.controller_arm is world_arm
+            if self.controller_arm is world_arm
             else BelievedTerms(world_arm, self.controller_arm)
         )
         self.true_start: np.ndarray = unknowns.true_start(self.plan.trajectory.pose[0])
@@ -187,11 +128,7 @@ class Episode:
         self.reference: PusherReference = push_reference(self.plan)
         self._offset = ReferenceOffset(scenario.dt, offset_limit)
         self._allocate()
-        # The proxy's state, fresh at every reset() (see _start_proxy).
-        self._actuators: ProxyActuators | None = None
-        self._camera = np.zeros((0, 3))
-        self._frame_samples: list[int] = []
-        self._force_rng = np.random.default_rng(0)
+        self._proxy: ProxyRun | None = None  # the proxy's state, fresh at every reset()
         if effects is not None:  # check its per-joint friction against this arm now
             ProxyActuators(effects, self.world.v.size, np.zeros(self.world.v.size))
 
@@ -201,16 +138,6 @@ class Episode:
         self.gains = gains
         self.controller = self._controller(gains)
 
-    def _plant_friction_limits(self) -> np.ndarray | None:
-        """Each support point's sliding friction at every sample of the plan (N, S) [N]
-        under the plant's friction field (None: uniform μ_g)."""
-        if self.friction_field is None:
-            return None
-        return friction_limits(
-            self.object, self.scenario.true_parameters.mu_ground, self.friction_field,
-            self.plan.trajectory.pose, self.scenario.gravity,
-        )  # fmt: skip
-
     def plant_forces_at(self, shift: float) -> ForcePlan:
         """The prong forces the plant needs to follow the plan (docs/design.md §7's F_des): its
         true parameters, support loads and friction field, with the plate ``shift`` [m]
@@ -218,29 +145,13 @@ class Episode:
         the plate (along the face). ``shift`` = 0 gives :attr:`plant_forces`; the spot where
         the prongs really landed gives the reference of ``force_error_landed``
         (:mod:`pushctl.episode.landed`)."""
-        plant = self.scenario.true_parameters
-        return distribute_forces(
-            self.plan.trajectory,
-            self.object,
-            self._true_pusher.prong_points()[:, 1],
-            ForceSettings(mu_contact=plant.mu_contact, mu_ground=plant.mu_ground),
-            self.scenario.gravity,
-            offset=self.plan.forces.offset + shift,
-            friction_limits=self._friction_limits,
+        limits = self._friction_limits
+        return plant_setup.needed_forces(
+            self.scenario, self.plan, self.object, self._true_pusher, limits, shift
         )
 
     def _controller(self, gains: PDGains) -> PDController:
         return PDController(self.controller_arm, gains, self.scenario.dt)
-
-    def _nominal_arm(self, pusher: PusherConfig) -> ArmModel:
-        """The world's arm, or with a mounting error a copy of it with the nominal pusher."""
-        arm = self.world.arm
-        assert arm is not None
-        if pusher == pusher.nominal:
-            return arm
-        nominal = load_arm(ArmConfig(name=self.scenario.arm, pusher=pusher.nominal))
-        nominal.set_gravity(self.scenario.gravity)
-        return nominal
 
     def controller_terms(self) -> ArmTerms:
         """The arm's terms at the world's current state as the controller's model computes
@@ -280,7 +191,7 @@ class Episode:
         result = self._approach()
         self._n = 0
         self._started = True
-        self._record(0, result, self._tau[0])
+        self._record(0, result, self._rows.tau[0])
         return result
 
     def step(self, residual: np.ndarray | None = None) -> StepResult:
@@ -322,28 +233,21 @@ class Episode:
         exact on the simulator; on the proxy the camera's latest frame (the pose at the
         frame's time plus its noise, as :func:`~pushctl.episode.proxy.camera_poses` gives
         the trace's ``measured_pose``)."""
-        n = self._n
-        pose = self._pose[n]
         if self.effects is None:
-            return pose.copy()
-        t = self.plan.trajectory.t
-        rate = self.effects.camera_rate
-        frame = math.floor(float(t[n]) * rate + 1e-9)
-        taken = frame / rate
-        # the last sample at or before the frame's time, and the next one (interpolated)
-        k = min(self._frame_samples[frame], n)
-        pose = self._pose[k]
-        if k < n and taken != t[k]:  # np.interp's arithmetic
-            slope = (self._pose[k + 1] - pose) / (t[k + 1] - t[k])
-            pose = slope * (taken - t[k]) + pose
-        return pose + self._camera[frame]
+            return self._rows.pose[self._n].copy()
+        return self._started_proxy().measured_pose(self._rows.pose, self.plan.trajectory.t, self._n)
 
     def measured_forces(self, forces: np.ndarray) -> np.ndarray:
         """Contact forces ``forces`` [N] as the force estimate reads them: on the proxy with
         its noise (a draw from the episode's force generator), otherwise as they are."""
         if self.effects is None:
             return forces
-        return self.effects.noisy_forces(forces, self._force_rng)
+        return self._started_proxy().measured_forces(forces)
+
+    def _started_proxy(self) -> ProxyRun:
+        if self._proxy is None:
+            raise StateError("call reset() before reading the proxy's measurements")
+        return self._proxy
 
     def run(self) -> Trace:
         """reset(), every push step without a residual, and the trace."""
@@ -363,65 +267,26 @@ class Episode:
     def trace(self) -> Trace:
         """The rows recorded so far (t = 0 … t_n)."""
         rows = slice(0, self._n + 1)
-        forces = self._forces[rows]
-        t = self.plan.trajectory.t[rows]
         measured = None
-        if self.effects is not None:
-            measured = camera_poses(t, self._pose[rows], self.effects.camera_rate, self._camera)
-        return Trace(
-            t=t.copy(),
-            object_pose=self._pose[rows].copy(),
-            desired_pose=self.plan.trajectory.pose[rows].copy(),
-            contact_forces=forces.copy(),
-            desired_forces=self.plant_forces.forces[rows].copy(),
-            contact_torque=contact_torques(self._pose[rows], self._prongs[rows], forces),
-            desired_torque=self.plant_forces.total_torque[rows].copy(),
-            prong_gaps=self._gaps[rows].copy(),
-            arm_q=self._q[rows].copy(),
-            arm_v=self._v[rows].copy(),
-            arm_tau=self._applied_torques(rows),
-            pusher_position=self._pusher[rows].copy(),
-            pusher_position_des=self.plan.pusher_positions[rows].copy(),
-            mu_contact=self.scenario.true_parameters.mu_contact,
-            arc_length=self.plan.trajectory.arc_length,
-            delta_theta=self.plan.trajectory.delta_theta,
-            measured_pose=measured,
-            plan_forces=self.plan.forces.forces[rows].copy(),
-        )
+        if self._proxy is not None:
+            measured = self._proxy.camera_poses(self.plan.trajectory.t[rows], self._rows.pose[rows])
+        mu_contact = self.scenario.true_parameters.mu_contact
+        return self._rows.trace(rows, self.plan, self.plant_forces, mu_contact, measured)
 
     # ---------------------------------------------------------------- internals
 
     def _approach(self) -> StepResult:
         """Ready pose → standoff → touching at the plan's offset → settle."""
-        settings, dt = self.approach, self.scenario.dt
         terms = self.controller_terms()
-        contact_position = self.reference.position[0]
-        yaw = float(self.reference.yaw[0])
-        standoff = self._standoff(contact_position, yaw)
-        ready_yaw = math.atan2(terms.pusher_rotation[1, 0], terms.pusher_rotation[0, 0])
-        parts = [
-            minimum_jerk(terms.pusher_position, ready_yaw, standoff, yaw, settings.move_time, dt),
-            *self._onto_face(standoff, contact_position, yaw),
-        ]
-        return self._follow(concatenate(*parts))
-
-    def _standoff(self, contact: np.ndarray, yaw: float) -> np.ndarray:
-        """The point (3,) [m] the approach's ``standoff`` behind ``contact`` along the face
-        normal of a plate at ``yaw`` [rad]."""
-        normal = np.array([math.cos(yaw), math.sin(yaw), 0.0])
-        return contact - self.approach.standoff * normal
-
-    def _onto_face(
-        self, standoff: np.ndarray, contact: np.ndarray, yaw: float
-    ) -> list[PusherReference]:
-        """A landing's last parts: the creep from ``standoff`` onto ``contact``
-        (``creep_time``), then ``settle_time`` holding there."""
-        settings, dt = self.approach, self.scenario.dt
-        parts = [minimum_jerk(standoff, yaw, contact, yaw, settings.creep_time, dt)]
-        settle_steps = round(settings.settle_time / dt)
-        if settle_steps:
-            parts.append(hold(contact, yaw, settle_steps, dt))
-        return parts
+        path = approach_path(
+            self.approach,
+            self.scenario.dt,
+            terms.pusher_position,
+            terms.pusher_rotation,
+            self.reference.position[0],
+            float(self.reference.yaw[0]),
+        )
+        return self._follow(path)
 
     def _follow(self, reference: PusherReference) -> StepResult:
         """Servo the PD along ``reference`` (an approach's path), one world step per sample
@@ -458,7 +323,7 @@ class Episode:
         creep, dt = self.approach.creep_time, self.scenario.dt
         contact = self.reference.position[0]
         yaw = float(self.reference.yaw[0])
-        standoff = self._standoff(contact, yaw)
+        standoff = standoff_point(self.approach, contact, yaw)
         self._follow(minimum_jerk(contact, yaw, standoff, yaw, creep, dt))
         bound = math.inf if self._offset.limit is None else self._offset.limit[0]
         shift = landing_shift(
@@ -466,11 +331,11 @@ class Episode:
         )
         parts = [
             minimum_jerk(standoff, yaw, standoff + shift, yaw, creep, dt),
-            *self._onto_face(standoff + shift, contact + shift, yaw),
+            *onto_face(self.approach, dt, standoff + shift, contact + shift, yaw),
         ]
         result = self._follow(concatenate(*parts))
         self._offset.offset = shift
-        self._record(0, result, self._tau[0])
+        self._record(0, result, self._rows.tau[0])
         return result
 
     def _landing_pose(self) -> np.ndarray:
@@ -478,13 +343,13 @@ class Episode:
         off: exact on the simulator and MuJoCo; on the proxy plus the mean noise of the
         camera's frames over the back-off (the object at rest), from their own generator."""
         pose = np.asarray(self.world.object_pose, dtype=float).copy()
-        effects = self.effects
-        if effects is None:
+        if self.effects is None:
             return pose
         case = f"{self.scenario.object}/{self.scenario.profile}"
-        frames = camera_frames(self.approach.creep_time, effects.camera_rate)
-        rng = proxy_rng(self.scenario.seed, LANDING_PURPOSE, case)
-        return pose + draw_camera_noise(effects, frames, rng).mean(axis=0)
+        noise = camera_noise_at_rest(
+            self.effects, self.approach.creep_time, self.scenario.seed, case
+        )
+        return pose + noise
 
     def _actuate(self, command: PDCommand) -> tuple[StepResult, np.ndarray, float]:
         """One world step with ``command``: (the result, τ (nv,) [N·m], K_v [N·m·s/rad]).
@@ -492,67 +357,35 @@ class Episode:
         explicit torque minus the implicit damping. On the proxy's actuators τ is that
         torque and K_v is 0. Otherwise τ and K_v are the command's, and the subtraction waits
         for :meth:`trace` (:meth:`_applied_torques`): most steps' torques are never read,
-        and the two numpy operations cost about 1.4 µs a step."""
-        if self._actuators is not None:
-            result, applied = self._actuators.step(self.world, command.tau, command.implicit_kv)
+        and the two numpy operations cost about 1.4 µs a step
+        (:meth:`Recording.applied_torques`)."""
+        if self._proxy is not None:
+            result, applied = self._proxy.actuators.step(
+                self.world, command.tau, command.implicit_kv
+            )
             return result, applied, 0.0
         result = self.world.step(command.tau, implicit_kv=command.implicit_kv)
         return result, command.tau, command.implicit_kv
-
-    def _applied_torques(self, rows: slice) -> np.ndarray:
-        """The joint torques applied over the recorded steps ``rows`` (rows, nv) [N·m]:
-        τ − K_v q̇ of each step's new velocity (:meth:`_actuate`), with the same products
-        and differences as a step made them. Rows with K_v = 0 are τ itself, untouched
-        (τ − 0·q̇ could turn a −0.0 into 0.0)."""
-        torques = self._tau[rows].copy()
-        kv = self._kv[rows]
-        damped = kv != 0.0
-        torques[damped] -= kv[damped, None] * self._v[rows][damped]
-        return torques
 
     def _start_proxy(self) -> None:
         """Fresh proxy state for a run from the world's reset state (nothing without effects):
         the actuators (holding the arm until the first command arrives), the camera's noise
         for every frame of the push, and the force estimate's generator."""
-        effects = self.effects
-        if effects is None:
+        if self.effects is None:
             return
-        self._actuators = ProxyActuators(effects, self.world.v.size, self.world.gravity_torque())
-        seed, case = self.scenario.seed, f"{self.scenario.object}/{self.scenario.profile}"
-        frames = camera_frames(float(self.plan.trajectory.t[-1]), effects.camera_rate)
-        self._camera = draw_camera_noise(effects, frames, proxy_rng(seed, "camera", case))
-        # each frame's last sample at or before its time k / rate (measured_pose reads it)
-        taken = np.arange(frames) / effects.camera_rate
+        case = f"{self.scenario.object}/{self.scenario.profile}"
         t = self.plan.trajectory.t
-        self._frame_samples = (np.searchsorted(t, taken, side="right") - 1).tolist()
-        self._force_rng = proxy_rng(seed, "force", case)
+        self._proxy = ProxyRun(self.effects, self.world, t, self.scenario.seed, case)
 
     def _allocate(self) -> None:
-        rows, k = self.n_steps + 1, self.plan.pusher.n_prongs
         arm = self.world.arm
         assert arm is not None
         self._twists = self.reference.twist
-        self._pose = np.zeros((rows, 3))
-        self._forces = np.zeros((rows, k, 2))
-        self._gaps = np.zeros((rows, k))
-        self._prongs = np.zeros((rows, k, 3))
-        self._pusher = np.zeros((rows, 3))
-        self._q = np.zeros((rows, arm.nq))
-        self._v = np.zeros((rows, arm.nv))
-        self._tau = np.zeros((rows, arm.nv))
-        self._kv = np.zeros(rows)  # the implicit K_v of each step's command (_actuate)
+        self._rows = Recording(self.n_steps + 1, self.plan.pusher.n_prongs, arm.nq, arm.nv)
         self._n = 0
         self._started = False
 
     def _record(self, row: int, result: StepResult, tau: np.ndarray, kv: float = 0.0) -> None:
         terms = self.world.arm_terms
         assert terms is not None
-        self._pose[row] = result.object_pose
-        self._forces[row] = result.contact_forces
-        self._gaps[row] = result.prong_gaps
-        self._prongs[row] = terms.prong_positions
-        self._pusher[row] = terms.pusher_position
-        self._q[row] = result.arm_q
-        self._v[row] = result.arm_v
-        self._tau[row] = tau
-        self._kv[row] = kv
+        self._rows.record(row, result, terms, tau, kv)

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+from pushctl.control.feedback_gains import FeedbackGains
 from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.feedback_actor import FeedbackActor
 
@@ -23,18 +24,20 @@ CONTROLLERS = ("pd", "feedback", "rl")
 """PD-only, PD + the PI feedback law, PD + the learned residual (the tables' order)."""
 
 
-def feedback_config(config: EnvConfig) -> EnvConfig:
+def feedback_config(config: EnvConfig, gains: FeedbackGains | None = None) -> EnvConfig:
     """The environment the ``feedback`` controller pushes in beside a policy trained with
     ``config``: the same push (duration, step, plant, stream) with today's default residual
     settings (path, action scale, gate, the camera, the re-landing), whatever the policy was
-    trained with."""
+    trained with. A law of ``gains`` with its own gate (``gains.owns_gate``) gets the
+    environment's gate open (threshold 0), so that it sees every step."""
     default = EnvConfig()
+    gate = 0.0 if gains is not None and gains.owns_gate else default.gate_threshold
     return replace(
         config,
         residual_path=default.residual_path,
         action_scale_linear=default.action_scale_linear,
         action_scale_angular=default.action_scale_angular,
-        gate_threshold=default.gate_threshold,
+        gate_threshold=gate,
         gate_length=default.gate_length,
         observe_camera=default.observe_camera,
         action_repeat=default.action_repeat,

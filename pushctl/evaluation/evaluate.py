@@ -240,7 +240,7 @@ class _Context:
         if "feedback" in controllers:
             assert feedback_gains is not None
             for plant in plants:
-                own = feedback_config(replace(config, stream=stream, plant=plant))
+                own = feedback_config(replace(config, stream=stream, plant=plant), feedback_gains)
                 self.feedback[plant] = (PushEnv(own, gains), feedback_gains)
         if isinstance(actor_state, tuple):  # several policies: (actor, seed) pairs
             assert isinstance(policy_seed, tuple)

@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 
 from pushctl.report import paper_values
-from pushctl.report.seeds import SeedTables, seeds_markdown
+from pushctl.report.seeds import PAIRED_METRICS, SeedTables, seeds_markdown
 from pushctl.report.tables import ResultTable
 
 MILLI = 1e3
@@ -146,6 +146,35 @@ def _per_seed(seeds: SeedTables | None) -> list[str]:
     ]
 
 
+def _paired(seeds: SeedTables) -> list[str]:
+    """The paired RL − feedback section of Table III (:func:`paired_differences`)."""
+    table = seeds.paired
+    if table.empty:
+        return []
+    header = ["object", "profile", "plant", "n", "translation RL − feedback", "angle RL − feedback"]
+    rows = []
+    for row in table.to_dict("records"):
+        cells = [str(row["object"]), str(row["profile"]), str(row["plant"])]
+        counts = {int(row[f"{metric}_diff_n"]) for metric in PAIRED_METRICS}
+        cells.append(" / ".join(str(n) for n in sorted(counts)))
+        for metric in PAIRED_METRICS:
+            mean, ci = float(row[f"{metric}_diff"]), float(row[f"{metric}_diff_ci95"])
+            shown = "–" if not math.isfinite(mean) else f"{mean:+.4f}"
+            if math.isfinite(mean) and math.isfinite(ci):
+                shown += f" ± {ci:.4f}" + (" (below 0)" if mean + ci < 0.0 else "")
+            cells.append(shown)
+        rows.append(cells)
+    return [
+        "RL-assisted − feedback, paired over the trials [percentage points]: the mean over "
+        "the cell's n trials of RL's error (its mean over the training seeds) minus "
+        "feedback's on the same push, ± the half-width of its 95 % confidence interval over "
+        "those trials; '(below 0)': RL lower beyond the interval:",
+        "",
+        *_grid(header, rows),
+        "",
+    ]
+
+
 _T3: list[tuple[str, str, str | None]] = [
     ("translation_error_pd", "translation PD-only", "paper"),
     ("translation_error_feedback", "translation feedback", None),
@@ -230,15 +259,20 @@ def tables_markdown(
     tables beside the paper's, the RL/PD ratios, and notes on what differs; with
     ``seeds`` of several training seeds, the RL cells and ratios across seeds and a
     per-seed ratio table (:mod:`pushctl.report.seeds`)."""
-    cell = "each cell: our mean ± the half-width of its 95 % confidence interval (Student t)"
+    cell = (
+        "each cell: our mean over the trials ± the half-width of its 95 % confidence "
+        "interval over the trials (Student t, n − 1 degrees of freedom), for every controller"
+    )
     several = seeds is not None and seeds.several
     intervals = seeds.ratio_ci if seeds is not None and seeds.several else None
     if several:
         assert seeds is not None
         cell += (
-            f"; RL columns and ratios: the mean over the {len(seeds.seeds)} training seeds "
-            f"({', '.join(map(str, seeds.seeds))}) of each seed's own cell mean, ± across "
-            "seeds (Student t, S − 1 degrees of freedom; docs/several-seeds.md)"
+            f"; RL's per-trial value is the mean over the {len(seeds.seeds)} training seeds "
+            f"({', '.join(map(str, seeds.seeds))}); the spread across seeds is in the CSVs' "
+            "`_seed_sd` columns (the seeds' own cell means' standard deviation) and in the "
+            "ratio tables' ± (across the seeds' own ratios, Student t, S − 1 degrees of "
+            "freedom; docs/several-seeds.md)"
         )
     lines = [
         f"<!-- {made_by.removeprefix('#').strip()} -->",
@@ -259,6 +293,7 @@ def tables_markdown(
         "",
         *_ratio_table(table3, paper_values.TABLE3, _T3_RATIOS, intervals),
         "",
+        *(_paired(seeds) if seeds is not None else []),
         *(_per_seed(seeds) if several else []),
         "## Table IV: force error [mN] and torque error [mN·m], `sim` and `proxy` plants",
         "",

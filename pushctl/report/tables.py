@@ -29,6 +29,14 @@ CONFIDENCE = 0.95
 Source = tuple[str, str, str]
 """(metric column of trials.csv, plant, controller) a table column is the mean of."""
 
+INTERVALS_NOTE = (
+    "# intervals: every _ci95 column is the half-width of the 95 % confidence interval "
+    "(Student t) of the mean over the cell's trials, RL's of its per-trial mean over the "
+    "training seeds; a _seed_sd column is the standard deviation across the training seeds "
+    "of their own cell means"
+)
+"""The tables' second comment line: what their intervals are across."""
+
 CONTROLLER_ORDER = ("pd", "feedback", "rl")
 """The tables' controllers: PD-only, PD + the PI feedback law, RL-assisted."""
 

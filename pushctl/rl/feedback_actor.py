@@ -49,7 +49,9 @@ class FeedbackActor:
         # one call per decision: every step while the gate is open, or every action_repeat
         # steps; ``interval`` [s] overrides (the base law under a policy runs every step)
         dt = env.config.dt * env.config.action_repeat if interval is None else interval
-        self.law = FeedbackLaw(gains, lever, dt, prongs=plan.pusher.prong_offsets())
+        self.law = FeedbackLaw(
+            gains, lever, dt, prongs=plan.pusher.prong_offsets(), gate_length=env.config.gate_length
+        )
         # the observation's layout for this plan's k prongs (the environment's own table
         # is sized for the paper's two; its observation follows the pusher it pushes with)
         where = index(
@@ -66,6 +68,7 @@ class FeedbackActor:
         config = env.config
         velocity = plan.trajectory.velocity
         self._speed = np.hypot(velocity[:, 0], velocity[:, 1]).tolist()  # (N + 1,) [m/s]
+        self._dt = float(config.dt)  # the push step [s]: the catch-up phase's clock
         self.env = env
         linear, angular = config.action_scale_linear, config.action_scale_angular
         self._scales = (float(linear), float(linear), float(angular))  # the action's units
@@ -93,12 +96,18 @@ class FeedbackActor:
         read[:3] = env.pose_error
         read[3:] = env.measured_forces[:, 0]
         values = read.tolist()
-        return self._clipped(self.law.twist_floats(values[:3], values[3:], self._speed_now()))
+        return self._clipped(
+            self.law.twist_floats(values[:3], values[3:], self._speed_now(), None, self._time())
+        )
 
     def _twist(self, obs: np.ndarray) -> tuple[float, float, float]:
         offset = None if self._offset is None else obs[self._offset].tolist()
         return self.law.twist_floats(
-            obs[self._error].tolist(), obs[self._normal].tolist(), self._speed_now(), offset
+            obs[self._error].tolist(),
+            obs[self._normal].tolist(),
+            self._speed_now(),
+            offset,
+            self._time(),
         )
 
     def _speed_now(self) -> float:
@@ -106,6 +115,12 @@ class FeedbackActor:
         episode = self.env.episode
         assert episode is not None
         return self._speed[min(episode.step_index, len(self._speed) - 1)]
+
+    def _time(self) -> float:
+        """The time since the push began [s] (the catch-up phase's clock)."""
+        episode = self.env.episode
+        assert episode is not None
+        return episode.step_index * self._dt
 
     def _clipped(self, twist: tuple[float, float, float]) -> tuple[float, float, float]:
         """The twist over the action scale, clipped to [−1, 1] (np.clip's arithmetic)."""

@@ -116,7 +116,7 @@ def test_on_the_proxy_the_camera_s_frames_of_the_push_stay_as_they_were() -> Non
     plain.reset()
     relanded.reset()
     relanded.reland()
-    assert np.array_equal(plain._camera, relanded._camera)
+    assert np.array_equal(plain._proxy.camera, relanded._proxy.camera)
     exact = _episode(error)
     exact.reset()
     exact.reland()

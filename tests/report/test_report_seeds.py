@@ -1,8 +1,10 @@
 """Several training seeds in the report (pushctl.report.seeds), on the synthetic trials of
 test_report with the ``rl`` rows repeated per seed and scaled by a known factor per seed:
-RL cells and ratios are the mean over seeds with a Student-t interval across seeds (hand
-computed), PD-only and feedback columns are unchanged, each seed's own ratios are listed,
-and with one seed (or none named) the tables are today's to the byte."""
+RL cells are the mean over the trials of the per-trial mean over seeds with the interval
+over the trials (as every other column's), the spread across seeds in ``_seed_sd``, the
+ratios' ± across seeds (hand computed); PD-only and feedback columns are unchanged, each
+seed's own ratios are listed, RL − feedback is paired over the trials, and with one seed
+(or none named) the tables are today's to the byte."""
 
 from __future__ import annotations
 
@@ -26,6 +28,8 @@ SCALES = {0: 0.8, 1: 1.0, 2: 1.3}
 """Seed → factor on its rl metrics (test_report's rl metric is (trial + 1) × the plant's
 factor; PD-only's is twice that, feedback's 1.25 times)."""
 T_2 = float(stats.t.ppf(0.975, 2))
+T_3 = float(stats.t.ppf(0.975, 3))
+MEAN_SCALE = float(np.mean(list(SCALES.values())))  # the per-trial mean over seeds' factor
 
 
 def seeded_frame(scales: dict[int, float] = SCALES) -> pd.DataFrame:
@@ -52,37 +56,76 @@ def _ci(values: list[float]) -> float:
     return T_2 * float(np.std(values, ddof=1)) / math.sqrt(len(values))
 
 
-def test_rl_cells_are_the_mean_over_seeds_with_an_interval_across_seeds():
+def _trial_ci(values: np.ndarray) -> float:
+    """The 95 % half-width over 4 trials."""
+    return T_3 * float(np.std(values, ddof=1)) / 2.0
+
+
+def test_rl_cells_have_the_interval_over_trials_and_the_seed_spread_apart():
+    """wedge/chirp, sim: seed s pushes trial i to (i + 1) × scale_s %; the per-trial mean
+    over seeds is (i + 1) × 1.033 %, whose mean and interval over the 4 trials are the RL
+    cell, as PD-only's and feedback's are theirs; the seeds' own cell means (2.5 × scale_s)
+    give the ``_seed_sd`` column."""
     frame = seeded_frame()
     seeds = seed_tables(frame)
     assert seeds.seeds == (0, 1, 2) and seeds.several
     three = seeds.table3.values
-    per_seed = [2.5 * m for m in SCALES.values()]  # wedge/chirp's sim rl mean per seed [%]
+    per_trial = np.arange(1.0, 5.0) * MEAN_SCALE
     assert _cell(three, "wedge", "chirp", "translation_error_rl") == pytest.approx(
-        np.mean(per_seed), rel=1e-12
+        per_trial.mean(), rel=1e-12
     )
     assert _cell(three, "wedge", "chirp", "translation_error_rl_ci95") == pytest.approx(
-        _ci(per_seed), rel=1e-12
+        _trial_ci(per_trial), rel=1e-12
     )
-    # the interval is across 3 seeds, not across the 12 rl trials
-    assert _ci(per_seed) != pytest.approx(
-        float(stats.t.ppf(0.975, 11)) * np.std(frame[frame["controller"] == "rl"]["trial"] + 1)
+    per_seed = [2.5 * m for m in SCALES.values()]  # wedge/chirp's sim rl mean per seed [%]
+    assert _cell(three, "wedge", "chirp", "translation_error_rl_seed_sd") == pytest.approx(
+        np.std(per_seed, ddof=1), rel=1e-12
     )
+    # feedback's interval is over the same 4 trials, under the same kind of name
+    feedback = np.arange(1.0, 5.0) * 1.25
+    assert _cell(three, "wedge", "chirp", "translation_error_feedback_ci95") == pytest.approx(
+        _trial_ci(feedback), rel=1e-12
+    )
+    assert not any(c.endswith("_seed_sd") and "_rl" not in c for c in three.columns)
     # PD-only and feedback (run once per trial) are the single-seed table's
     plain = table3(frame).values
     for column in ("translation_error_pd", "angle_error_feedback", "angle_error_pd_ci95"):
         np.testing.assert_array_equal(three[column].to_numpy(), plain[column].to_numpy())
     # Table IV too: the proxy's rl force error [N], 1.5 × sim
     four = seeds.table4.values
-    proxy = [1.5 * 2.5e-3 * m for m in SCALES.values()]
+    proxy = 1.5e-3 * np.arange(1.0, 5.0) * MEAN_SCALE
     assert _cell(four, "cube", "trapezoid", "force_error_rl_proxy") == pytest.approx(
-        np.mean(proxy), rel=1e-12
+        proxy.mean(), rel=1e-12
     )
     assert _cell(four, "cube", "trapezoid", "force_error_rl_proxy_ci95") == pytest.approx(
-        _ci(proxy), rel=1e-12
+        _trial_ci(proxy), rel=1e-12
     )
-    # counts: every seed's trials behind the rl mean
-    assert _cell(seeds.table3.counts, "wedge", "chirp", "translation_error_rl") == 12
+    assert _cell(four, "cube", "trapezoid", "force_error_rl_proxy_seed_sd") == pytest.approx(
+        np.std([1.5 * 2.5e-3 * m for m in SCALES.values()], ddof=1), rel=1e-12
+    )
+    # counts: the trials behind the rl mean, as for PD-only
+    assert _cell(seeds.table3.counts, "wedge", "chirp", "translation_error_rl") == 4
+
+
+def test_rl_minus_feedback_is_paired_over_the_trials():
+    """Trial i: RL's mean over seeds (i + 1) × 1.033, feedback's (i + 1) × 1.25 (sim,
+    wedge/trapezoid): the difference (i + 1) × (−0.217) over 4 trials; the straight push's
+    NaN angle (PD-only's only) does not touch RL − feedback."""
+    paired = seed_tables(seeded_frame()).paired
+    row = paired[
+        (paired["object"] == "wedge")
+        & (paired["profile"] == "trapezoid")
+        & (paired["plant"] == "sim")
+    ]
+    assert len(row) == 1
+    diff = np.arange(1.0, 5.0) * (MEAN_SCALE - 1.25)
+    assert float(row["translation_error_pct_diff"].iloc[0]) == pytest.approx(diff.mean())
+    assert float(row["translation_error_pct_diff_ci95"].iloc[0]) == pytest.approx(
+        _trial_ci(diff), rel=1e-12
+    )
+    assert float(row["angle_error_pct_diff"].iloc[0]) == pytest.approx(diff.mean() / 10)
+    assert int(row["angle_error_pct_diff_n"].iloc[0]) == 4
+    assert set(paired["plant"]) == {"sim", "proxy"} and len(paired) == 12
 
 
 def test_each_seed_s_own_ratios_and_their_interval():
@@ -115,7 +158,11 @@ def test_the_markdown_shows_ratios_across_seeds_and_each_seed_s_table():
     frame = seeded_frame()
     seeds = seed_tables(frame)
     text = tables_markdown(seeds.table3, seeds.table4, "# made by: x", ["in"], seeds)
-    assert "mean over the 3 training seeds (0, 1, 2)" in text
+    assert "the mean over the 3 training seeds (0, 1, 2)" in text
+    assert "interval over the trials" in text and "`_seed_sd`" in text
+    diff = 2.5 * (MEAN_SCALE - 1.25)  # wedge/chirp sim, RL − feedback [pp]
+    ci = _trial_ci(np.arange(1.0, 5.0) * (MEAN_SCALE - 1.25))
+    assert f"| wedge | chirp | sim | 4 | {diff:+.4f} ± {ci:.4f} (below 0) |" in text
     ratio = 1.0333333333333334 / 2.0
     ci = _ci([m / 2.0 for m in SCALES.values()])
     assert f"| wedge | chirp | {ratio:.2f} ± {ci:.2g} |" in text
@@ -134,8 +181,11 @@ def test_with_one_seed_the_tables_are_today_s(named: str):
     assert seeds.seeds == () and policy_seeds(frame) == ([4] if named == "one seed" else [])
     pd.testing.assert_frame_equal(seeds.table3.values, table3(plain).values)
     pd.testing.assert_frame_equal(seeds.table4.values, table4(plain).values)
-    today = tables_markdown(table3(plain), table4(plain), "# made by: x", ["in"])
+    today = tables_markdown(
+        table3(plain), table4(plain), "# made by: x", ["in"], seed_tables(plain)
+    )
     assert tables_markdown(seeds.table3, seeds.table4, "# made by: x", ["in"], seeds) == today
+    assert "RL-assisted − feedback, paired over the trials" in today
     assert len(seeds.per_seed) == 6  # the seed's own ratios are still available
 
 
@@ -166,3 +216,14 @@ def test_the_report_writes_the_per_seed_csv_with_several_seeds(tmp_path: Path):
     assert list(written["policy_seed"]) == [0, 1, 2] * 6
     np.testing.assert_allclose(written["translation_rl_pd"], np.tile([0.4, 0.5, 0.65], 6))
     assert "Each training seed's own ratios" in (out / "tables.md").read_text()
+
+
+def test_a_metric_read_as_text_is_averaged_over_the_seeds_too():
+    """The report's reader may leave a column as text (``force_error_landed`` in the
+    shipped trials): RL's per-trial mean over the seeds must still be its mean."""
+    frame = seeded_frame()
+    text = frame.assign(force_error=frame["force_error"].astype(str))
+    want = seed_tables(frame).table4.values
+    got = seed_tables(text).table4.values
+    for column in ("force_error_rl_sim", "force_error_rl_sim_ci95", "force_error_rl_proxy"):
+        np.testing.assert_allclose(got[column], want[column], rtol=1e-12)

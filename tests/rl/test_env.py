@@ -160,7 +160,7 @@ def test_the_reward_terms_are_eq_17_against_the_plant_force_plan(env: PushEnv) -
     rows = slice(1, 31)
     force_error = np.abs(plant.forces[rows] - trace.contact_forces[rows])
     torques = prong_torques(
-        trace.object_pose[rows], episode._prongs[rows], trace.contact_forces[rows]
+        trace.object_pose[rows], episode._rows.prongs[rows], trace.contact_forces[rows]
     )
     assert terms[0] == pytest.approx(-SHORT.w_normal * force_error[:, :, 0].sum(), rel=1e-9)
     assert terms[1] == pytest.approx(-SHORT.w_tangential * force_error[:, :, 1].sum(), rel=1e-9)
