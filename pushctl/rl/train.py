@@ -84,7 +84,9 @@ class Trainer:
             load_feedback_gains() if preset.ddpg.demonstrator == "feedback" else None
         )
         """The warm-up's demonstrator: the feedback controller's gains (DDPGConfig)."""
-        entries = observation_entries(2, reference_offset=preset.env.offset_observed)
+        entries = observation_entries(
+            2, reference_offset=preset.env.offset_observed, context=preset.env.observe_context
+        )
         self.agent = DDPGAgent(len(entries), 3, preset.ddpg, seed, obs_scale=scales(entries))
         self.next_episode = 0
         self.pending_updates = 0
