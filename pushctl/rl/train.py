@@ -175,7 +175,10 @@ class Trainer:
             # zero residual on PD alone (on a base law the zero residual is that law, which
             # did not beat PD-only either: it was scored as the first actors)
             chosen = ActorPolicy.zero_residual(last)
-            env = replace(env, base_law="none")
+            if self.preset.train.select_on == "paired":  # no actor beat the law: ship it
+                made_by += "; shipped: the base law (no actor beat it in the paired test)"
+            else:
+                env = replace(env, base_law="none")
         write_policy(self.out / POLICY, chosen, env, made_by)
 
     # ------------------------------------------------------------------ checkpoints
@@ -289,6 +292,10 @@ class Trainer:
         best = min((row["score"] for row in self.validation if row["kept"]), default=math.inf)
         base = next((row for row in self.validation if row["episode"] == 0), None)
         kept = result.beats_pd and result.score < best and result.no_worse_than(base)
+        paired, on_law = None, self.preset.env.base_law != "none"
+        if self.preset.train.select_on == "paired":  # and beat the law beyond the CI
+            paired = self._validator.paired(pending.episode, metrics, pending.actor, on_law)
+            kept = kept and pending.episode > 0 and paired.beats_law
         if kept:
             self.best_actor = pending.actor
         self.validation.append(
@@ -303,6 +310,7 @@ class Trainer:
                 "pd_angle_error_pct": result.pd_angle_error_pct,
                 "score": result.score,
                 "kept": kept,
+                **({} if paired is None else paired.as_row()),
             }
         )
 
