@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import copy
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 import torch
@@ -24,8 +24,8 @@ from pushctl.rl.config import DDPGConfig
 from pushctl.rl.env_readings import PRIVILEGED_SCALES
 from pushctl.rl.networks import Critic, initialise
 
-if TYPE_CHECKING:
-    from pushctl.rl.ddpg import DDPGAgent
+DDPGAgent = Any
+"""A :class:`pushctl.rl.ddpg.DDPGAgent` (not imported: it imports this module)."""
 
 
 def privileged_scale(config: DDPGConfig, priv_scale: np.ndarray | None) -> np.ndarray:
