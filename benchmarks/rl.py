@@ -43,7 +43,9 @@ def rl_rows(preset_name: str = "paper", updates: int = 300) -> list[dict[str, An
     update [ms] and updates/s, with the preset's settings and one torch thread."""
     configure_torch(1)
     preset = load_preset(preset_name)
-    entries = observation_entries(2, reference_offset=preset.env.offset_observed)
+    entries = observation_entries(
+        2, reference_offset=preset.env.offset_observed, context=preset.env.observe_context
+    )
     agent = DDPGAgent(len(entries), 3, preset.ddpg, seed=0, obs_scale=scales(entries))
     zero = np.zeros(3)
     shut = _env_steps_per_s(PushEnv(replace(preset.env, gate_threshold=1.0)), lambda obs: zero)
@@ -141,7 +143,9 @@ def collection_rows(
     preset = load_preset(preset_name)
     config, gains = preset.env, load_gains()
     ddpg = replace(preset.ddpg, actor_final_init=3e-3)  # an actor whose output is not 0
-    entries = observation_entries(2, reference_offset=config.offset_observed)
+    entries = observation_entries(
+        2, reference_offset=config.offset_observed, context=config.observe_context
+    )
     agent = DDPGAgent(len(entries), 3, ddpg, seed=0, obs_scale=scales(entries))
     behaviour = Behaviour(
         False, portable(agent.actor_state()), ddpg.ou_theta, ddpg.ou_sigma, ddpg.ou_dt

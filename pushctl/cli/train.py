@@ -43,9 +43,16 @@ def train(
     address: Annotated[
         str | None, typer.Option(help="Ray cluster to join (default: RAY_ADDRESS, else local)")
     ] = None,
+    algo: Annotated[
+        str, typer.Option(help="ddpg, or sb3-sac: stable-baselines3's SAC on the same env")
+    ] = "ddpg",
 ) -> None:
     """Train the residual policy (DDPG, eq. 17 reward) on randomised pushes; write the
     checkpoint, the training curves (Fig. 5) and the policy to the run directory."""
+    if algo not in ("ddpg", "sb3-sac"):
+        fail(PushctlError(f"--algo must be ddpg or sb3-sac, got {algo!r}"))
+    if algo == "sb3-sac":
+        return _train_sac(ctx, preset, episodes, seed, out, resume, force, seeds)
     if seeds is not None:
         return _train_seeds(ctx, preset, episodes, seed, out, resume, force, seeds, address)
     if address is not None:
@@ -99,3 +106,41 @@ def _train_seeds(ctx, preset, episodes, seed, out, resume, force, seeds, address
     except OSError as error:
         fail_write(error)
     console.print(seeds_table(results))
+
+
+def _train_sac(ctx, preset, episodes, seed, out, resume, force, seeds) -> None:
+    """``pushctl train --algo sb3-sac``: :func:`pushctl.rl.sb3.train_sac` (one seed, no
+    resume)."""
+    from pushctl.provenance import provenance_line
+    from pushctl.rl.presets import load_preset
+    from pushctl.rl.sb3 import MODEL, train_sac
+
+    try:
+        if resume or seeds is not None:
+            raise PushctlError("--algo sb3-sac trains one seed from the start: no --resume/--seeds")
+        if episodes is not None and episodes < 1:
+            raise PushctlError(f"--episodes must be an integer >= 1, got {episodes}")
+        if seed is not None and seed < 0:
+            raise PushctlError(f"--seed must be an integer >= 0, got {seed}")
+        name, chosen_seed = preset or "quick", seed or 0
+        chosen = load_preset(name)
+        directory = out if out is not None else Path("runs") / f"{name}-sac-seed{chosen_seed}"
+        if force:  # only what such a run writes; anything else still stops it
+            for stale in (MODEL, "policy.pt", "policy_last.pt", "validation.csv"):
+                (directory / stale).unlink(missing_ok=True)
+        if directory.is_dir() and any(directory.iterdir()):
+            raise PushctlError(f"{directory} already holds a run; --force starts over")
+        made_by = provenance_line(invocation(ctx), f"seed {chosen_seed} (training stream)")
+        row = train_sac(chosen, chosen_seed, directory, made_by, episodes, log=console.print)
+    except PushctlError as error:
+        fail(error)
+    except OSError as error:
+        fail_write(error)
+    verdict = "kept" if row["kept"] else "not kept: policy.pt is the law"
+    console.print(
+        f"sb3-sac against the law on {row['pushes']} validation pushes: translation "
+        f"{row['translation_diff']:+.4f} [{row['translation_diff_low']:+.4f}, "
+        f"{row['translation_diff_high']:+.4f}], angle {row['angle_diff']:+.4f} "
+        f"[{row['angle_diff_low']:+.4f}, {row['angle_diff_high']:+.4f}] points; {verdict}"
+    )
+    console.print(f"wrote {directory}")

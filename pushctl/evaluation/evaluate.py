@@ -85,7 +85,11 @@ def load_evaluation_policy(path: str | Path) -> TrainedPolicy:
     policy = load_policy(path)
     actor = policy.actor.actor
     n_obs = len(
-        observation_entries(PusherConfig().n_prongs, reference_offset=policy.env.offset_observed)
+        observation_entries(
+            PusherConfig().n_prongs,
+            reference_offset=policy.env.offset_observed,
+            context=policy.env.observe_context,
+        )
     )
     if (actor.obs_dim, actor.act_dim) != (n_obs, len(ACTION_ENTRIES)):
         raise ConfigError(

@@ -9,6 +9,7 @@ a killed run would have drawn.
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -59,6 +60,9 @@ class Behaviour:
     ou_sigma: float
     ou_dt: float
     demonstrator: FeedbackGains | None = None
+    privileged: bool = False
+    """Record each decision's privileged rows (``priv``, ``next_priv``) for an asymmetric
+    critic (:meth:`~pushctl.rl.env_readings.EpisodeReadings.privileged_state`)."""
 
 
 @dataclass(frozen=True)
@@ -134,10 +138,18 @@ def collect_episodes(
         raise StateError(f"episodes of one batch must be equally long, got {sorted(lengths)}")
     decisions = -(-lengths.pop() // vector.config.action_repeat)  # step() holds an action
     rows = _allocate(decisions, *obs.shape)
+    if behaviour.privileged:
+        width = len(vector.envs[0].privileged_state())
+        rows["priv"] = np.zeros((decisions, len(episodes), width), dtype=np.float32)
+        rows["next_priv"] = np.zeros_like(rows["priv"])
     gate_open = np.zeros(len(episodes))
     for n in range(decisions):
         action = act(obs)
+        if behaviour.privileged:
+            rows["priv"][n] = [env.privileged_state() for env in vector.envs]
         next_obs, reward, terminated, _, info = vector.step(action)
+        if behaviour.privileged:
+            rows["next_priv"][n] = [env.privileged_state() for env in vector.envs]
         active = info["residual_active"]
         rows["obs"][n] = obs
         rows["action"][n] = np.where(active[:, None], np.clip(action, -1.0, 1.0), 0.0)
@@ -166,6 +178,19 @@ def collect_episodes(
             )
         )
     return records
+
+
+def curve_row(record: EpisodeRecord) -> dict[str, Any]:
+    """``record`` as a row of a run's ``curve.csv``: its episode and scenario, the RL and
+    PD-only errors (``rl_*``, ``pd_*``; NaN where PD-only was not pushed), the gate's open
+    share and the return."""
+    row: dict[str, Any] = {"episode": record.episode, **record.scenario}
+    row.update({f"rl_{name}": record.rl[name] for name in CURVE_METRICS})
+    pd_metrics = record.pd or {}
+    row.update({f"pd_{name}": pd_metrics.get(name, math.nan) for name in CURVE_METRICS})
+    row["gate_open_fraction"] = record.gate_open_fraction
+    row["episode_return"] = record.episode_return
+    return row
 
 
 def pd_only_metrics(env: PushEnv, seed: int, episode: int) -> dict[str, float]:

@@ -13,6 +13,8 @@ from pushctl.toml_files import check_keys
 
 _POSITIVE_FLOATS = ("actor_lr", "critic_lr", "updates_per_step", "ou_dt", "reward_scale")
 _NON_NEGATIVE_FLOATS = (
+    "target_noise",
+    "target_noise_clip",
     "ou_theta",
     "ou_sigma",
     "critic_grad_clip",
@@ -21,7 +23,8 @@ _NON_NEGATIVE_FLOATS = (
     "prior_weight",
 )
 _UNIT_FLOATS = ("gamma", "tau")
-_POSITIVE_INTS = ("batch_size", "buffer_size", "torch_threads")
+_POSITIVE_INTS = ("batch_size", "buffer_size", "torch_threads", "actor_delay", "n_step")
+_FLAGS = ("twin_critics", "critic_layer_norm", "privileged_critic")
 DEMONSTRATORS = ("none", "feedback")
 """Who acts in the warm-up episodes: OU noise alone, or the feedback law alone."""
 
@@ -80,6 +83,23 @@ class DDPGConfig:
       weight means the same whatever the reward's scale. 0: plain DDPG's −Q (measured:
       from a cloned feedback law, plain DDPG's first few hundred actor updates left
       pushes 20–30 % off their plan; docs/learning-the-residual.md) [-].
+    - ``twin_critics`` [False]: TD3's clipped double Q (Fujimoto et al. 2018): two critics,
+      the target the smaller of their targets' values, the actor following the first;
+      with ``target_noise`` [0.2] (std of Gaussian noise on the target action, clipped to
+      ±``target_noise_clip`` [0.5], normalised action units: target policy smoothing) and
+      ``actor_delay`` [1] (critic updates per actor update; TD3's is 2).
+    - ``n_step`` [1]: the critic's target sums ``n_step`` decisions' rewards, discounted,
+      and bootstraps γ^n_step later (the episode's end cuts the sum): a 100 ms decision's
+      effect on the pose shows in a few decisions' rewards more than in one [decisions].
+    - ``critic_layer_norm`` [False]: LayerNorm in the critic's hidden layers.
+    - ``critic_warmup_updates`` [0]: when the warm-up ends, gradient updates of the critic
+      alone on the warm-up's transitions (the base law's, plus the OU noise), before any
+      actor update and any new episode (DAWN's critic warm-up); the critic's burn-in comes
+      on top [updates].
+    - ``privileged_critic`` [False]: an asymmetric critic (Pinto et al. 2017): besides the
+      observation it sees the episode's plant unknowns, true parameters and exact pose error
+      (:meth:`~pushctl.rl.env_readings.EpisodeReadings.privileged_state`) in training; the
+      actor never does, so the policy deploys as before.
     - ``torch_threads`` [1]: intra-op torch threads, applied by the caller through
       :func:`pushctl.rl.ddpg.configure_torch` (process-wide, so not by the agent) [threads].
     """
@@ -104,6 +124,14 @@ class DDPGConfig:
     demonstrator: str = "none"
     imitation_updates: int = 0
     prior_weight: float = 0.0
+    twin_critics: bool = False
+    target_noise: float = 0.2
+    target_noise_clip: float = 0.5
+    actor_delay: int = 1
+    n_step: int = 1
+    critic_layer_norm: bool = False
+    critic_warmup_updates: int = 0
+    privileged_critic: bool = False
     torch_threads: int = 1
 
     def __post_init__(self) -> None:
@@ -126,7 +154,15 @@ class DDPGConfig:
                 f"ddpg demonstrator must be one of {', '.join(DEMONSTRATORS)}, "
                 f"got {self.demonstrator!r}"
             )
-        for name in ("warmup_steps", "critic_burn_in", "imitation_updates"):
+        for name in _FLAGS:
+            value = getattr(self, name)
+            _check(name, value, isinstance(value, bool), "true or false")
+        for name in (
+            "warmup_steps",
+            "critic_burn_in",
+            "imitation_updates",
+            "critic_warmup_updates",
+        ):
             value = getattr(self, name)
             _check(name, value, _is_int(value) and value >= 0, "an integer >= 0")
             object.__setattr__(self, name, int(value))

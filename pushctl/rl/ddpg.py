@@ -20,31 +20,20 @@ import torch
 from torch import nn
 
 from pushctl.errors import ConfigError, StateError
+from pushctl.rl import critic_side
 from pushctl.rl.config import DDPGConfig
-from pushctl.rl.networks import Actor, ActorPolicy, Critic, initialise
+from pushctl.rl.networks import (  # configure_torch, soft_update: imported from here too
+    Actor,
+    ActorPolicy,
+    Critic,
+    configure_torch,  # noqa: F401
+    initialise,
+    soft_update,  # noqa: F401
+)
 from pushctl.rl.noise import OrnsteinUhlenbeckNoise
 from pushctl.rl.replay import ReplayBuffer
 
 _NETWORKS = ("actor", "critic", "actor_target", "critic_target")
-
-
-def configure_torch(threads: int) -> None:
-    """Set torch's intra-op thread count for the whole process (e.g. ``config.torch_threads``)."""
-    if not isinstance(threads, int) or isinstance(threads, bool) or threads < 1:
-        raise ConfigError(f"torch threads must be a positive integer, got {threads!r}")
-    torch.set_num_threads(threads)
-
-
-@torch.no_grad()
-def soft_update(target: nn.Module, source: nn.Module, tau: float) -> None:
-    """Polyak update in place: ``target ← (1 − tau)·target + tau·source``, tau in [0, 1].
-
-    tau = 1 copies ``source`` exactly, tau = 0 leaves ``target`` unchanged.
-    """
-    if not 0.0 <= tau <= 1.0:
-        raise ConfigError(f"soft_update tau must be in [0, 1], got {tau!r}")
-    for t, s in zip(target.parameters(), source.parameters(), strict=True):
-        t.lerp_(s, tau)
 
 
 class DDPGAgent:
@@ -71,6 +60,7 @@ class DDPGAgent:
         config: DDPGConfig,
         seed: int,
         obs_scale: np.ndarray | None = None,
+        priv_scale: np.ndarray | None = None,
     ) -> None:
         for name, value, least in (
             ("obs_dim", obs_dim, 1),
@@ -86,8 +76,12 @@ class DDPGAgent:
         self._replay_rng = np.random.default_rng(replay_seq)
         self._noise_rng = np.random.default_rng(noise_seq)
         self._torch_gen = torch.Generator().manual_seed(int(torch_seq.generate_state(1)[0]))
+        self.priv_scale = critic_side.privileged_scale(config, priv_scale)
+        self.priv_dim = len(self.priv_scale)
+        critic_in = self.obs_dim + self.priv_dim
+        norm = config.critic_layer_norm
         self.actor = Actor(self.obs_dim, self.act_dim, config.hidden)
-        self.critic = Critic(self.obs_dim, self.act_dim, config.hidden)
+        self.critic = Critic(critic_in, self.act_dim, config.hidden, norm)
         initialise(self.actor, self._torch_gen, config.actor_final_init)
         initialise(self.critic, self._torch_gen)
         self.actor_target = copy.deepcopy(self.actor).requires_grad_(False)
@@ -96,7 +90,8 @@ class DDPGAgent:
         self.critic_optim = torch.optim.Adam(
             self.critic.parameters(), lr=config.critic_lr, fused=True
         )
-        self.replay = ReplayBuffer(config.buffer_size, self.obs_dim, self.act_dim)
+        self.twin = critic_side.TwinCritic.build(config, critic_in, self.act_dim, self._torch_gen)
+        self.replay = ReplayBuffer(config.buffer_size, self.obs_dim, self.act_dim, self.priv_dim)
         self._noise = self._new_noise((self.act_dim,))
         ratio = Fraction(config.updates_per_step).limit_denominator(1_000_000)
         self._credit_per_step, self._credit_per_update = ratio.numerator, ratio.denominator
@@ -104,6 +99,8 @@ class DDPGAgent:
         self._updates = 0
         self._credit = 0
         self._imitated = False
+        self._critic_only = 0  # updates left of a critic warm-up (critic_side.warm_critic)
+        self._critic_warmed = False
         self.prior: Actor | None = None
         """The actor as imitation left it (frozen), once :meth:`imitate` ran; without
         imitation and with a ``prior_weight``, the actor as it starts (a residual that
@@ -157,7 +154,7 @@ class DDPGAgent:
         """Restart the OU noise at 0 (episode start); ``rows`` only those batch rows."""
         self._noise.reset(None if rows is None else np.fromiter(rows, dtype=np.intp))
 
-    def observe(self, obs, action, reward, next_obs, done) -> None:
+    def observe(self, obs, action, reward, next_obs, done, priv=None, next_priv=None) -> None:
         """Store one transition (obs (obs_dim,), ...) or B of them (obs (B, obs_dim), ...).
 
         ``done`` is True only at a true terminal state (no bootstrap from next_obs); store a
@@ -168,7 +165,7 @@ class DDPGAgent:
             self.replay.add(obs, action, reward, next_obs, done)
             self._env_steps += 1
         else:
-            self.replay.add_batch(obs, action, reward, next_obs, done)
+            self.replay.add_batch(obs, action, reward, next_obs, done, priv, next_priv)
             self._env_steps += int(np.shape(obs)[0])
 
     def updates_due(self, n_new_steps: int) -> int:
@@ -221,7 +218,10 @@ class DDPGAgent:
     def update(self) -> dict[str, float]:
         """One gradient step of critic and actor on a sampled batch, then the target updates.
 
-        Critic: MSE to ``reward_scale·r + gamma·(1 − done)·Q'(s', mu'(s'))``. Actor: maximise
+        Critic: MSE to ``reward_scale·r + gamma·(1 − done)·Q'(s', mu'(s'))``, or with the
+        config's critic parts the target of :func:`~pushctl.rl.critic_side.critic_step`
+        (twins, smoothing, n-step, privileged rows; the actor every ``actor_delay``-th
+        update, following the first critic). Actor: maximise
         Q(s, mu(s)) − action_penalty·‖z(s)‖², z the actor's output before its tanh, from the
         ``critic_burn_in``-th update on (before it the actor stays as it is): with the
         critic's weights frozen for its backward pass, and without the prior's forward pass
@@ -237,24 +237,18 @@ class DDPGAgent:
         batch = self.replay.sample(cfg.batch_size, self._replay_rng)
         t = {name: torch.from_numpy(value) for name, value in batch.items()}
         obs, next_obs = t["obs"] / self._scale_t, t["next_obs"] / self._scale_t
-        with torch.no_grad():
-            next_q = self.critic_target(next_obs, self.actor_target(next_obs))
-            target = cfg.reward_scale * t["reward"] + cfg.gamma * (1.0 - t["done"]) * next_q
-        q = self.critic(obs, t["action"])
-        critic_loss = nn.functional.mse_loss(q, target)
-        self.critic_optim.zero_grad(set_to_none=True)
-        critic_loss.backward()
-        if cfg.critic_grad_clip > 0.0:
-            nn.utils.clip_grad_norm_(self.critic.parameters(), cfg.critic_grad_clip)
-        self.critic_optim.step()
+        # plain DDPG's step when the parts are off: the same operations as before them
+        q, critic_loss = critic_side.critic_step(self, t, obs, next_obs)
+        actor_due = self._updates % cfg.actor_delay == 0 and self._critic_only <= 0
+        critic_obs = critic_side.critic_input(self, obs, t, "priv")
 
-        if self._updates >= cfg.critic_burn_in:
+        if self._updates >= cfg.critic_burn_in and actor_due:
             # The critic is a fixed function of the action here: without its weights'
             # gradients (which the next critic step would discard) the backward pass skips
             # their products; the actor's gradient is the same to the bit.
             self.critic.requires_grad_(False)
             try:
-                actor_loss = self._actor_loss(obs)
+                actor_loss = self._actor_loss(obs, critic_obs)
                 self.actor_optim.zero_grad(set_to_none=True)
                 actor_loss.backward()
             finally:
@@ -262,24 +256,31 @@ class DDPGAgent:
             self.actor_optim.step()
         else:
             with torch.no_grad():
-                actor_loss = -self.critic(obs, self.actor(obs)).mean()
+                actor_loss = -self.critic(critic_obs, self.actor(obs)).mean()
 
         soft_update(self.critic_target, self.critic, cfg.tau)
-        soft_update(self.actor_target, self.actor, cfg.tau)
-        self._updates += 1
+        if self.twin is not None:
+            soft_update(self.twin.target, self.twin.critic, cfg.tau)
+        if self._critic_only <= 0:  # the actor's target stays while only the critic learns
+            soft_update(self.actor_target, self.actor, cfg.tau)
+        if self._critic_only > 0:  # a critic warm-up's update: not counted
+            self._critic_only -= 1
+        else:
+            self._updates += 1
         return {
             "critic_loss": critic_loss.item(),
             "actor_loss": actor_loss.item(),
             "q_mean": float(q.detach().mean()),
         }
 
-    def _actor_loss(self, obs: torch.Tensor) -> torch.Tensor:
-        """The actor's loss on a batch of scaled observations (see :meth:`update`)."""
+    def _actor_loss(self, obs: torch.Tensor, critic_obs: torch.Tensor) -> torch.Tensor:
+        """The actor's loss on a batch of scaled observations (see :meth:`update`);
+        ``critic_obs``: what the critic sees of them (with the privileged rows, if any)."""
         cfg = self.config
         pre_tanh = self.actor.net(obs)
         if cfg.prior_weight > 0.0 and self.prior is not None:
             action = torch.tanh(pre_tanh)
-            q_pi = self.critic(obs, action)
+            q_pi = self.critic(critic_obs, action)
             with torch.no_grad():
                 q_size = q_pi.abs().mean().clamp_min(1e-6)
             if self._prior_is_zero:  # action − 0 is the action, bit for bit
@@ -290,7 +291,7 @@ class DDPGAgent:
                 distance = (action - prior_action).square().sum(dim=1).mean()
             actor_loss = -q_pi.mean() / q_size + cfg.prior_weight * distance
         else:
-            actor_loss = -self.critic(obs, torch.tanh(pre_tanh)).mean()
+            actor_loss = -self.critic(critic_obs, torch.tanh(pre_tanh)).mean()
         if cfg.action_penalty > 0.0:
             penalty = pre_tanh.square().sum(dim=1).mean()
             actor_loss = actor_loss + cfg.action_penalty * penalty
@@ -340,6 +341,7 @@ class DDPGAgent:
         )
         if self.prior is not None:
             state["prior"] = {k: v.clone() for k, v in self.prior.state_dict().items()}
+        critic_side.save_extras(self, state)
         return state
 
     def load_state_dict(self, state: dict[str, Any]) -> None:
@@ -350,7 +352,8 @@ class DDPGAgent:
                 f"checkpoint has (obs_dim, act_dim) = {dims}, "
                 f"the agent {(self.obs_dim, self.act_dim)}"
             )
-        ours, theirs = self.config.to_dict(), dict(state["config"])
+        ours = self.config.to_dict()
+        theirs = {**DDPGConfig().to_dict(), **state["config"]}  # keys added later: defaults
         diff = [k for k in sorted(set(ours) | set(theirs)) if ours.get(k) != theirs.get(k)]
         if diff:
             pairs = ", ".join(f"{k}={theirs.get(k)!r} (agent: {ours.get(k)!r})" for k in diff)
@@ -374,6 +377,7 @@ class DDPGAgent:
             prior.load_state_dict(state["prior"])
             self._set_prior(prior)
         self._set_policy(np.asarray(state["obs_scale"], dtype=np.float64))
+        critic_side.load_extras(self, state)
 
     def _numpy_rngs(self) -> dict[str, np.random.Generator]:
         return {"replay": self._replay_rng, "noise": self._noise_rng}

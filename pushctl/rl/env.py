@@ -1,4 +1,4 @@
-"""``pushctl/Push-v0``: one randomised push as a gymnasium environment.
+"""``pushctl/Push-v1`` (and ``Push-v0``): one randomised push as a gymnasium environment.
 
 The manual of the environment, in the layout of Gymnasium's own ``pusher_v5.py``. Numbers that
 live in code are named, not copied: the observation and action tables are generated from
@@ -33,11 +33,12 @@ Observation space
     index, name, meaning, unit and the ``scale`` the learner divides by. In short: the planned
     (nominal) prong forces of the next step, the measured prong forces of the last step, the
     pusher's planar velocity, the object's pose error to the plan (plan frame), with
-    ``observe_offset`` on the ``reference`` path the offset built so far, and the phase of the
-    push. Everything in it is deployable on a real arm: the planned forces come from the
-    nominal plan, never from the plant's parameters. On the ``proxy`` plant kind the measured
-    forces are noisy estimates and, with ``observe_camera``, the pose error reads the 30 Hz
-    camera.
+    ``observe_offset`` on the ``reference`` path the offset built so far, with
+    ``observe_context`` the error's rate, the plan's speed and the base law's action, and the
+    phase of the push. Everything in it is deployable on a real arm: the planned forces come
+    from the nominal plan, never from the plant's parameters. On the ``proxy`` plant kind the
+    measured forces are noisy estimates and, with ``observe_camera``, the pose error reads
+    the 30 Hz camera.
 
 Rewards
     Per step, the paper's eq. 17 plus an optional pose term, each term ≤ 0 and returned by
@@ -81,7 +82,8 @@ Arguments
     ``profiles``, ``plant``, ``stream``, ``duration``, ``dt``), the residual (``residual_path``,
     ``action_scale_linear``, ``action_scale_angular``, ``gate_threshold``, ``gate_length``,
     ``observe_camera``, ``observe_offset``, ``action_repeat``, ``offset_limit_linear``,
-    ``offset_limit_angular``, ``base_law``, ``residual_scale``), where the push starts
+    ``offset_limit_angular``, ``base_law``, ``residual_scale``, ``policy_gated``,
+    ``observe_context``), where the push starts
     (``landing``) and the reward (``w_normal``,
     ``w_tangential``, ``w_torque``, ``w_pose``); ``EnvConfig.from_mapping`` reads the
     ``[env]`` table of a preset. ``gains``: the PD baseline's (default
@@ -111,13 +113,16 @@ Version history
     - issue 16, eighth pass: ``landing`` (``measured``, the new default: the reset re-lands
       the prongs on the plan's spot of the object as measured); saved policies load with
       ``believed``.
+    - ``Push-v1`` (``EnvConfig.v1()``, :data:`~pushctl.rl.env_config.PUSH_V1`): the policy
+      acts inside the gate's dead band (``policy_gated`` False; the gate switches the law
+      only), with the whole envelope on the feedback law, and observes the context rows
+      (``observe_context``). ``EnvConfig()``'s defaults stay ``Push-v0``'s, to the bit;
+      saved policies load with the gate on the policy and no context rows.
 """
 
 from __future__ import annotations
 
 import copy
-import math
-from collections.abc import Sequence
 from typing import Any
 
 import gymnasium as gym
@@ -126,14 +131,13 @@ import numpy as np
 from pushctl.config import PusherConfig
 from pushctl.control.feedback import load_feedback_gains
 from pushctl.control.gains import PDGains, load_gains
-from pushctl.episode.draw import draw_planned_scenario
 from pushctl.episode.proxy import ProxyEffects, effects_for
 from pushctl.episode.ranges import plant_engine
 from pushctl.episode.runner import Episode
-from pushctl.episode.scenario import Scenario
 from pushctl.errors import ConfigError, StateError
-from pushctl.planning import Plan
 from pushctl.rl.env_config import EnvConfig
+from pushctl.rl.env_draws import default_draws, draw_reset
+from pushctl.rl.env_readings import EpisodeReadings, action_floats
 from pushctl.rl.feedback_actor import FeedbackActor
 from pushctl.rl.spaces import ACTION_ENTRIES, clipped_action, observation_entries
 from pushctl.types import StepResult
@@ -144,14 +148,8 @@ _EPISODE_FIELDS = (
 """The configuration an environment's episodes are built from, after the draw
 (:meth:`PushEnv.reset_from` hands a reset over only between environments that agree on it)."""
 
-RESET_OPTIONS = ("object", "profile", "scenario_seed", "scenario")
-"""Keys of ``reset(options=…)`` that fix a draw: the object, the profile, and the integer seed
-of the scenario in the environment's stream (:func:`~pushctl.episode.draw.draw_scenario`);
-or ``scenario``, a :class:`~pushctl.episode.scenario.Scenario` to push as it is (planned at
-the reset; ``pushctl simulate``'s)."""
 
-
-class PushEnv(gym.Env[np.ndarray, np.ndarray]):
+class PushEnv(EpisodeReadings, gym.Env[np.ndarray, np.ndarray]):
     """The residual-learning environment. ``config``: :class:`EnvConfig`; ``gains``: the PD
     baseline's (default ``experiments/pd_gains.toml``).
 
@@ -168,7 +166,9 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         self.config = config or EnvConfig()
         self.gains = gains if gains is not None else load_gains()
         self.observation_entries = observation_entries(
-            PusherConfig().n_prongs, reference_offset=self.config.offset_observed
+            PusherConfig().n_prongs,
+            reference_offset=self.config.offset_observed,
+            context=self.config.observe_context,
         )
         self.action_entries = ACTION_ENTRIES
         self.observation_space = gym.spaces.Box(
@@ -197,7 +197,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[np.ndarray, dict[str, Any]]:
         super().reset(seed=seed)
-        scenario, redrawn, plan = self._draw(options or {})
+        scenario, redrawn, plan = draw_reset(self.config, self.np_random, options or {})
         episode = Episode(
             scenario,
             self.gains,
@@ -232,7 +232,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         if differs is not None:
             raise ConfigError(f"reset_from(): the environments differ in {differs}")
         super().reset(seed=None)
-        self._default_draws()
+        default_draws(self.config, self.np_random)
         copied = copy.deepcopy((episode, reset._last, reset._measured, reset._believed))
         return self._start(*copied[:3], redrawn, copied[3])
 
@@ -278,6 +278,9 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         self._true_forces = episode.plant_forces.forces
         self._true_torques = episode.plant_forces.torques
         self._last = last
+        velocity = plan.trajectory.velocity
+        self._plan_speed = np.hypot(velocity[:, 0], velocity[:, 1]).tolist()  # (N + 1,) [m/s]
+        self._law_action = (0.0, 0.0, 0.0)
         self._set_error(0)
         self._measured = measured
         self._base = self._base_law()
@@ -291,7 +294,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         episode = self.episode
         if episode is None:
             raise StateError("call reset() before step()")
-        values = _action_floats(action)
+        values = action_floats(action)
         deviation = self._error_deviation
         w_pose = self.config.w_pose
         normal = tangential = torque = pose = 0.0
@@ -349,201 +352,42 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         assert episode is not None
         n = episode.step_index
         residual = None
-        if self.gate_open:
+        gate = self.gate_open
+        if gate or not self.config.policy_gated:
             scale = self.config.residual_scale
             if action is not None:
                 a_x, a_y, a_w = action
                 if scale != 1.0:
                     a_x, a_y, a_w = scale * a_x, scale * a_y, scale * a_w
-            if self._base is None:
+            if not gate:  # the policy alone, inside the dead band (Push-v1); zero: none
+                self._law_action = (0.0, 0.0, 0.0)
+                if action is not None and (a_x or a_y or a_w):
+                    residual = self._world_twist(clipped_action(a_x, a_y, a_w), n)
+            elif self._base is None:
                 clipped = (0.0, 0.0, 0.0) if action is None else clipped_action(a_x, a_y, a_w)
                 residual = self._world_twist(clipped, n)
             else:  # the law acts at every step, on the state now; the policy's action is held
-                law = self._base.act()
+                law = self._law_action = self._base.act()
                 if action is not None:
                     law = clipped_action(law[0] + a_x, law[1] + a_y, law[2] + a_w)
                 residual = self._world_twist(law, n)
+        elif self._base is not None:
+            self._law_action = (0.0, 0.0, 0.0)
         self._last = episode.step(residual)
         self._set_error(n + 1)  # the observation's, the next gate's
         self._measured = episode.measured_forces(self._last.contact_forces)
         return residual
 
-    def observation(self) -> np.ndarray:
-        """The observation (float32, :mod:`pushctl.rl.spaces`) of the current state: what
-        reset() or the last step() returned."""
-        episode, last = self.episode, self._last
-        assert episode is not None
-        n, n_steps = episode.step_index, episode.n_steps
-        terms = episode.world.arm_terms
-        assert terms is not None
-        yaw = self._plan_rows[n][2]
-        c, s = math.cos(yaw), math.sin(yaw)
-        t_x, t_y, _, _, _, t_w = (terms.pusher_jacobian @ last.arm_v).tolist()
-        # Python floats into one array: the same float32s as concatenating the parts as
-        # arrays, 4.6 µs where that took 7.0 (measured)
-        planned_n, planned_t = self._plan_forces[min(n + 1, n_steps)].T.tolist()
-        # noisy on the proxy: one draw per step, even unobserved
-        measured_n, measured_t = self._measured.T.tolist()
-        values = planned_n + planned_t + measured_n + measured_t
-        values += (c * t_x + s * t_y, -s * t_x + c * t_y, t_w)
-        values += self._error.tolist()
-        if self.config.offset_observed:
-            o_x, o_y, o_w = episode.reference_offset.tolist()  # world x, y, yaw
-            values += (c * o_x + s * o_y, -s * o_x + c * o_y, o_w)
-        values.append(n / n_steps)
-        return np.array(values, dtype=np.float32)
-
-    # ------------------------------------------------------------------ what it exposes
-
-    @property
-    def scenario(self) -> Scenario:
-        """The scenario of the current episode."""
-        assert self.episode is not None, "reset() first"
-        return self.episode.scenario
-
-    @property
-    def plan(self) -> Plan:
-        assert self.episode is not None, "reset() first"
-        return self.episode.plan
-
-    @property
-    def pose_error(self) -> np.ndarray:
-        """The pose error (3,) [m, m, rad], plan frame, that the observation holds now
-        (read by the controller: the camera's on the proxy with ``observe_camera``)."""
-        return self._error
-
-    @property
-    def measured_forces(self) -> np.ndarray:
-        """The prong forces (k, 2) [N] (normal, tangential) the observation holds now (the
-        proxy's noisy estimate)."""
-        return self._measured
-
-    @property
-    def gate_open(self) -> bool:
-        """Whether the next step() applies its action: the pose deviation exceeds the gate's
-        threshold. While it is shut any action gives the same step."""
-        return self._error_deviation > self.config.gate_threshold
-
     # ------------------------------------------------------------------ internals
+
+    @property
+    def policy_acts(self) -> bool:
+        """Whether the next step applies the policy's action: while the gate is open, or
+        always when the gate does not switch the policy (``policy_gated`` False)."""
+        return not self.config.policy_gated or self.gate_open
 
     def _base_law(self) -> FeedbackActor | None:
         """The law under the residual for the episode just reset (None: PD-only)."""
         if self._base_gains is None:
             return None
         return FeedbackActor(self, self._base_gains, interval=self.config.dt)
-
-    def _default_draws(self) -> tuple[str, str, int]:
-        """The object, profile and scenario seed a reset without options pushes. Every reset
-        draws all three, so a fixed object does not shift the other draws."""
-        config, rng = self.config, self.np_random
-        drawn_object = config.objects[int(rng.integers(len(config.objects)))]
-        drawn_profile = config.profiles[int(rng.integers(len(config.profiles)))]
-        return drawn_object, drawn_profile, int(rng.integers(2**31 - 1))
-
-    def _draw(self, options: dict[str, Any]) -> tuple[Scenario, int, Plan | None]:
-        unknown = sorted(set(options) - set(RESET_OPTIONS))
-        if unknown:
-            raise ConfigError(
-                f"unknown reset option {unknown[0]!r}; accepted: {', '.join(RESET_OPTIONS)}"
-            )
-        config = self.config
-        drawn_object, drawn_profile, drawn_seed = self._default_draws()
-        if "scenario" in options:
-            return options["scenario"], 0, None
-        return draw_planned_scenario(
-            int(options.get("scenario_seed", drawn_seed)),
-            config.stream,
-            options.get("object", drawn_object),
-            options.get("profile", drawn_profile),
-            plant=config.plant,
-            duration=config.duration,
-            dt=config.dt,
-        )
-
-    def _set_error(self, n: int) -> None:
-        """The observation's pose error at step ``n`` (:meth:`_pose_error`) and its gate
-        deviation (:meth:`_deviation`'s arithmetic on the same floats), computed once: the
-        gate, the reward's pose term and the info all read the deviation."""
-        error = self._pose_error(n)
-        self._error = np.array(error)
-        self._error_deviation = self._deviation(error)
-
-    def _pose_error(self, n: int, exact: bool = False) -> tuple[float, float, float]:
-        """Planned minus actual object pose at step ``n``, plan frame (3,) [m, m, rad]; the
-        actual pose as the controller reads it (the camera's, on the proxy with
-        ``observe_camera``), or the true one if ``exact``: three floats."""
-        episode = self.episode
-        assert episode is not None
-        x, y, yaw = self._plan_rows[n]
-        if exact or self._exact_pose:
-            actual = self._last.object_pose
-        else:
-            actual = episode.measured_pose()
-        a_x, a_y, a_yaw = actual.tolist()  # floats: numpy's scalar arithmetic, faster
-        c, s = math.cos(yaw), math.sin(yaw)
-        dx, dy = x - a_x, y - a_y
-        angle = math.remainder(yaw - a_yaw, math.tau)
-        return (c * dx + s * dy, -s * dx + c * dy, angle)
-
-    def _deviation(self, error: Sequence[float] | None = None) -> float:
-        """The gate's pose deviation [m] of ``error`` (3,) (default: the current pose
-        error)."""
-        if error is None:
-            return self._error_deviation
-        return math.hypot(error[0], error[1], self.config.gate_length * error[2])
-
-    def _world_twist(self, action: Sequence[float], n: int) -> np.ndarray:
-        """The action's three floats in [−1, 1], plan frame, as a world twist [m/s, m/s,
-        rad/s]."""
-        a_x, a_y, a_w = action
-        s_x, s_y, s_w = self._action_scales
-        x, y = a_x * s_x, a_y * s_y  # the products of action * scale, component-wise
-        yaw = self._plan_rows[n][2]
-        c, s = math.cos(yaw), math.sin(yaw)
-        return np.array([c * x - s * y, s * x + c * y, a_w * s_w])
-
-    def _reward_terms(self, row: int) -> tuple[float, float, float]:
-        """The three weighted terms of eq. 17 for the step that ended at ``row``.
-
-        Plain floats over the k prongs: at k = 2 this is several times faster than numpy on
-        (k, 2) arrays, and it runs 2000 times an episode. τ_z,i as in
-        :func:`~pushctl.episode.trace.prong_torques`."""
-        last, episode = self._last, self.episode
-        assert episode is not None
-        terms = episode.world.arm_terms
-        assert terms is not None
-        x, y, theta = last.object_pose.tolist()
-        c, s = math.cos(theta), math.sin(theta)
-        forces = last.contact_forces.tolist()
-        true_forces = self._true_forces[row].tolist()
-        true_torques = self._true_torques[row].tolist()
-        normal = tangential = torque = 0.0
-        for i, (prong_x, prong_y, _) in enumerate(terms.prong_positions.tolist()):
-            f_n, f_t = forces[i]
-            lever_n = c * (prong_x - x) + s * (prong_y - y)
-            lever_t = -s * (prong_x - x) + c * (prong_y - y)
-            normal += abs(true_forces[i][0] - f_n)
-            tangential += abs(true_forces[i][1] - f_t)
-            torque += abs(true_torques[i] - (lever_n * f_t - lever_t * f_n))
-        config = self.config
-        return (
-            -config.w_normal * normal,
-            -config.w_tangential * tangential,
-            -config.w_torque * torque,
-        )
-
-
-def _action_floats(action: Any) -> list[float]:
-    """step()'s ``action`` as three Python floats (a float32 entry converted exactly, as
-    ``np.asarray(action, dtype=float)`` does); ConfigError unless 3 finite numbers."""
-    # The usual float32 or float64 array: its list's sum is finite unless an entry is not
-    # (or the sum overflows: the full check then decides), 0.3 µs where asarray and
-    # isfinite(...).all() took 2.8 (measured).
-    if type(action) is np.ndarray and action.shape == (3,) and action.dtype.char in "fd":
-        values = action.tolist()
-        if math.isfinite(sum(values)):
-            return values
-    array = np.asarray(action, dtype=float)
-    if array.shape != (3,) or not np.all(np.isfinite(array)):
-        raise ConfigError(f"action must be 3 finite numbers in [-1, 1], got {array!r}")
-    return array.tolist()

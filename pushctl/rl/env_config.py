@@ -67,6 +67,15 @@ class EnvConfig:
         does (residual RL on a hand-designed controller, Johannink et al. 2019).
         ``residual_scale`` (0, 1]: the policy's action is multiplied by it before the law's
         is added, so a learned residual reaches at most that share of the action scale.
+        ``policy_gated``: the gate switches the policy as well as the law (Algorithm 1, and
+        ``Push-v0``); False (``Push-v1``): the gate switches the base law (or, without one,
+        nothing), and the policy acts at every step, inside the gate's dead band too, where
+        the deviation is an observation rather than a switch. With ``base_law`` and a zero
+        action it still pushes as the law does.
+        ``observe_context``: the observation also carries the pose error's rate (through a
+        0.1 s lag), the plan's speed now (which the law's caps scale with) and the base law's
+        output (:mod:`pushctl.rl.spaces`), what a residual needs to tell where the law is
+        capped and how fast the error closes.
         ``landing``: where the environment's pushes start. ``believed``: where the approach
         landed the prongs, aimed at the object's believed pose (PD-only's start, always);
         ``measured``: the reset then re-lands them on the plan's spot of the object as its
@@ -116,6 +125,8 @@ class EnvConfig:
     offset_limit_angular: float = math.radians(3.0)
     base_law: str = "none"
     residual_scale: float = 1.0
+    policy_gated: bool = True
+    observe_context: bool = False
     # A placement error lands the prongs 1.2-1.3 mm off the plan's spot on average, and there
     # the plan's force split is wrong and the wedge can turn away (docs/plant-unknowns.md).
     landing: str = "measured"
@@ -126,7 +137,7 @@ class EnvConfig:
 
     def __post_init__(self) -> None:
         check_residual_path(self.residual_path)
-        for name in ("observe_camera", "observe_offset"):
+        for name in ("observe_camera", "observe_offset", "policy_gated", "observe_context"):
             if not isinstance(getattr(self, name), bool):
                 raise ConfigError(f"env {name} must be true or false, got {getattr(self, name)!r}")
         if self.base_law not in BASE_LAWS:
@@ -191,6 +202,11 @@ class EnvConfig:
         return cls(**converted)
 
     @classmethod
+    def v1(cls, **changes: Any) -> EnvConfig:
+        """``Push-v1``'s settings (:data:`PUSH_V1`), with ``changes`` on top."""
+        return cls(**{**PUSH_V1, **changes})
+
+    @classmethod
     def from_saved(cls, values: Mapping[str, Any]) -> EnvConfig:
         """From the settings saved with a policy or a checkpoint: a key the file lacks takes
         its value from before that key existed (:data:`LEGACY_VALUES`), not today's default,
@@ -224,11 +240,28 @@ LEGACY_VALUES: dict[str, Any] = {
     "offset_limit_angular": math.inf,
     "base_law": "none",
     "landing": "believed",
+    "policy_gated": True,
+    "observe_context": False,
 }
 """Settings of the keys added by issue 16 as every policy trained before them used them: the
 residual added to v_e, the exact object pose in the observation and the gate, no offset in
 the observation, a decision every step, an unbounded reference offset, and the prongs where
-the approach landed them."""
+the approach landed them; and of the keys ``Push-v1`` added: the gate switching the policy,
+no context rows."""
+
+PUSH_V1: dict[str, Any] = {
+    "base_law": "feedback",
+    "residual_scale": 1.0,
+    "policy_gated": False,
+    "observe_context": True,
+    "action_repeat": 10,
+    "w_pose": 20.0,
+}
+"""``pushctl/Push-v1``'s settings over :class:`EnvConfig`'s defaults (``Push-v0``'s): the
+residual on the feedback law with the whole envelope (5 mm/s, 0.05 rad/s: at least the 0.15 ×
+plan speed and k = 3 /s of the law's catch-up, whose rates reach 3.1 mm/s across and 4.2 mm/s
+along on a 21 mm/s plan with 1.4 mm to close), acting inside the gate's dead band, the
+context rows observed, a decision every 100 ms and the pose term. ``EnvConfig.v1()``."""
 
 
 def _check_choice(name: str, chosen: object, accepted: tuple[str, ...]) -> None:

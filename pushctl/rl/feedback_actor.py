@@ -55,7 +55,11 @@ class FeedbackActor:
         # the observation's layout for this plan's k prongs (the environment's own table
         # is sized for the paper's two; its observation follows the pusher it pushes with)
         where = index(
-            observation_entries(plan.pusher.n_prongs, reference_offset=env.config.offset_observed)
+            observation_entries(
+                plan.pusher.n_prongs,
+                reference_offset=env.config.offset_observed,
+                context=env.config.observe_context,
+            )
         )
         self._error = [where["error_x"], where["error_y"], where["error_theta"]]
         self._normal = [where[f"force_n_{i + 1}"] for i in range(plan.pusher.n_prongs)]

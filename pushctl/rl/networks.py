@@ -26,10 +26,13 @@ def _linear(n_in: int, n_out: int) -> nn.Linear:
     return layer
 
 
-def _mlp(n_in: int, hidden: Sequence[int], n_out: int) -> nn.Sequential:
+def _mlp(n_in: int, hidden: Sequence[int], n_out: int, layer_norm: bool = False) -> nn.Sequential:
     layers: list[nn.Module] = []
     for width in hidden:
-        layers += [_linear(n_in, int(width)), nn.ReLU()]
+        layers.append(_linear(n_in, int(width)))
+        if layer_norm:  # no random draws: weight 1, bias 0
+            layers.append(nn.LayerNorm(int(width)))
+        layers.append(nn.ReLU())
         n_in = int(width)
     layers.append(_linear(n_in, n_out))
     return nn.Sequential(*layers)
@@ -56,13 +59,18 @@ class Critic(nn.Module):
     """Action value Q(s, a): ReLU MLP on the concatenation [obs, action].
 
     ``forward(obs, action)``: obs (B, obs_dim) [scaled units], action (B, act_dim) → Q (B,).
-    Weights are zero until :func:`initialise` or ``load_state_dict``.
+    ``layer_norm``: a LayerNorm after each hidden layer's linear map (before the ReLU), which
+    keeps the critic's features at one scale as its targets grow (Ball et al. 2023). An
+    asymmetric critic's ``obs_dim`` counts the privileged rows it sees besides the
+    observation. Weights are zero until :func:`initialise` or ``load_state_dict``.
     """
 
-    def __init__(self, obs_dim: int, act_dim: int, hidden: Sequence[int]) -> None:
+    def __init__(
+        self, obs_dim: int, act_dim: int, hidden: Sequence[int], layer_norm: bool = False
+    ) -> None:
         super().__init__()
         self.obs_dim, self.act_dim = int(obs_dim), int(act_dim)
-        self.net = _mlp(self.obs_dim + self.act_dim, hidden, 1)
+        self.net = _mlp(self.obs_dim + self.act_dim, hidden, 1, layer_norm)
 
     def forward(self, obs: torch.Tensor, action: torch.Tensor) -> torch.Tensor:
         return self.net(torch.cat((obs, action), dim=-1)).squeeze(-1)
@@ -200,3 +208,22 @@ class ActorPolicy:
         actor = Actor(state["obs_dim"], state["act_dim"], state["hidden"])
         actor.load_state_dict(state["actor"])
         return cls(actor.eval(), np.asarray(state["obs_scale"], dtype=np.float64))
+
+
+def configure_torch(threads: int) -> None:
+    """Set torch's intra-op thread count for the whole process (e.g. ``config.torch_threads``)."""
+    if not isinstance(threads, int) or isinstance(threads, bool) or threads < 1:
+        raise ConfigError(f"torch threads must be a positive integer, got {threads!r}")
+    torch.set_num_threads(threads)
+
+
+@torch.no_grad()
+def soft_update(target: nn.Module, source: nn.Module, tau: float) -> None:
+    """Polyak update in place: ``target ← (1 − tau)·target + tau·source``, tau in [0, 1].
+
+    tau = 1 copies ``source`` exactly, tau = 0 leaves ``target`` unchanged.
+    """
+    if not 0.0 <= tau <= 1.0:
+        raise ConfigError(f"soft_update tau must be in [0, 1], got {tau!r}")
+    for t, s in zip(target.parameters(), source.parameters(), strict=True):
+        t.lerp_(s, tau)

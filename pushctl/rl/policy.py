@@ -121,21 +121,23 @@ def finish_with_policy(env: PushEnv, actor: Callable[[np.ndarray], np.ndarray]) 
     the actor run only where the action can matter. With ``action_repeat`` = 1, only while
     the gate is open (the step ignores the action otherwise: :meth:`PushEnv.advance`). With
     ``action_repeat`` = k > 1 the actor decides at every k-th step, as step() does, and its
-    action is held for the k steps (the gate may open within them). With a ``base_law``
+    action is held for the k steps (the gate may open within them). Without
+    ``policy_gated`` the actor acts at every step the gate is shut too. With a ``base_law``
     the environment adds the law's action to it at every step (:meth:`PushEnv.advance`).
     """
     episode = env.episode
     if episode is None:
         raise StateError("call reset() before pushing with a policy")
-    repeat = env.config.action_repeat
+    repeat, gated = env.config.action_repeat, env.config.policy_gated
     opened = 0
     held: np.ndarray | None = None
     decide = _decision(env, actor)
     while not episode.done:
         if repeat > 1 and episode.step_index % repeat == 0:
             held = decide()
-        if env.gate_open:
-            opened += 1
+        gate = env.gate_open
+        opened += gate
+        if gate or not gated:
             if repeat == 1:
                 held = decide()
             env.advance(held)

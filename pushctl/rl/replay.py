@@ -21,7 +21,7 @@ class ReplayBuffer:
     oldest one. Values must be finite; shapes and finiteness are checked on every add.
     """
 
-    def __init__(self, capacity: int, obs_dim: int, act_dim: int) -> None:
+    def __init__(self, capacity: int, obs_dim: int, act_dim: int, priv_dim: int = 0) -> None:
         for name, value in (("capacity", capacity), ("obs_dim", obs_dim), ("act_dim", act_dim)):
             if not isinstance(value, (int, np.integer)) or isinstance(value, bool) or value < 1:
                 raise ConfigError(f"replay {name} must be a positive integer, got {value!r}")
@@ -36,6 +36,10 @@ class ReplayBuffer:
             "next_obs": np.zeros((n, self.obs_dim), np.float32),
             "done": np.zeros(n, np.float32),
         }
+        self.priv_dim = int(priv_dim)
+        if self.priv_dim:  # an asymmetric critic's privileged rows, before and after
+            self._data["priv"] = np.zeros((n, self.priv_dim), np.float32)
+            self._data["next_priv"] = np.zeros((n, self.priv_dim), np.float32)
         self._pos = 0
         self._size = 0
 
@@ -49,7 +53,10 @@ class ReplayBuffer:
         return self._pos
 
     def add(self, obs, action, reward, next_obs, done) -> None:
-        """Store one transition: obs (obs_dim,), action (act_dim,), scalar reward and done."""
+        """Store one transition: obs (obs_dim,), action (act_dim,), scalar reward and done
+        (a buffer with privileged rows takes batches only: :meth:`add_batch`)."""
+        if self.priv_dim:
+            raise StateError("a replay buffer with privileged rows takes add_batch() only")
         rows = self._checked(obs, action, reward, next_obs, done, batch=None)
         i = self._pos
         for name, value in zip(FIELDS, rows, strict=True):
@@ -57,9 +64,11 @@ class ReplayBuffer:
         self._pos = (i + 1) % self.capacity
         self._size = min(self._size + 1, self.capacity)
 
-    def add_batch(self, obs, action, reward, next_obs, done) -> None:
+    def add_batch(self, obs, action, reward, next_obs, done, priv=None, next_priv=None) -> None:
         """Store B transitions: obs (B, obs_dim), action (B, act_dim), reward (B,),
-        next_obs (B, obs_dim), done (B,); the same as B calls of :meth:`add` in row order."""
+        next_obs (B, obs_dim), done (B,); the same as B calls of :meth:`add` in row order.
+        ``priv``, ``next_priv`` (B, priv_dim): the privileged rows, required with a
+        ``priv_dim`` and refused without one."""
         if np.ndim(obs) != 2 or np.shape(obs)[0] < 1:
             raise StateError(
                 f"replay obs must have shape (B, {self.obs_dim}) with B >= 1, got {np.shape(obs)}"
@@ -68,7 +77,16 @@ class ReplayBuffer:
         rows = self._checked(obs, action, reward, next_obs, done, batch=batch)
         skip = max(0, batch - self.capacity)
         index = (self._pos + skip + np.arange(batch - skip)) % self.capacity
-        for name, value in zip(FIELDS, rows, strict=True):
+        if (priv is None) != (self.priv_dim == 0) or (next_priv is None) != (self.priv_dim == 0):
+            raise StateError(f"replay has priv_dim {self.priv_dim}: priv rows must match it")
+        if self.priv_dim:
+            shape = (batch, self.priv_dim)
+            extra = [np.asarray(priv, np.float32), np.asarray(next_priv, np.float32)]
+            if any(a.shape != shape or not np.isfinite(a).all() for a in extra):
+                raise StateError(f"replay priv and next_priv must be finite, shape {shape}")
+            rows = rows + extra
+        names = FIELDS + (("priv", "next_priv") if self.priv_dim else ())
+        for name, value in zip(names, rows, strict=True):
             self._data[name][index] = value[skip:]
         self._pos = (self._pos + batch) % self.capacity
         self._size = min(self._size + batch, self.capacity)

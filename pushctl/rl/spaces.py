@@ -1,7 +1,7 @@
 """The push environment's observation and action, as tables of index, name, meaning, unit and
 scale. The environment builds its vectors in this order and the tables of docs/learning.md
-are printed from here (``python -m pushctl.rl.spaces``), so the documentation cannot drift
-from the code.
+are made from here (:func:`markdown_table`; tests/rl/test_env.py checks the copies), so the
+documentation cannot drift from the code.
 
 Frames: "plan frame" is the planned object frame at the current step (x along the push into
 the object, the pushed face's normal at θ = 0; y to its left), so the same correction means
@@ -26,12 +26,16 @@ class Entry:
     scale: float
 
 
-def observation_entries(n_prongs: int, reference_offset: bool = False) -> tuple[Entry, ...]:
+def observation_entries(
+    n_prongs: int, reference_offset: bool = False, context: bool = False
+) -> tuple[Entry, ...]:
     """The observation's rows for a pusher with ``n_prongs`` prongs (all deployable: the
     planned forces come from the nominal plan, the measured ones from the contact model, or a
     force estimate on a real arm). ``reference_offset``: add the offset the ``reference``
     residual path has built so far (the controller's own state: the actor integrates it, so
-    without it the same observation can call for opposite corrections)."""
+    without it the same observation can call for opposite corrections). ``context``
+    (``EnvConfig.observe_context``): add the pose error's rate, the plan's speed and the base
+    law's output (zero without one), before the phase."""
     forces = (
         ("force_n_des", "planned normal force", "next step"),
         ("force_t_des", "planned tangential force", "next step"),
@@ -57,9 +61,24 @@ def observation_entries(n_prongs: int, reference_offset: bool = False) -> tuple[
             Entry("offset_y", "pusher reference offset built so far, plan frame y", "m", 1e-3),
             Entry("offset_theta", "pusher reference yaw offset built so far", "rad", 2e-2),
         ]
+    if context:
+        rows += CONTEXT_ENTRIES
     rows.append(Entry("phase", "push steps taken / push steps (0 … 1)", "1", 1.0))
     return tuple(rows)
 
+
+CONTEXT_ENTRIES: tuple[Entry, ...] = (
+    Entry("error_rate_x", "rate of error_x, through a 0.1 s lag", "m/s", 1e-3),
+    Entry("error_rate_y", "rate of error_y, through a 0.1 s lag", "m/s", 1e-3),
+    Entry("error_rate_theta", "rate of error_theta, through a 0.1 s lag", "rad/s", 1e-2),
+    Entry("plan_speed", "the plan's object speed now (the law's caps scale with it)", "m/s", 1e-2),
+    Entry("law_x", "the base law's last action along the push (plan frame x)", "× scale", 1.0),
+    Entry("law_y", "the base law's last action across the push (plan frame y)", "× scale", 1.0),
+    Entry("law_wz", "the base law's last yaw-rate action", "× scale", 1.0),
+)
+"""The rows ``EnvConfig.observe_context`` adds: how fast the pose error closes, how far the
+law's caps reach (they scale with the plan's speed), and how much of the envelope the law
+already uses (its action before the policy's is added, clipped to [−1, 1])."""
 
 ACTION_ENTRIES: tuple[Entry, ...] = (
     Entry("residual_x", "residual pusher velocity along the push (plan frame x)", "× scale", 1.0),
@@ -96,9 +115,3 @@ def markdown_table(entries: tuple[Entry, ...]) -> str:
         for i, e in enumerate(entries)
     ]
     return "\n".join(lines)
-
-
-if __name__ == "__main__":
-    print(markdown_table(observation_entries(2, reference_offset=True)))
-    print()
-    print(markdown_table(ACTION_ENTRIES))

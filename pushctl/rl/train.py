@@ -36,13 +36,9 @@ from pushctl.control.feedback import load_feedback_gains
 from pushctl.control.gains import PDGains, load_gains
 from pushctl.errors import ConfigError
 from pushctl.provenance import write_csv
-from pushctl.rl.collect import (
-    CURVE_METRICS,
-    Behaviour,
-    EpisodeRecord,
-    portable,
-)
+from pushctl.rl.collect import Behaviour, EpisodeRecord, curve_row, portable
 from pushctl.rl.collectors import Collector
+from pushctl.rl.critic_side import critic_warmup_due, n_step_rows, warm_critic
 from pushctl.rl.ddpg import DDPGAgent, configure_torch
 from pushctl.rl.networks import ActorPolicy
 from pushctl.rl.policy import save_atomic, write_policy
@@ -84,7 +80,9 @@ class Trainer:
             load_feedback_gains() if preset.ddpg.demonstrator == "feedback" else None
         )
         """The warm-up's demonstrator: the feedback controller's gains (DDPGConfig)."""
-        entries = observation_entries(2, reference_offset=preset.env.offset_observed)
+        entries = observation_entries(
+            2, reference_offset=preset.env.offset_observed, context=preset.env.observe_context
+        )
         self.agent = DDPGAgent(len(entries), 3, preset.ddpg, seed, obs_scale=scales(entries))
         self.next_episode = 0
         self.pending_updates = 0
@@ -177,7 +175,10 @@ class Trainer:
             # zero residual on PD alone (on a base law the zero residual is that law, which
             # did not beat PD-only either: it was scored as the first actors)
             chosen = ActorPolicy.zero_residual(last)
-            env = replace(env, base_law="none")
+            if self.preset.train.select_on == "paired":  # no actor beat the law: ship it
+                made_by += "; shipped: the base law (no actor beat it in the paired test)"
+            else:
+                env = replace(env, base_law="none")
         write_policy(self.out / POLICY, chosen, env, made_by)
 
     # ------------------------------------------------------------------ checkpoints
@@ -221,6 +222,7 @@ class Trainer:
             ou_sigma=config.ou_sigma,
             ou_dt=config.ou_dt,
             demonstrator=self._demonstrator if warmup else None,
+            privileged=config.privileged_critic,
         )
 
     @property
@@ -290,6 +292,10 @@ class Trainer:
         best = min((row["score"] for row in self.validation if row["kept"]), default=math.inf)
         base = next((row for row in self.validation if row["episode"] == 0), None)
         kept = result.beats_pd and result.score < best and result.no_worse_than(base)
+        paired, on_law = None, self.preset.env.base_law != "none"
+        if self.preset.train.select_on == "paired":  # and beat the law beyond the CI
+            paired = self._validator.paired(pending.episode, metrics, pending.actor, on_law)
+            kept = kept and pending.episode > 0 and paired.beats_law
         if kept:
             self.best_actor = pending.actor
         self.validation.append(
@@ -304,6 +310,7 @@ class Trainer:
                 "pd_angle_error_pct": result.pd_angle_error_pct,
                 "score": result.score,
                 "kept": kept,
+                **({} if paired is None else paired.as_row()),
             }
         )
 
@@ -313,28 +320,22 @@ class Trainer:
     def _do_pending_updates(self) -> None:
         if self.agent.imitation_due:  # the warm-up's demonstrations, once, before any update
             self.agent.imitate()
+        if critic_warmup_due(self.agent):  # the critic alone on the law's transitions, once
+            warm_critic(self.agent)
         for _ in range(self.pending_updates):
             self.agent.update()
         self.pending_updates = 0
 
     def _absorb(self, record: EpisodeRecord) -> None:
-        rows = record.transitions
+        ddpg = self.preset.ddpg
+        rows = n_step_rows(record.transitions, ddpg.n_step, ddpg.gamma)
         self.agent.observe(
-            rows["obs"], rows["action"], rows["reward"], rows["next_obs"], rows["done"]
-        )
+            rows["obs"], rows["action"], rows["reward"], rows["next_obs"], rows["done"],
+            rows.get("priv"), rows.get("next_priv"),
+        )  # fmt: skip
         self.pending_updates += self.agent.updates_due(len(rows["reward"]))
-        self.rows.append(_curve_row(record))
+        self.rows.append(curve_row(record))
         self.next_episode = record.episode + 1
-
-
-def _curve_row(record: EpisodeRecord) -> dict[str, Any]:
-    row: dict[str, Any] = {"episode": record.episode, **record.scenario}
-    row.update({f"rl_{name}": record.rl[name] for name in CURVE_METRICS})
-    pd_metrics = record.pd or {}
-    row.update({f"pd_{name}": pd_metrics.get(name, math.nan) for name in CURVE_METRICS})
-    row["gate_open_fraction"] = record.gate_open_fraction
-    row["episode_return"] = record.episode_return
-    return row
 
 
 def read_checkpoint(path: Path) -> dict[str, Any]:

@@ -71,3 +71,19 @@ def test_pushes_from_kept_resets_equal_pushes_after_a_fresh_reset(plant: str) ->
         assert pushes.metrics(actor_state, options[::-1]) == fresh[::-1]
     assert len(pushes._reset) == len(options)  # one reset per scenario, kept
     assert fresh != validation_metrics(validation_env(config, gains), actors[0], options)
+
+
+def test_paired_test_against_the_law_by_hand():
+    from pushctl.rl.validate import paired_test
+
+    law = [(0.02, 1.0, 2.0), (0.02, 2.0, 3.0), (0.02, 3.0, 4.0), (0.02, 4.0, 50.0)]
+    better = [(0.02, 0.5, 1.5), (0.02, 1.4, 2.6), (0.02, 2.5, 3.4), (0.02, 3.6, 49.5)]
+    test = paired_test(better, law)
+    assert test.n == 4 and test.law_failed == 1 and test.failed == 1
+    assert test.translation_diff == pytest.approx(-0.5)
+    # differences -0.5, -0.6, -0.5, -0.4: sd 0.0816, t(0.975, 3) = 3.182
+    assert test.translation_high == pytest.approx(-0.5 + 3.1824 * 0.08165 / 2, abs=1e-3)
+    assert test.beats_law
+    worse = [(0.02, 0.5, 1.5), (0.02, 1.4, 2.6), (0.02, 2.5, 30.0), (0.02, 3.6, 49.5)]
+    assert not paired_test(worse, law).beats_law  # one more failed push, and the angle CI
+    assert not paired_test(law, law).beats_law  # zero differences: not below zero

@@ -1,0 +1,48 @@
+"""``--algo sb3-sac``: SAC's deterministic actor copied into a pushctl policy acts the same,
+and the CLI refuses what such a run cannot do in one line."""
+
+from __future__ import annotations
+
+import gymnasium
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from pushctl.cli import app
+from pushctl.rl.networks import ActorPolicy
+from pushctl.rl.sb3 import sac_actor_state
+
+pytest.importorskip("stable_baselines3")
+
+
+class _Toy(gymnasium.Env):
+    observation_space = gymnasium.spaces.Box(-np.inf, np.inf, (5,), np.float32)
+    action_space = gymnasium.spaces.Box(-1.0, 1.0, (3,), np.float32)
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        return np.zeros(5, np.float32), {}
+
+    def step(self, action):
+        return np.ones(5, np.float32), 0.0, False, False, {}
+
+
+def test_sac_actor_copies_into_a_pushctl_policy_that_acts_the_same():
+    from stable_baselines3 import SAC
+
+    model = SAC("MlpPolicy", _Toy(), policy_kwargs={"net_arch": [16, 16]}, seed=0, device="cpu")
+    scale = np.array([1.0, 2.0, 0.5, 4.0, 1.0])
+    policy = ActorPolicy.from_state(sac_actor_state(model, scale))
+    obs = np.random.default_rng(0).normal(size=(7, 5)).astype(np.float32)
+    expected, _ = model.predict(obs / scale.astype(np.float32), deterministic=True)
+    np.testing.assert_allclose(policy.batch(obs), expected, atol=1e-6)
+
+
+@pytest.mark.parametrize(
+    "args",
+    [["--algo", "td3"], ["--algo", "sb3-sac", "--resume"], ["--algo", "sb3-sac", "--seeds", "0,1"]],
+)
+def test_train_refuses_bad_algo_options_in_one_line(args, tmp_path):
+    result = CliRunner().invoke(app, ["train", *args, "--out", str(tmp_path / "run")])
+    assert result.exit_code == 2
+    assert result.output.startswith("error: ") and len(result.output.strip().splitlines()) == 1
