@@ -67,7 +67,7 @@ def evaluate(
         ),
     ] = "evaluation",
     workers: Annotated[int, typer.Option(help="processes running trials, 1-8")] = 1,
-    out: Annotated[Path, typer.Option(help="output directory")] = Path("results/evaluation"),
+    out: Annotated[Path, typer.Option(help="output directory")] = Path("runs/evaluation"),
     force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
 ) -> None:
     """Paired trials, PD-only, feedback and RL-assisted on the same held-out targets and

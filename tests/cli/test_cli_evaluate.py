@@ -123,3 +123,14 @@ def test_bad_input_is_one_line_exit_2_and_nothing_written(
     assert "Traceback" not in result.output
     assert len(result.output.strip().splitlines()) == 1
     assert not out.exists()
+
+
+def test_a_bare_evaluation_writes_under_runs(tmp_path: Path, monkeypatch) -> None:
+    """The default --out is runs/evaluation, never the shipped results/ (which a first run
+    would have to --force)."""
+    monkeypatch.chdir(tmp_path)
+    tiny = ["--object", "cube", "--profile", "chirp", "--trials", "1", "--controller", "pd"]
+    result = runner.invoke(app, ["evaluate", *tiny, "--plant", "sim"])
+    assert result.exit_code == 0, result.output
+    assert (tmp_path / "runs" / "evaluation" / "trials.csv").is_file()
+    assert (tmp_path / "runs" / "evaluation" / "steps.csv").is_file()
