@@ -10,6 +10,7 @@ import typer
 
 from pushctl.cli.common import (
     FORCE_HELP,
+    Command,
     console,
     fail,
     fail_write,
@@ -21,7 +22,7 @@ from pushctl.output_guard import refuse_existing_files
 app = typer.Typer()
 
 
-@app.command()
+@app.command(cls=Command)
 def report(
     ctx: typer.Context,
     in_dir: Annotated[
