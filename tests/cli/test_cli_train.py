@@ -56,3 +56,17 @@ def test_one_seed_trains_without_ray_and_names_the_law(tmp_path: Path) -> None:
     assert (tmp_path / "run" / "policy.pt").is_file()
     out = " ".join(done.stdout.split())
     assert "no actor beat the law: this policy is the law" in out or "PD-only" in out, out
+
+
+def test_workers_are_one_runs_collectors(tmp_path: Path) -> None:
+    from typer.testing import CliRunner
+
+    from pushctl.cli import app
+
+    runner = CliRunner()
+    out = ["--out", str(tmp_path / "run")]
+    too_many = runner.invoke(app, ["train", "--workers", "9", *out])
+    assert too_many.exit_code == 2 and "--workers must be an integer in 0..8" in too_many.output
+    with_seeds = runner.invoke(app, ["train", "--seeds", "0,1", "--workers", "2", *out])
+    assert with_seeds.exit_code == 2 and "--workers is for one seed's run" in with_seeds.output
+    assert not (tmp_path / "run").exists()
