@@ -7,8 +7,9 @@ STAMP  := $(VENV)/.installed
 .PHONY: install test lint bench reproduce-tables pd-sweep digests clean
 
 NATIVE := pushctl/native/lib/libpushctl_native.so
+WARM   := $(VENV)/.kernels-compiled
 
-install: $(STAMP) $(NATIVE)
+install: $(STAMP) $(NATIVE) $(WARM)
 
 # torch is pinned and installed first: `torch==2.13.0` resolves to the CPU build on disk;
 # a looser requirement would pull several GB of CUDA packages.
@@ -24,6 +25,12 @@ $(STAMP): pyproject.toml
 # without a C++ compiler it prints a note and the bindings are used.
 $(NATIVE): $(STAMP) $(wildcard pushctl/native/*.cpp)
 	$(PY) -c "from pushctl.native.build import build; print(build(optional=True))"
+
+# numba compiles the simulator's kernels at first use (about a minute of one core) and keeps
+# them in its disk cache: compiled here, the first command starts at once (pushctl/cli/warm.py).
+$(WARM): $(STAMP) $(NATIVE) $(shell find pushctl -name '*.py')
+	$(PY) -c "from pushctl.cli.warm import warm; warm()"
+	touch $(WARM)
 
 test: install
 	$(PY) -m pytest -q

@@ -1,4 +1,5 @@
-"""``import pushctl`` registers ``pushctl/Push-v0``: the one line a new user writes first.
+"""``import pushctl`` registers ``pushctl/Push-v1`` and ``pushctl/Push-v0``: the one line a new
+user writes first, and the version the shipped policies were trained on.
 
 Run in a fresh interpreter, since this test session has long since imported pushctl.rl.
 """
@@ -9,8 +10,12 @@ import importlib
 import subprocess
 import sys
 import warnings
+from pathlib import Path
 
 import gymnasium
+import pytest
+
+SHIPPED_POLICY = Path(__file__).parent.parent / "results" / "training" / "policy.pt"
 
 MAKE_AFTER_IMPORT = """
 import sys
@@ -19,6 +24,7 @@ import pushctl
 assert "pushctl.rl.env" not in sys.modules, "registration loaded the environment module"
 assert "torch" not in sys.modules, "registration imported torch"
 env = gym.make("pushctl/Push-v0")
+assert gym.spec(pushctl.ENV_ID).id == "pushctl/Push-v1"
 obs, _ = env.reset(seed=0)
 print(env.spec.id, obs.shape)
 """
@@ -53,4 +59,40 @@ def test_registration_is_idempotent() -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # a second register() would warn "Overriding environment"
         importlib.reload(pushctl.rl)
-    assert gymnasium.spec("pushctl/Push-v0").entry_point == "pushctl.rl.env:PushEnv"
+    assert gymnasium.spec("pushctl/Push-v0").entry_point == "pushctl.rl.versions:push_v0"
+    assert gymnasium.spec("pushctl/Push-v1").entry_point == "pushctl.rl.versions:push_v1"
+
+
+def test_env_id_is_the_newest_version() -> None:
+    import pushctl.rl
+
+    versions = sorted(pushctl.rl.VERSIONS, key=lambda env_id: int(env_id.rsplit("-v", 1)[1]))
+    assert pushctl.rl.ENV_ID == versions[-1] == "pushctl/Push-v1"
+    assert "v1:" in pushctl.rl.__doc__ and "v0:" in pushctl.rl.__doc__  # the version history
+
+
+def test_push_v0_runs_the_shipped_policy() -> None:
+    """The shipped policy acts on ``Push-v0``'s observation as it was trained on it."""
+    import numpy as np
+
+    from pushctl.rl.policy import load_policy
+
+    shipped = load_policy(SHIPPED_POLICY)
+    env = gymnasium.make("pushctl/Push-v0")
+    obs, _ = env.reset(seed=0)
+    assert obs.shape == (shipped.actor.actor.obs_dim,)
+    action = shipped.actor(obs.astype(np.float64))
+    assert action.shape == env.action_space.shape
+    env.close()
+
+
+def test_push_v1_takes_its_own_defaults() -> None:
+    from pushctl.rl.env_config import EnvConfig
+
+    if not hasattr(EnvConfig, "v1"):
+        pytest.skip("EnvConfig.v1 (Push-v1's settings) is not in this tree")
+    env = gymnasium.make("pushctl/Push-v1")
+    assert env.unwrapped.config == EnvConfig.v1()
+    assert gymnasium.make("pushctl/Push-v0").unwrapped.config == EnvConfig()
+    given = EnvConfig(duration=1.0)
+    assert gymnasium.make("pushctl/Push-v1", config=given).unwrapped.config == given

@@ -10,6 +10,7 @@ from typing import NoReturn
 
 import typer
 from rich.console import Console
+from typer.core import TyperCommand
 
 from pushctl.errors import ConfigError, PushctlError
 
@@ -18,10 +19,46 @@ error_console = Console(stderr=True, soft_wrap=True)
 FORCE_HELP = "overwrite existing results in the output path"
 OBJECT_HELP = "cube, wedge, or a TOML object file (e.g. experiments/objects/hexagon.toml)"
 ARM_HELP = "kinova-gen2-7dof, kinova-j2s6s200 or panda"
-PUSHER_HELP = (
-    "pusher file: k = 1-4 prongs, spacing, plate, mass (experiments/pushers/*.toml); "
-    "default: the paper's two-prong plate"
-)
+PUSHER_HELP = "pusher file: k = 1-4 prongs, spacing, plate, mass (experiments/pushers/*.toml)"
+PUSHER_DEFAULT = "the paper's two-prong plate"
+
+
+SECONDS = "[s]"
+KILOGRAMS = "[kg]"
+DIMENSIONLESS = "[1]"
+POSE = "x[m],y[m],θ[deg]"
+"""Units shown in ``--help`` as the value's placeholder (``--duration [s]``), one per
+physical option: rich reads brackets in help text as markup, so they go here."""
+RENAMED_HELP = "renamed; still accepted"
+
+
+class Command(TyperCommand):
+    """Every ``pushctl`` command's class: in ``--help`` a flag (an option that takes no
+    value, ``--force``) shows no value placeholder, as it takes none."""
+
+    def get_params(self, ctx):  # noqa: ANN001, ANN201 (click's signature)
+        params = super().get_params(ctx)
+        for param in params:
+            if getattr(param, "is_flag", False):
+                param.metavar = ""
+        return params
+
+
+def renamed_option(old: str) -> typer.models.OptionInfo:
+    """A hidden option under an option's old name, so scripts written for it still run;
+    :func:`take_renamed` folds its value into the new option's."""
+    return typer.Option(old, hidden=True, help=RENAMED_HELP)
+
+
+def take_renamed(ctx: typer.Context, new: str, value, old: str, old_value):  # noqa: ANN001, ANN201
+    """``old_value`` if the old spelling ``old`` was given (saying so on stderr), else
+    ``value``; the context then records it under the new name (for the provenance line)."""
+    if old_value is None:
+        return value
+    error_console.print(f"note: {old} is now {new}", markup=False, highlight=False)
+    name = next(p.name for p in ctx.command.params if new in p.opts)
+    ctx.params[name] = old_value
+    return old_value
 
 
 def fail(error: PushctlError) -> NoReturn:
@@ -111,6 +148,8 @@ def invocation(context: typer.Context) -> str:
     for param in context.command.params:
         value = context.params.get(param.name or "")
         if value is None or value is False or not param.opts or param.name in NOT_RECORDED:
+            continue
+        if getattr(param, "hidden", False):  # an old spelling: recorded under the new one
             continue
         if isinstance(value, (list, tuple)):  # a repeated option (evaluate's --policy)
             parts += [part for one in value for part in (param.opts[0], str(one))]

@@ -11,12 +11,16 @@ import typer
 
 from pushctl.cli.common import (
     FORCE_HELP,
+    PUSHER_DEFAULT,
     PUSHER_HELP,
+    Command,
     console,
     error_console,
     fail,
     fail_write,
     invocation,
+    renamed_option,
+    take_renamed,
 )
 from pushctl.errors import PushctlError
 from pushctl.output_guard import refuse_occupied_dir
@@ -24,7 +28,7 @@ from pushctl.output_guard import refuse_occupied_dir
 app = typer.Typer()
 
 
-@app.command()
+@app.command(cls=Command)
 def evaluate(
     ctx: typer.Context,
     object_name: Annotated[
@@ -32,7 +36,7 @@ def evaluate(
     ] = "all",
     pusher: Annotated[
         Path | None,
-        typer.Option(help=PUSHER_HELP),
+        typer.Option(help=PUSHER_HELP, show_default=PUSHER_DEFAULT),
     ] = None,
     profile: Annotated[str, typer.Option(help="constant, trapezoid, chirp or all")] = "all",
     trials: Annotated[int, typer.Option(help="trials per object × profile")] = 50,
@@ -52,12 +56,14 @@ def evaluate(
     policy: Annotated[
         list[Path] | None,
         typer.Option(
-            help="residual policy (default: the shipped results/training/policy.pt); repeat "
-            "for several training seeds, each adding its own rl rows (docs/several-seeds.md)"
+            metavar="<path>",
+            help="residual policy; repeat for several training seeds, each adding its own "
+            "rl rows (docs/several-seeds.md)",
+            show_default="results/training/policy.pt, shipped",
         ),
     ] = None,
-    seed: Annotated[
-        int, typer.Option(help="evaluation seed: trial i pushes scenario S×100000 + i")
+    scenario_block: Annotated[
+        int, typer.Option(help="block S of scenarios: trial i pushes scenario S×100000 + i")
     ] = 0,
     stream: Annotated[
         str,
@@ -67,21 +73,25 @@ def evaluate(
         ),
     ] = "evaluation",
     workers: Annotated[int, typer.Option(help="processes running trials, 1-8")] = 1,
-    out: Annotated[Path, typer.Option(help="output directory")] = Path("results/evaluation"),
+    out: Annotated[Path, typer.Option(help="output directory")] = Path("runs/evaluation"),
     force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
+    seed: Annotated[int | None, renamed_option("--seed")] = None,
 ) -> None:
     """Paired trials, PD-only, feedback and RL-assisted on the same held-out targets and
     plants; write trials.csv (one row per trial and controller) and steps.csv (per-step
     means) to --out."""
     from pushctl.cli.evaluate_steps import (
+        policy_kinds,
         policy_provenance,
         prepare,
         run_with_progress,
         summary_table,
     )
+    from pushctl.cli.warm import note_if_cold
     from pushctl.evaluation.evaluate import STEPS_FILE, TRIALS_FILE, write_evaluation
     from pushctl.provenance import provenance_line
 
+    scenario_block = take_renamed(ctx, "--scenario-block", scenario_block, "--seed", seed)
     try:
         spec, trained, policy_path = prepare(
             object_name,
@@ -90,7 +100,7 @@ def evaluate(
             controller,
             plant,
             policy,
-            seed,
+            scenario_block,
             workers,
             out,
             pusher,
@@ -101,6 +111,8 @@ def evaluate(
         extra = f"scenario seeds {first}-{first + spec.trials - 1} ({spec.stream} stream)"
         if trained is not None:
             extra += "; " + policy_provenance(trained, policy_path)
+            for line in policy_kinds(trained, policy_path):
+                console.print(line, soft_wrap=True, highlight=False, markup=False)
         if "feedback" in spec.controllers:
             from pushctl.control.feedback import DEFAULT_FEEDBACK_FILE, load_feedback_gains
 
@@ -117,6 +129,7 @@ def evaluate(
                 f"({DEFAULT_FEEDBACK_FILE.name})"
             )
         made_by = provenance_line(invocation(ctx), extra)
+        note_if_cold(error_console)
         evaluation = run_with_progress(spec, trained, workers, console)
         write_evaluation(out, evaluation, made_by)
     except PushctlError as error:

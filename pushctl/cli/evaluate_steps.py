@@ -20,6 +20,7 @@ from rich.progress import (
 from rich.table import Table
 
 from pushctl.arm.pusher_file import resolve_pusher
+from pushctl.cli.policy_kind import describe_policy, read_validation
 from pushctl.control.feedback import load_feedback_gains
 from pushctl.episode.ranges import DEFAULT_PLANTS, PLANTS
 from pushctl.errors import ConfigError
@@ -96,6 +97,8 @@ def prepare(
     or whose results could not be written. Nothing is written. Several ``--policy`` paths
     (a list of two or more) give a list of policies and of paths, checked by
     :func:`~pushctl.evaluation.evaluate.policy_seeds`."""
+    if seed < 0:  # the spec's own check names the option's old spelling
+        raise ConfigError(f"--scenario-block must be an integer >= 0, got {seed}")
     objects = (
         (object_name,)
         if object_name.lower().endswith(".toml")  # a TOML object file (TrialSpec reads it)
@@ -151,14 +154,30 @@ def _shown(path: Path) -> Path:
     return path
 
 
-def policy_provenance(trained: TrainedPolicy | list[TrainedPolicy], path: Path | list[Path]) -> str:
-    """The provenance field naming the evaluated policy file(s) and their own ``made by``."""
+def _pairs(
+    trained: TrainedPolicy | list[TrainedPolicy], path: Path | list[Path]
+) -> list[tuple[TrainedPolicy, Path]]:
     if isinstance(trained, list):
         assert isinstance(path, list)
-        pairs = list(zip(trained, path, strict=True))
-    else:
-        assert not isinstance(path, list)
-        pairs = [(trained, path)]
+        return list(zip(trained, path, strict=True))
+    assert not isinstance(path, list)
+    return [(trained, path)]
+
+
+def policy_kinds(
+    trained: TrainedPolicy | list[TrainedPolicy], path: Path | list[Path]
+) -> list[str]:
+    """``policy PATH: what it holds`` for each evaluated policy file
+    (:func:`~pushctl.cli.policy_kind.describe_policy`, with its run's validation.csv)."""
+    return [
+        f"policy {where}: {describe_policy(one, read_validation(where))}"
+        for one, where in _pairs(trained, path)
+    ]
+
+
+def policy_provenance(trained: TrainedPolicy | list[TrainedPolicy], path: Path | list[Path]) -> str:
+    """The provenance field naming the evaluated policy file(s) and their own ``made by``."""
+    pairs = _pairs(trained, path)
     named = [f"policy {where}, {one.made_by.removeprefix('# ')}" for one, where in pairs]
     return "; ".join(named)
 
@@ -199,7 +218,8 @@ def run_with_progress(
         TimeRemainingColumn(),
     )
     every = max(1, total // (per_job * LOG_LINES))
-    with Progress(*columns, console=console) as progress:
+    # not a terminal (a log, a pipe): no live bar, whose last frame would wrap mid-field
+    with Progress(*columns, console=console, disable=not console.is_terminal) as progress:
         task = progress.add_task("evaluate", total=total, cell="", errors="")
 
         def show(result: TrialResult, done: int, jobs: int) -> None:
@@ -218,6 +238,7 @@ def run_with_progress(
                 console.print(
                     f"episode {done * per_job}/{total}  {elapsed:,.0f} s  {cell}  {errors}",
                     highlight=False,
+                    soft_wrap=True,
                 )
 
         return evaluate(spec, policy, workers=workers, on_trial=show)

@@ -10,6 +10,7 @@ from rich.table import Table
 
 from pushctl.cli.common import (
     OBJECT_HELP,
+    Command,
     console,
     fail,
 )
@@ -18,7 +19,7 @@ from pushctl.errors import PushctlError
 app = typer.Typer()
 
 
-@app.command()
+@app.command(cls=Command)
 def info(
     object_name: Annotated[str, typer.Option("--object", help=OBJECT_HELP)] = "cube",
     arm: Annotated[str, typer.Option(help="kinova-gen2-7dof, kinova-j2s6s200 or panda")] = (

@@ -12,10 +12,15 @@ import typer
 from rich.table import Table
 
 from pushctl.cli.common import (
+    DIMENSIONLESS,
     FORCE_HELP,
     OBJECT_HELP,
     PLOT_SUFFIXES,
+    POSE,
+    PUSHER_DEFAULT,
     PUSHER_HELP,
+    SECONDS,
+    Command,
     check_output,
     console,
     fail,
@@ -32,24 +37,28 @@ if TYPE_CHECKING:
 app = typer.Typer()
 
 
-@app.command()
+@app.command(cls=Command)
 def plan(
     ctx: typer.Context,
-    goal: Annotated[str, typer.Option(help="goal pose x,y,theta_deg [m, m, deg]")],
+    goal: Annotated[str, typer.Option(metavar=POSE, help="goal pose, e.g. 0.62,0.03,30")],
     object_name: Annotated[str, typer.Option("--object", help=OBJECT_HELP)] = "cube",
     pusher: Annotated[
         Path | None,
-        typer.Option(help=PUSHER_HELP),
+        typer.Option(help=PUSHER_HELP, show_default=PUSHER_DEFAULT),
     ] = None,
     profile: Annotated[str, typer.Option(help="constant, trapezoid or chirp")] = "constant",
     start: Annotated[
         str | None,
-        typer.Option(help="start pose x,y,theta_deg; default: in front of the ready pose"),
+        typer.Option(metavar=POSE, help="start pose", show_default="in front of the ready pose"),
     ] = None,
-    duration: Annotated[float, typer.Option(help="push duration [s]")] = 20.0,
-    dt: Annotated[float, typer.Option(help="control step [s]")] = 0.01,
-    mu_contact: Annotated[float, typer.Option(help="prong-object friction μ_c")] = 0.4,
-    mu_ground: Annotated[float, typer.Option(help="object-table friction μ_g")] = 0.3,
+    duration: Annotated[float, typer.Option(metavar=SECONDS, help="push duration")] = 20.0,
+    dt: Annotated[float, typer.Option(metavar=SECONDS, help="control step")] = 0.01,
+    mu_contact: Annotated[
+        float, typer.Option(metavar=DIMENSIONLESS, help="prong-object friction μ_c")
+    ] = 0.4,
+    mu_ground: Annotated[
+        float, typer.Option(metavar=DIMENSIONLESS, help="object-table friction μ_g")
+    ] = 0.3,
     arm: Annotated[str, typer.Option(help="kinova-gen2-7dof, kinova-j2s6s200 or panda")] = (
         "kinova-gen2-7dof"
     ),

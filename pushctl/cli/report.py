@@ -10,6 +10,7 @@ import typer
 
 from pushctl.cli.common import (
     FORCE_HELP,
+    Command,
     console,
     fail,
     fail_write,
@@ -21,22 +22,24 @@ from pushctl.output_guard import refuse_existing_files
 app = typer.Typer()
 
 
-@app.command()
+@app.command(cls=Command)
 def report(
     ctx: typer.Context,
     in_dir: Annotated[
         Path,
         typer.Option(
-            "--in", help="results directory: evaluation/{trials,steps}.csv, training/curve.csv"
+            "--in",
+            help="results directory holding evaluation/ (and training/ for Fig. 5), or an "
+            "evaluation directory; the shipped ones: results",
         ),
-    ] = Path("results"),
+    ] = Path("runs"),
     out: Annotated[Path, typer.Option(help="directory for the tables and figures")] = Path(
-        "results"
+        "runs/report"
     ),
     force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
 ) -> None:
     """Tables III and IV (CSV and Markdown, beside the paper's values) and Figs. 5, 6 and 8
-    from the evaluation and training CSVs."""
+    from the evaluation and training CSVs (without a training run, Fig. 5 is skipped)."""
     from pushctl.cli.report_steps import (
         check_out_dir,
         counts_table,
@@ -56,5 +59,7 @@ def report(
     except OSError as error:
         fail_write(error)
     console.print(counts_table(made))
+    for note in made.notes:
+        console.print(f"note: {note}", highlight=False, soft_wrap=True)
     for path in written:
         console.print(f"wrote {path}")

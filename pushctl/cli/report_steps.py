@@ -1,5 +1,6 @@
 """``pushctl report``: Tables III and IV, ``tables.md`` and Figs. 5, 6 and 8 from a results
-directory. The command is :mod:`pushctl.cli.report`.
+directory (Fig. 5 only when it holds a training curve). The command is
+:mod:`pushctl.cli.report`.
 
 Every input is read and checked, both tables computed and all three figures rendered to
 PNG bytes before the first file is written; the files are then written each to a temporary
@@ -25,7 +26,7 @@ from pushctl.report.figures import (
     tracking_figure,
     training_figure,
 )
-from pushctl.report.inputs import ResultsTable, read_report_inputs, summary
+from pushctl.report.inputs import CURVE, ResultsTable, read_report_inputs, summary
 from pushctl.report.markdown import tables_markdown
 from pushctl.report.seeds import across_seeds, seed_tables
 from pushctl.report.tables import (
@@ -58,6 +59,8 @@ class Report:
     table_provenance: str
     markdown: str
     figures: dict[str, bytes]
+    notes: tuple[str, ...] = ()
+    """What the inputs could not give, one line each (Fig. 5 without a training curve)."""
     per_seed: pd.DataFrame | None = None
     """``table3_seeds.csv`` (:func:`~pushctl.report.seeds.seed_ratios`), written only when
     the trials hold several training seeds."""
@@ -93,11 +96,15 @@ def make_report(in_dir: Path, command: str) -> Report:
     three, four = seeds.table3, seeds.table4
     sources = [_source(t) for t in inputs.tables()]
     markdown = tables_markdown(three, four, made_by, sources, seeds)
-    drawings = (
-        (FIG5_FILE, training_figure(inputs.curve.frame), inputs.curve),
+    drawings = [
         (FIG6_FILE, tracking_figure(inputs.steps.frame), inputs.steps),
         (FIG8_FILE, force_error_figure(inputs.steps.frame), inputs.steps),
-    )
+    ]
+    notes = []
+    if inputs.curve is not None:
+        drawings.insert(0, (FIG5_FILE, training_figure(inputs.curve.frame), inputs.curve))
+    else:
+        notes.append(f"no {CURVE} in {in_dir}: Fig. 5 (training curves) not drawn")
     figures = {}
     for name, figure, source in drawings:
         title = " ".join(figure.get_suptitle().split())
@@ -108,6 +115,7 @@ def make_report(in_dir: Path, command: str) -> Report:
         table_provenance=f"{made_by}; inputs: {_source(inputs.trials)}\n{INTERVALS_NOTE}",
         markdown=markdown,
         figures=figures,
+        notes=tuple(notes),
         per_seed=seeds.per_seed if seeds.several else None,  # one seed: as before
         more={
             TABLE3_PROXY_FILE: (

@@ -9,15 +9,24 @@ from typing import Annotated
 import typer
 
 from pushctl.cli.common import (
+    DIMENSIONLESS,
     FORCE_HELP,
+    KILOGRAMS,
     OBJECT_HELP,
     PLOT_SUFFIXES,
+    POSE,
+    PUSHER_DEFAULT,
     PUSHER_HELP,
+    SECONDS,
+    Command,
     check_output,
     console,
+    error_console,
     fail,
     invocation,
     parse_pose,
+    renamed_option,
+    take_renamed,
     write_outputs,
 )
 from pushctl.errors import PushctlError
@@ -26,28 +35,33 @@ from pushctl.output_guard import refuse_existing_files
 app = typer.Typer()
 
 
-@app.command()
+@app.command(cls=Command)
 def simulate(
     ctx: typer.Context,
     object_name: Annotated[str, typer.Option("--object", help=OBJECT_HELP)] = "cube",
     pusher: Annotated[
         Path | None,
-        typer.Option(help=PUSHER_HELP),
+        typer.Option(help=PUSHER_HELP, show_default=PUSHER_DEFAULT),
     ] = None,
     profile: Annotated[str, typer.Option(help="constant, trapezoid or chirp")] = "constant",
     goal: Annotated[
-        str | None, typer.Option(help="goal pose x,y,theta_deg [m, m, deg]; or use --seed")
+        str | None,
+        typer.Option(metavar=POSE, help="goal pose, e.g. 0.62,0.03,30; or use --scenario"),
     ] = None,
-    seed: Annotated[
+    scenario_seed: Annotated[
         int | None,
-        typer.Option(help="draw the goal (and with --randomize the plant) from this seed"),
+        typer.Option(
+            "--scenario",
+            help="draw the goal (and with --randomize the plant) as scenario N of the "
+            "evaluation stream: evaluate's trial N",
+        ),
     ] = None,
     controller: Annotated[
         str, typer.Option(help="pd (PD-only), feedback (PD + PI on the pose) or rl (PD + policy)")
     ] = "pd",
     policy: Annotated[
         Path | None,
-        typer.Option(help="rl's policy (default: the shipped results/training/policy.pt)"),
+        typer.Option(help="rl's policy", show_default="results/training/policy.pt, shipped"),
     ] = None,
     randomize: Annotated[
         bool,
@@ -58,12 +72,34 @@ def simulate(
     plant: Annotated[
         str, typer.Option(help="sim, proxy (the reality proxy) or mujoco (docs/mujoco.md)")
     ] = "sim",
-    mu_ground: Annotated[float | None, typer.Option(help="plant's object-table μ_g")] = None,
-    mu_contact: Annotated[float | None, typer.Option(help="plant's prong-object μ_c")] = None,
-    object_mass: Annotated[float | None, typer.Option(help="plant's object mass [kg]")] = None,
-    duration: Annotated[float, typer.Option(help="push duration [s]")] = 20.0,
+    mu_ground: Annotated[
+        float | None,
+        typer.Option(
+            metavar=DIMENSIONLESS,
+            help="plant's object-table μ_g",
+            show_default="nominal; drawn with --randomize",
+        ),
+    ] = None,
+    mu_contact: Annotated[
+        float | None,
+        typer.Option(
+            metavar=DIMENSIONLESS,
+            help="plant's prong-object μ_c",
+            show_default="nominal; drawn with --randomize",
+        ),
+    ] = None,
+    object_mass: Annotated[
+        float | None,
+        typer.Option(
+            metavar=KILOGRAMS,
+            help="plant's object mass",
+            show_default="nominal; drawn with --randomize",
+        ),
+    ] = None,
+    duration: Annotated[float, typer.Option(metavar=SECONDS, help="push duration")] = 20.0,
     gains: Annotated[
-        Path | None, typer.Option(help="PD gains file; default experiments/pd_gains.toml")
+        Path | None,
+        typer.Option(help="PD gains file", show_default="experiments/pd_gains.toml"),
     ] = None,
     arm: Annotated[str, typer.Option(help="kinova-gen2-7dof, kinova-j2s6s200 or panda")] = (
         "kinova-gen2-7dof"
@@ -71,6 +107,7 @@ def simulate(
     out: Annotated[Path | None, typer.Option(help="write the trace as CSV here")] = None,
     plot: Annotated[Path | None, typer.Option(help="save a figure (.png, .pdf, .svg)")] = None,
     force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
+    seed: Annotated[int | None, renamed_option("--seed")] = None,
 ) -> None:
     """Run one push with a controller: approach, push, metrics, trace and figure."""
     from pushctl.arm.pusher_file import resolve_pusher
@@ -83,9 +120,11 @@ def simulate(
         scenario_table,
         simulate_scenario,
     )
+    from pushctl.cli.warm import note_if_cold
     from pushctl.control import load_gains
     from pushctl.episode.metrics import compute_metrics
 
+    scenario_seed = take_renamed(ctx, "--scenario", scenario_seed, "--seed", seed)
     try:
         check_output("--out", out, (".csv",))
         check_output("--plot", plot, PLOT_SUFFIXES)
@@ -101,7 +140,7 @@ def simulate(
             object_name,
             profile,
             goal_pose,
-            seed,
+            scenario_seed,
             randomize,
             overrides,
             duration,
@@ -109,6 +148,7 @@ def simulate(
             plant,
             plate,
         )
+        note_if_cold(error_console)
         trace, made = push(scenario, controller, pd_gains, policy, plant)
         console.print(scenario_table(scenario, made.trajectory.start, redrawn))
         metrics = compute_metrics(trace)
@@ -121,5 +161,5 @@ def simulate(
 
         figure = trace_figure(trace)
     command = invocation(ctx)
-    extra = f"seed {seed}" if seed is not None else "no seed"
+    extra = f"seed {scenario_seed}" if scenario_seed is not None else "no seed"
     write_outputs(command, out, trace.to_frame() if out else None, plot, figure, extra)

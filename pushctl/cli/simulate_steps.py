@@ -121,10 +121,16 @@ def simulate_scenario(
     ``pusher``: the scenario's plate and prongs (None: the paper's).
     """
     check_profile(profile)
+    if seed is not None and seed < 0:
+        raise ConfigError(f"--scenario must be an integer >= 0, got {seed}")
     if goal is None and seed is None:
-        raise ConfigError("give a goal (--goal x,y,theta_deg) or a seed to draw one (--seed N)")
+        raise ConfigError(
+            "give a goal (--goal x,y,theta_deg) or a scenario to draw one (--scenario N)"
+        )
     if randomize and seed is None:
-        raise ConfigError("--randomize draws the plant's parameters from --seed; give --seed N")
+        raise ConfigError(
+            "--randomize draws the plant's parameters from --scenario; give --scenario N"
+        )
     redrawn = 0
     if seed is not None:
         scenario, redrawn = draw_scenario(

@@ -9,21 +9,24 @@ from typing import Annotated
 
 import typer
 
+from pushctl.cli.common import Command
+
 app = typer.Typer()
 
 
-@app.command()
+@app.command(cls=Command)
 def sweep(
     ctx: typer.Context,
     config: Annotated[Path, typer.Argument(help="sweep file (see experiments/sweep_gate.toml)")],
     out: Annotated[
-        Path | None, typer.Option(help="sweep directory (default: runs/sweep-CONFIG)")
+        Path | None, typer.Option(help="sweep directory", show_default="runs/sweep-CONFIG")
     ] = None,
     resume: Annotated[
         bool, typer.Option("--resume", help="continue the runs in --out, re-score them")
     ] = False,
     address: Annotated[
-        str | None, typer.Option(help="Ray cluster to join (default: RAY_ADDRESS, else local)")
+        str | None,
+        typer.Option(help="Ray cluster to join", show_default="RAY_ADDRESS, else a local one"),
     ] = None,
 ) -> None:
     """Train every configuration of a sweep file × its seeds (one Ray task each), score each

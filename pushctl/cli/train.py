@@ -1,5 +1,7 @@
-"""``pushctl train``: train the residual policy (one seed, or several on Ray with
-``--seeds``); its steps are in :mod:`pushctl.cli.train_steps` and :mod:`pushctl.cli.train_seeds`."""
+"""``pushctl train``: train the residual policy (one seed, in this process unless
+``--workers`` asks for collector processes on Ray; or several seeds on Ray with
+``--seeds``); its steps are in :mod:`pushctl.cli.train_steps` and
+:mod:`pushctl.cli.train_seeds`."""
 
 from __future__ import annotations
 
@@ -9,6 +11,7 @@ from typing import Annotated
 import typer
 
 from pushctl.cli.common import (
+    Command,
     console,
     error_console,
     fail,
@@ -20,32 +23,47 @@ from pushctl.errors import PushctlError
 app = typer.Typer()
 
 
-@app.command()
+@app.command(cls=Command)
 def train(
     ctx: typer.Context,
     preset: Annotated[
-        str | None, typer.Option(help="quick, paper, or a preset .toml file (default: quick)")
+        str | None,
+        typer.Option(help="quick, paper, or a preset .toml file", show_default="quick"),
     ] = None,
     episodes: Annotated[
         int | None,
-        typer.Option(help="episodes in all, counting resumed ones (default: the preset's)"),
+        typer.Option(help="episodes in all, counting resumed ones", show_default="the preset's"),
     ] = None,
-    seed: Annotated[int | None, typer.Option(help="seed of every random draw (default: 0)")] = None,
+    seed: Annotated[
+        int | None,
+        typer.Option(help="the run's seed, which every random draw flows from", show_default="0"),
+    ] = None,
     out: Annotated[
-        Path | None, typer.Option(help="run directory (default: runs/PRESET-seedS)")
+        Path | None,
+        typer.Option(help="run directory", show_default="runs/PRESET-seedS, runs/PRESET-seeds"),
     ] = None,
     resume: Annotated[bool, typer.Option("--resume", help="continue the run in --out")] = False,
     force: Annotated[bool, typer.Option("--force", help="start over in an occupied --out")] = False,
     seeds: Annotated[
         str | None,
-        typer.Option(help="several seeds, e.g. 0,1,2 or 0-4: one Ray task each, --out/seed-K"),
+        typer.Option(
+            help="several runs' seeds, e.g. 0,1,2 or 0-4: one Ray task each, --out/seed-K"
+        ),
     ] = None,
     address: Annotated[
-        str | None, typer.Option(help="Ray cluster to join (default: RAY_ADDRESS, else local)")
+        str | None,
+        typer.Option(help="Ray cluster to join", show_default="RAY_ADDRESS, else a local one"),
     ] = None,
     algo: Annotated[
         str, typer.Option(help="ddpg, or sb3-sac: stable-baselines3's SAC on the same env")
     ] = "ddpg",
+    workers: Annotated[
+        int,
+        typer.Option(
+            help="one run's collector processes, 0-8, on Ray beside the learner; 0: every "
+            "episode in this process, no Ray (the same bytes either way)"
+        ),
+    ] = 0,
 ) -> None:
     """Train the residual policy (DDPG, eq. 17 reward) on randomised pushes; write the
     checkpoint, the training curves (Fig. 5) and the policy to the run directory."""
@@ -54,15 +72,28 @@ def train(
     if algo == "sb3-sac":
         return _train_sac(ctx, preset, episodes, seed, out, resume, force, seeds)
     if seeds is not None:
+        if workers:
+            fail(
+                PushctlError("--workers is for one seed's run; --seeds share the cores as Ray says")
+            )
         return _train_seeds(ctx, preset, episodes, seed, out, resume, force, seeds, address)
     if address is not None:
         fail(PushctlError("--address needs --seeds (one run's collectors follow RAY_ADDRESS)"))
-    from pushctl.cli.train_steps import prepare_trainer, run_with_progress, summary_table
+    if not 0 <= workers <= 8:
+        fail(PushctlError(f"--workers must be an integer in 0..8, got {workers}"))
+    from pushctl.cli.train_steps import (
+        policy_line,
+        prepare_trainer,
+        run_with_progress,
+        summary_table,
+    )
+    from pushctl.cli.warm import note_if_cold
     from pushctl.provenance import provenance_line
     from pushctl.rl.train import CURVE, POLICY
 
     try:
         trainer = prepare_trainer(preset, seed, out, resume, force)
+        trainer.collectors = workers  # no result depends on it (pushctl.rl.train)
         total = episodes if episodes is not None else trainer.preset.train.episodes
         if total < 1:
             raise PushctlError(f"--episodes must be an integer >= 1, got {total}")
@@ -73,6 +104,7 @@ def train(
         return
     try:
         made_by = provenance_line(invocation(ctx), f"seed {trainer.seed} (training stream)")
+        note_if_cold(error_console)
         run_with_progress(trainer, total, made_by, console)
     except KeyboardInterrupt:
         error_console.print(
@@ -84,11 +116,16 @@ def train(
         fail_write(error)
     console.print(summary_table(trainer))
     console.print(f"wrote {trainer.out / CURVE} and {trainer.out / POLICY}")
+    try:
+        console.print(policy_line(trainer.out), soft_wrap=True, highlight=False, markup=False)
+    except PushctlError as error:
+        fail(error)
 
 
 def _train_seeds(ctx, preset, episodes, seed, out, resume, force, seeds, address) -> None:
     """``pushctl train --seeds``: :mod:`pushctl.cli.train_seeds`."""
     from pushctl.cli.train_seeds import prepare_seed_jobs, run_jobs_with_progress, seeds_table
+    from pushctl.cli.train_steps import policy_line
 
     try:
         command = invocation(ctx)
@@ -106,6 +143,11 @@ def _train_seeds(ctx, preset, episodes, seed, out, resume, force, seeds, address
     except OSError as error:
         fail_write(error)
     console.print(seeds_table(results))
+    try:
+        for result in results:
+            console.print(policy_line(result.out), soft_wrap=True, highlight=False, markup=False)
+    except PushctlError as error:
+        fail(error)
 
 
 def _train_sac(ctx, preset, episodes, seed, out, resume, force, seeds) -> None:

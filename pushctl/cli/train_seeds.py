@@ -11,6 +11,7 @@ from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
+from pushctl.cli.warm import note_if_cold
 from pushctl.control.gains import load_gains
 from pushctl.distributed.engine import session
 from pushctl.distributed.seeds import (
@@ -119,10 +120,11 @@ def run_jobs_with_progress(
     if jobs:  # the seeds' processes (one seed's learner and collectors too) would each
         # compile the kernels, all at once; with the cache filled this takes a second
         first = jobs[0]
-        console.print("compiling the kernels once (about 50 s in a fresh clone) ...")
+        note_if_cold(console)
         compile_kernels(first.preset.env, first.gains, first.preset.ddpg.hidden)
     # Ray first: a cluster that does not answer is a one-line error, with no display drawn
-    with session(address), Progress(*columns, console=console) as progress:
+    live = console.is_terminal  # else plain lines: a live bar's last frame wraps in a log
+    with session(address), Progress(*columns, console=console, disable=not live) as progress:
         bars = {
             job.name: progress.add_task(
                 "train", total=job.episodes or job.preset.train.episodes, label=job.name, rates=""
@@ -139,6 +141,7 @@ def run_jobs_with_progress(
                         console.print(
                             f"{key} episode {now.done}/{now.total}  {now.rates}",
                             highlight=False,
+                            soft_wrap=True,
                         )
                 logged[key] = now.done
 

@@ -77,7 +77,8 @@ def run_with_progress(trainer: Trainer, episodes: int, made_by: str, console: Co
         TimeElapsedColumn(),
         TimeRemainingColumn(),
     )
-    with Progress(*columns, console=console) as progress:
+    # not a terminal (a log, a pipe): no live bars, whose last frame would wrap mid-field
+    with Progress(*columns, console=console, disable=not console.is_terminal) as progress:
         task = progress.add_task(
             "train", total=episodes, completed=trainer.next_episode, rates="", errors=""
         )
@@ -92,6 +93,7 @@ def run_with_progress(trainer: Trainer, episodes: int, made_by: str, console: Co
                 console.print(
                     f"episode {done}/{episodes}  {update.elapsed:,.0f} s  {rates}  {errors}",
                     highlight=False,
+                    soft_wrap=True,
                 )
 
         trainer.run(episodes, on_episode=show, made_by=made_by)
@@ -109,6 +111,15 @@ def _recent_errors(recent: deque[TrainProgress]) -> str:
         f"  |τ| rl {1e3 * mean('rl', 'torque_error'):.3f} pd {1e3 * mean('pd', 'torque_error'):.3f}"
         " mN·m"
     )
+
+
+def policy_line(run: Path) -> str:
+    """``policy RUN/policy.pt: what it holds`` (:mod:`pushctl.cli.policy_kind`)."""
+    from pushctl.cli.policy_kind import describe_policy, read_validation
+    from pushctl.rl.policy import load_policy
+
+    path = Path(run) / POLICY
+    return f"policy {path}: {describe_policy(load_policy(path), read_validation(path))}"
 
 
 def summary_table(trainer: Trainer) -> Table:

@@ -10,10 +10,15 @@ import typer
 
 from pushctl.cli.common import (
     FORCE_HELP,
+    SECONDS,
+    Command,
     check_output,
     console,
+    error_console,
     fail,
     invocation,
+    renamed_option,
+    take_renamed,
     write_text,
 )
 from pushctl.errors import PushctlError
@@ -22,30 +27,36 @@ from pushctl.output_guard import refuse_existing_files
 app = typer.Typer()
 
 
-@app.command("tune-feedback")
+@app.command("tune-feedback", cls=Command)
 def tune_feedback_command(
     ctx: typer.Context,
-    seed: Annotated[int, typer.Option(help="first scenario seed of the tuning set")] = 0,
+    first_scenario: Annotated[
+        int, typer.Option(help="the tuning set's first scenario (tuning stream)")
+    ] = 0,
     per_case: Annotated[int, typer.Option(help="scenarios per object × profile")] = 2,
-    duration: Annotated[float, typer.Option(help="push duration [s]")] = 20.0,
+    duration: Annotated[float, typer.Option(metavar=SECONDS, help="push duration")] = 20.0,
     plant: Annotated[
         str, typer.Option(help="tuning pushes on sim, proxy or both (each per_case per cell)")
     ] = "both",
     out: Annotated[
         Path | None,
-        typer.Option(help="gains file to write; default experiments/feedback_gains.toml"),
+        typer.Option(help="gains file to write", show_default="experiments/feedback_gains.toml"),
     ] = None,
     force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
+    seed: Annotated[int | None, renamed_option("--seed")] = None,
 ) -> None:
     """Search the feedback baseline's gains (k, k_i) on the tuning stream; write the file."""
     from pushctl.cli.tune_feedback_steps import run_search
+    from pushctl.cli.warm import note_if_cold
     from pushctl.control.feedback import DEFAULT_FEEDBACK_FILE
 
+    first_scenario = take_renamed(ctx, "--first-scenario", first_scenario, "--seed", seed)
     try:
         check_output("--out", out, (".toml",))
         refuse_existing_files("--out", (out if out is not None else DEFAULT_FEEDBACK_FILE,), force)
+        note_if_cold(error_console)
         target, text, table = run_search(
-            seed, per_case, duration, out, invocation(ctx), console, plant
+            first_scenario, per_case, duration, out, invocation(ctx), console, plant
         )
     except PushctlError as error:
         fail(error)

@@ -40,7 +40,7 @@ def run_search(
     """Reset the tuning set, score PD-only and the candidates; returns the file to write,
     its text and the table of the best candidates."""
     if not isinstance(seed, int) or seed < 0:
-        raise ConfigError(f"--seed must be an integer >= 0, got {seed!r}")
+        raise ConfigError(f"--first-scenario must be an integer >= 0, got {seed!r}")
     if plant not in TUNING_PLANTS:
         raise ConfigError(f"--plant must be one of {', '.join(TUNING_PLANTS)}, got {plant!r}")
     plants = TUNING_PLANTS[plant]

@@ -10,10 +10,15 @@ from rich.table import Table
 
 from pushctl.cli.common import (
     FORCE_HELP,
+    SECONDS,
+    Command,
     check_output,
     console,
+    error_console,
     fail,
     invocation,
+    renamed_option,
+    take_renamed,
     write_text,
 )
 from pushctl.errors import PushctlError
@@ -22,28 +27,34 @@ from pushctl.output_guard import refuse_existing_files
 app = typer.Typer()
 
 
-@app.command("tune-pd")
+@app.command("tune-pd", cls=Command)
 def tune_pd_command(
     ctx: typer.Context,
-    seed: Annotated[int, typer.Option(help="seed of the tuning set (tuning stream)")] = 0,
+    first_scenario: Annotated[
+        int, typer.Option(help="the tuning set's first scenario (tuning stream)")
+    ] = 0,
     per_case: Annotated[int, typer.Option(help="scenarios per object × profile")] = 2,
     objects: Annotated[str, typer.Option(help="comma-separated objects")] = "cube,wedge",
     profiles: Annotated[str, typer.Option(help="comma-separated profiles")] = (
         "constant,trapezoid,chirp"
     ),
-    duration: Annotated[float, typer.Option(help="push duration [s]")] = 20.0,
+    duration: Annotated[float, typer.Option(metavar=SECONDS, help="push duration")] = 20.0,
     max_rounds: Annotated[int, typer.Option(help="refinement sweeps after the grid")] = 6,
     out: Annotated[
-        Path | None, typer.Option(help="gains file to write; default experiments/pd_gains.toml")
+        Path | None,
+        typer.Option(help="gains file to write", show_default="experiments/pd_gains.toml"),
     ] = None,
     force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
+    seed: Annotated[int | None, renamed_option("--seed")] = None,
 ) -> None:
     """Search the PD gains on a tuning set disjoint from evaluation; write the gains file."""
     from pushctl.cli.simulate_steps import check_profile, tuning_record
+    from pushctl.cli.warm import note_if_cold
     from pushctl.control.gains import DEFAULT_GAINS_FILE
     from pushctl.evaluation.tune_pd import best_candidate, tune_pd, tuning_scenarios
     from pushctl.objects import resolve_object
 
+    first_scenario = take_renamed(ctx, "--first-scenario", first_scenario, "--seed", seed)
     target = out if out is not None else DEFAULT_GAINS_FILE
     try:
         check_output("--out", target, (".toml",))
@@ -60,9 +71,10 @@ def tune_pd_command(
             raise PushctlError(f"--per-case must be an integer >= 1, got {per_case}")
         if max_rounds < 0:
             raise PushctlError(f"--max-rounds must be >= 0, got {max_rounds}")
+        note_if_cold(error_console)
         with console.status("drawing the tuning set"):
             scenarios, redrawn = tuning_scenarios(
-                seed, object_names, profile_names, per_case, duration
+                first_scenario, object_names, profile_names, per_case, duration
             )
         with console.status("grid search") as status:
 
@@ -92,7 +104,7 @@ def tune_pd_command(
         )
     console.print(table)
     text = tuning_record(
-        best, candidates, seed, per_case, object_names, profile_names, duration, redrawn,
+        best, candidates, first_scenario, per_case, object_names, profile_names, duration, redrawn,
         invocation(ctx),
     )  # fmt: skip
     write_text(target, text)

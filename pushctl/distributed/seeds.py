@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import json
 import re
+import textwrap
 import time
 from collections.abc import Callable
 from dataclasses import astuple, dataclass
@@ -282,7 +283,7 @@ def _raise_failure(ref: Any, name: str) -> None:
             raise type(cause)(f"{name}: {cause}") from None
         raise
     except ray.exceptions.RayError as exc:
-        reason = " ".join(str(exc).split())[:160]
+        reason = textwrap.shorten(str(exc), 160, placeholder=" …")  # whole words
         raise PushctlError(
             f"{name}: Ray gave up on its task ({type(exc).__name__}: {reason}); "
             "rerun with --resume to continue from its last checkpoint"

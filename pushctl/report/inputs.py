@@ -1,11 +1,13 @@
 """Reading and checking the CSVs ``pushctl report`` is made from.
 
 ``IN/evaluation/trials.csv`` and ``IN/evaluation/steps.csv`` come from ``pushctl evaluate``
-and ``IN/training/curve.csv`` from ``pushctl train`` (their columns: docs/evaluation.md, *Tables
-and figures* section). Every file is read whole and checked before anything is computed:
-a missing, empty or malformed file (a missing column, no data rows, a value that is not a
-number, a plant or controller name not in the interface, a duplicated row) raises
-:class:`ResultsFileError` with one line naming the file and what is wrong.
+and ``IN/training/curve.csv``, when there is one, from ``pushctl train`` (their columns:
+docs/evaluation.md, *Tables and figures* section). ``IN`` may also be the evaluation
+directory itself (``IN/trials.csv``), with no training beside it. Every file is read whole
+and checked before anything is computed: a missing, empty or malformed file (a missing
+column, no data rows, a value that is not a number, a plant or controller name not in the
+interface, a duplicated row) raises :class:`ResultsFileError` with one line naming the file
+and what is wrong.
 
 Only the columns the report uses are required, so a file with extra columns still works.
 """
@@ -104,32 +106,38 @@ class ResultsTable:
 
 @dataclass(frozen=True)
 class ReportInputs:
-    """The three inputs of the report."""
+    """The inputs of the report: the evaluation's two tables and, when the results
+    directory holds a training run, its curve (None without one)."""
 
     trials: ResultsTable
     steps: ResultsTable
-    curve: ResultsTable
+    curve: ResultsTable | None
 
     def tables(self) -> tuple[ResultsTable, ...]:
-        return (self.trials, self.steps, self.curve)
+        curve = () if self.curve is None else (self.curve,)
+        return (self.trials, self.steps, *curve)
 
 
 def read_report_inputs(directory: Path) -> ReportInputs:
-    """Read and check ``directory``'s trials, steps and curve CSVs (see the module
-    docstring); raises :class:`ResultsFileError` for the first problem found."""
+    """Read and check ``directory``'s trials, steps and (if present) curve CSVs (see the
+    module docstring); raises :class:`ResultsFileError` for the first problem found."""
     directory = Path(directory)
     if not directory.is_dir():
         raise ResultsFileError(
             f"{directory}: no such directory; expected a results directory holding "
-            f"{TRIALS}, {STEPS} and {CURVE}"
+            f"{TRIALS} and {STEPS} (and {CURVE} for Fig. 5), or an evaluation directory"
         )
-    steps = directory / STEPS
+    evaluation = directory / TRIALS.parent
+    if not (evaluation / TRIALS.name).exists() and (directory / TRIALS.name).is_file():
+        evaluation = directory  # the evaluation directory itself
+    steps = evaluation / STEPS.name
     if not steps.exists() and _gzipped(steps).is_file():
         steps = _gzipped(steps)  # a shipped results directory keeps it compressed (11 MB → 3.5)
+    curve = directory / CURVE
     return ReportInputs(
-        trials=read_results_csv(directory / TRIALS, TRIALS_SPEC),
+        trials=read_results_csv(evaluation / TRIALS.name, TRIALS_SPEC),
         steps=read_results_csv(steps, STEPS_SPEC),
-        curve=read_results_csv(directory / CURVE, CURVE_SPEC),
+        curve=read_results_csv(curve, CURVE_SPEC) if curve.exists() else None,
     )
 
 

@@ -73,7 +73,7 @@ def test_pd_only_needs_no_policy_and_the_seed_moves_the_targets(tmp_path: Path) 
     missing = str(tmp_path / "none.pt")
     args = ("--controller", "pd", "--plant", "sim", "--policy", missing)
     first = _evaluate(tmp_path / "a", *args)
-    other = _evaluate(tmp_path / "b", *args, "--seed", "3")
+    other = _evaluate(tmp_path / "b", *args, "--scenario-block", "3")
     assert first.exit_code == 0, first.output
     assert other.exit_code == 0, other.output
     a = pd.read_csv(tmp_path / "a" / "trials.csv", comment="#")
@@ -93,7 +93,7 @@ def test_pd_only_needs_no_policy_and_the_seed_moves_the_targets(tmp_path: Path) 
         (["--trials", "0"], "--trials must be an integer in 1"),
         (["--workers", "0"], "--workers must be an integer in 1 … 8"),
         (["--workers", "9"], "--workers must be an integer in 1 … 8"),
-        (["--seed", "-1"], "--seed must be an integer >= 0"),
+        (["--scenario-block", "-1"], "--scenario-block must be an integer >= 0"),
         (["--policy", "MISSING"], "no policy file"),
         (["--policy", "CORRUPT"], "corrupt or not a policy"),
         (["--policy", "SMALL"], "incompatible: its actor takes 14 observations"),
@@ -123,3 +123,21 @@ def test_bad_input_is_one_line_exit_2_and_nothing_written(
     assert "Traceback" not in result.output
     assert len(result.output.strip().splitlines()) == 1
     assert not out.exists()
+
+
+def test_a_bare_evaluation_writes_under_runs(tmp_path: Path, monkeypatch) -> None:
+    """The default --out is runs/evaluation, never the shipped results/ (which a first run
+    would have to --force). Not on a terminal, progress is plain lines that never wrap,
+    however narrow the console, and no live bar."""
+    from pushctl.cli import common
+
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(common.console, "width", 40)
+    tiny = ["--object", "cube", "--profile", "chirp", "--trials", "1", "--controller", "pd"]
+    result = runner.invoke(app, ["evaluate", *tiny, "--plant", "sim"])
+    assert result.exit_code == 0, result.output
+    assert (tmp_path / "runs" / "evaluation" / "trials.csv").is_file()
+    assert (tmp_path / "runs" / "evaluation" / "steps.csv").is_file()
+    progress = [line for line in result.output.splitlines() if "episode" in line or "|F|" in line]
+    assert progress and all(line.startswith("episode 1/1 ") for line in progress), progress
+    assert all(line.endswith(" mN") for line in progress), progress

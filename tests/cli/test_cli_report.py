@@ -215,3 +215,21 @@ def test_a_gzipped_steps_file_is_read_as_the_plain_one(report_run, tmp_path):
     for name in ("table3.csv", "table4.csv"):
         ours = (tmp_path / "o" / name).read_text().splitlines()[1:]
         assert ours == (out / name).read_text().splitlines()[1:]
+
+
+@pytest.mark.parametrize("layout", ["results-without-training", "evaluation-directory"])
+def test_an_evaluation_alone_is_reported_without_fig5(tmp_path, monkeypatch, layout):
+    """No training run beside the evaluation: everything else is written, Fig. 5 is skipped
+    with a note; the defaults read ``runs/`` and write ``runs/report/``."""
+    results = write_results(tmp_path / "runs")
+    (results / "training" / "curve.csv").unlink()
+    (results / "training").rmdir()
+    monkeypatch.chdir(tmp_path)
+    given = [] if layout == "results-without-training" else ["--in", "runs/evaluation"]
+    args = ["report", *given]
+    result = runner.invoke(app, args)
+    assert result.exit_code == 0, result.output
+    written = sorted(p.name for p in (tmp_path / "runs" / "report").iterdir())
+    assert written == sorted(set(OUTPUTS) - {"fig5_training.png"})
+    assert "note: no training/curve.csv in" in result.output
+    assert "Fig. 5 (training curves) not drawn" in result.output.replace("\n", " ")

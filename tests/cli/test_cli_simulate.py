@@ -90,27 +90,27 @@ def test_simulate_writes_trace_csv_figure_and_metrics(tmp_path, gains):
 
 def test_seed_without_goal_is_reproducible_to_the_byte(tmp_path, gains):
     path = tmp_path / "a.csv"  # one path: the provenance line records --out too
-    result = _simulate(gains, "--seed", "3", "--out", str(path))
+    result = _simulate(gains, "--scenario", "3", "--out", str(path))
     assert result.exit_code == 0, result.output
     assert "3 (evaluation stream" in result.output
     assert _plant(result.output)[:2] == ("0.300", "0.400")
     assert "seed 3" in path.read_text().splitlines()[0]
     first = path.read_bytes()
     # the second run overwrites its own file: --force (which the provenance does not record)
-    assert _simulate(gains, "--seed", "3", "--out", str(path), "--force").exit_code == 0
+    assert _simulate(gains, "--scenario", "3", "--out", str(path), "--force").exit_code == 0
     assert path.read_bytes() == first
 
 
 def test_randomize_draws_the_plant_but_keeps_the_seeds_goal(tmp_path, gains):
     nominal, randomized = tmp_path / "nominal.csv", tmp_path / "randomized.csv"
-    assert _simulate(gains, "--seed", "3", "--out", str(nominal)).exit_code == 0
-    result = _simulate(gains, "--seed", "3", "--randomize", "--out", str(randomized))
+    assert _simulate(gains, "--scenario", "3", "--out", str(nominal)).exit_code == 0
+    result = _simulate(gains, "--scenario", "3", "--randomize", "--out", str(randomized))
     assert result.exit_code == 0, result.output
     mu_ground, mu_contact, _ = _plant(result.output)
     assert mu_ground != "0.300" and mu_contact != "0.400"
     assert "planned with │ μ_g 0.300, μ_c 0.400" in result.output
     assert "unknowns     │ placement" in result.output  # the drawn plant unknowns
-    assert "unknowns" not in _simulate(gains, "--seed", "3").output  # none without --randomize
+    assert "unknowns" not in _simulate(gains, "--scenario", "3").output  # none without --randomize
     # Different plant, different trace (compare the data rows, not the provenance line).
     assert nominal.read_text().splitlines()[1:] != randomized.read_text().splitlines()[1:]
     goal = ["des_x", "des_y", "des_theta"]
@@ -145,14 +145,14 @@ GOAL = ("--goal", "0.55,0.02,15")
         ([*GOAL, "--controller", "xyz"], "unknown controller 'xyz'; accepted: pd, feedback, rl"),
         ([*GOAL, "--profile", "zigzag"], "constant, trapezoid, chirp"),
         ([*GOAL, "--object", "sphere"], "cube, wedge"),
-        (["--seed", "3", "--object", "sphere"], "cube, wedge"),
+        (["--scenario", "3", "--object", "sphere"], "cube, wedge"),
         (["--goal", "1,2"], "x,y,theta_deg"),
         (["--goal", "nan,0,0"], "finite"),
         (["--goal", "0.30,0,0"], "behind the pushed face"),
         (["--goal", "0.95,0,0"], "out of reach"),
         ([*GOAL, "--mu-contact", "-1"], "mu_contact"),
         ([*GOAL, "--object-mass", "0"], "object_mass"),
-        (["--seed", "-1"], "seed must be an integer >= 0"),
+        (["--scenario", "-1"], "--scenario must be an integer >= 0"),
         ([*GOAL, "--arm", "ur5"], "kinova-gen2-7dof"),
         ([*GOAL, "--duration", "0"], "duration must be a positive"),
     ],
@@ -263,7 +263,7 @@ def test_the_feedback_controller_pushes_through_the_residual_path(tmp_path, gain
     the environment (on a plant without unknowns the law has little to correct: the push
     differs from PD-only's, but only a little)."""
     out_pd, out_fb = tmp_path / "pd.csv", tmp_path / "fb.csv"
-    args = ("--seed", "3", "--randomize")
+    args = ("--scenario", "3", "--randomize")
     pd_run = _simulate(gains, *args, "--out", str(out_pd))
     fb_run = _simulate(gains, *args, "--controller", "feedback", "--out", str(out_fb))
     assert pd_run.exit_code == 0, pd_run.output

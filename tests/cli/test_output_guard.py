@@ -56,7 +56,8 @@ def test_simulate_twice_into_one_file(tmp_path: Path) -> None:
     gains = tmp_path / "gains.toml"
     gains.write_text(gains_toml(PDGains(kp=300, kv=200, kx_linear=50, kx_angular=50), "test"))
     out = tmp_path / "trace.csv"
-    args = ["simulate", "--gains", str(gains), "--duration", "1", "--seed", "3", "--out", str(out)]
+    args = ["simulate", "--gains", str(gains), "--duration", "1", "--scenario", "3"]
+    args += ["--out", str(out)]
     first = runner.invoke(app, args)
     assert first.exit_code == 0, first.output
     before = out.read_bytes()
@@ -110,7 +111,7 @@ def test_report_twice_into_one_directory(tmp_path: Path) -> None:
     table = out / "table3.csv"
     before = table.read_bytes()
     _refused(runner.invoke(app, args), "table3.csv", "already exists")
-    # Into its own input directory (the default, results/): the inputs do not count, an
+    # Into its own input directory (as make reproduce-tables does): the inputs do not count, an
     # earlier report's tables do.
     into_inputs = runner.invoke(app, ["report", "--in", str(results), "--out", str(results)])
     assert into_inputs.exit_code == 0, into_inputs.output

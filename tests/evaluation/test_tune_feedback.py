@@ -24,7 +24,7 @@ def test_the_search_writes_a_gains_file_with_its_record(tmp_path: Path) -> None:
     )
     assert result.exit_code == 0, result.output
     text = out.read_text()
-    assert text.startswith("# made by: pushctl tune-feedback --seed 0 --per-case 1")
+    assert text.startswith("# made by: pushctl tune-feedback --first-scenario 0 --per-case 1")
     gains = load_feedback_gains(out)
     search = read_toml(out, "gains")["search"]
     assert search["stream"] == "tuning" and search["residual_path"] == "reference"

@@ -223,6 +223,7 @@ def test_a_killed_cli_run_resumes_to_the_weights_of_a_straight_one(tmp_path: Pat
     preset = _preset(tmp_path, workers=1)
     straight_out, killed_out = tmp_path / "straight", tmp_path / "killed"
     command = [sys.executable, "-m", "pushctl.cli", "train", "--preset", preset, "--seed", "3"]
+    command += ["--workers", "1"]  # a collector process, on Ray (one seed: else in-process)
     subprocess.run([*command, "--out", str(straight_out)], check=True, capture_output=True)
 
     process = subprocess.Popen(
