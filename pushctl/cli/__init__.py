@@ -18,7 +18,15 @@ control / planning → contact → arm / objects (tests/test_layout.py).
 
 from __future__ import annotations
 
+import sys
+
 import typer
+from typer.core import TyperGroup
+
+try:  # Typer >= 0.20 carries its own copy of click, whose exceptions its commands raise
+    from typer._click import exceptions as click
+except ImportError:  # pragma: no cover - older Typer runs on click itself
+    from click import exceptions as click  # type: ignore[no-redef]
 
 from pushctl.cli import (
     evaluate,
@@ -32,7 +40,33 @@ from pushctl.cli import (
     tune_pd,
 )
 
+
+class _OneLineErrors(TyperGroup):
+    """pushctl's command group: a usage error (a missing or unknown option, a value that is
+    not a number) is one ``error:`` line and exit code 2, as every other bad input is,
+    instead of click's multi-line usage box."""
+
+    def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
+        if not standalone_mode:
+            return super().main(args, prog_name, complete_var, standalone_mode, **extra)
+        try:
+            code = super().main(args, prog_name, complete_var, False, **extra)
+        except click.NoArgsIsHelpError:
+            return super().main(args, prog_name, complete_var, True, **extra)  # the help
+        except click.ClickException as error:
+            from pushctl.cli.common import error_console
+
+            message = " ".join(error.format_message().split())
+            hint = " (see --help)" if isinstance(error, click.UsageError) else ""
+            error_console.print(f"error: {message}{hint}", markup=False, highlight=False)
+            sys.exit(2 if isinstance(error, click.UsageError) else error.exit_code)
+        except KeyboardInterrupt:
+            sys.exit(130)
+        sys.exit(code if isinstance(code, int) else 0)
+
+
 app = typer.Typer(
+    cls=_OneLineErrors,
     add_completion=False,
     no_args_is_help=True,
     help="Multi-point object pushing with a redundant arm: simulate, plan, train, evaluate.",
@@ -40,8 +74,13 @@ app = typer.Typer(
 
 
 @app.callback()
-def _main() -> None:
+def _main(ctx: typer.Context) -> None:
     """pushctl: multi-point object pushing experiments."""
+    from pushctl.cli.common import handle_termination
+    from pushctl.output_guard import release
+
+    handle_termination()  # SIGTERM stops a command as Ctrl-C does, with exit code 143
+    ctx.call_on_close(release)  # the outputs a command locked, however it ends
 
 
 for _command in (info, plan, simulate, tune_pd, tune_feedback, train, evaluate, report, sweep):

@@ -77,6 +77,7 @@ from typing import Any
 import numpy as np
 
 from pushctl.errors import ConfigError
+from pushctl.ranges import check_range
 from pushctl.toml_files import check_keys, read_toml
 
 DEFAULT_FEEDBACK_FILE = Path(__file__).resolve().parents[2] / "experiments" / "feedback_gains.toml"
@@ -132,6 +133,8 @@ class FeedbackGains:
             ok = isinstance(value, int | float) and not isinstance(value, bool)
             if not ok or not math.isfinite(value) or value < 0.0:
                 raise ConfigError(f"feedback {name} must be a finite number >= 0, got {value!r}")
+        for name in ("k", "k_i", "contact_force"):
+            check_range(f"feedback {name}", getattr(self, name))
         for name in ("lateral_ratio", "turn_ratio", "slide_limit"):
             ratio = getattr(self, name)
             if isinstance(ratio, bool) or not isinstance(ratio, int | float) or not ratio >= 0.0:
@@ -162,7 +165,10 @@ def load_feedback_gains(path: str | Path | None = None) -> FeedbackGains:
         "slide_filter",
     ]
     check_keys(table, names, f"{path} [feedback]", all_required=False)
-    return FeedbackGains(**table)
+    try:
+        return FeedbackGains(**table)
+    except ConfigError as exc:
+        raise ConfigError(f"feedback gains file {path}: {exc}") from None
 
 
 class FeedbackLaw:
