@@ -171,7 +171,7 @@ def _release_when_done(key: Path) -> None:
 def release(lock: Path | None = None) -> None:
     """Give up the lock on ``lock`` (a lock file's absolute path), or every lock this
     process holds, removing the lock files."""
-    for key in [lock] if lock is not None else list(_held):
+    for key in [lock] if lock is not None else list(reversed(_held)):
         descriptor = _held.pop(key, None)
         if descriptor is None:
             continue

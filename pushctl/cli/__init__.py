@@ -49,19 +49,26 @@ class _OneLineErrors(TyperGroup):
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
         if not standalone_mode:
             return super().main(args, prog_name, complete_var, standalone_mode, **extra)
+        from pushctl.cli.common import STOPPED, error_console
+
+        STOPPED.update(terminated=False, said=False)
         try:
             code = super().main(args, prog_name, complete_var, False, **extra)
         except click.NoArgsIsHelpError:
             return super().main(args, prog_name, complete_var, True, **extra)  # the help
         except click.ClickException as error:
-            from pushctl.cli.common import error_console
-
             message = " ".join(error.format_message().split())
             hint = " (see --help)" if isinstance(error, click.UsageError) else ""
             error_console.print(f"error: {message}{hint}", markup=False, highlight=False)
             sys.exit(2 if isinstance(error, click.UsageError) else error.exit_code)
         except KeyboardInterrupt:
-            sys.exit(130)
+            code = 130
+        if code == 130 or STOPPED["terminated"]:  # Typer ends a stray Ctrl-C silently
+            terminated = STOPPED["terminated"]
+            if not STOPPED["said"]:
+                word = "terminated" if terminated else "interrupted"
+                error_console.print(f"{word}: stopped", markup=False, highlight=False)
+            sys.exit(143 if terminated else 130)
         sys.exit(code if isinstance(code, int) else 0)
 
 

@@ -58,7 +58,13 @@ def handle_termination() -> None:
         signal.signal(signal.SIGTERM, _terminate)
 
 
+STOPPED = {"terminated": False, "said": False}
+"""Whether SIGTERM arrived, and whether the command said what it kept (:func:`interrupted`):
+the app ends a stopped command that did not with one line and the right exit code."""
+
+
 def _terminate(signum: int, frame: object) -> None:
+    STOPPED["terminated"] = True
     raise Terminated
 
 
@@ -67,7 +73,8 @@ def interrupted(message: str) -> NoReturn:
     stderr: ``interrupted: <message>`` (what was kept, how to continue)."""
     import sys
 
-    terminated = isinstance(sys.exc_info()[1], Terminated)
+    terminated = isinstance(sys.exc_info()[1], Terminated) or STOPPED["terminated"]
+    STOPPED["said"] = True
     word = "terminated" if terminated else "interrupted"
     error_console.print(f"{word}: {message}", markup=False, highlight=False)
     raise typer.Exit(code=143 if terminated else 130)

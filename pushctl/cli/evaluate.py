@@ -13,9 +13,9 @@ from pushctl.cli.common import (
     FORCE_HELP,
     PUSHER_HELP,
     console,
-    error_console,
     fail,
     fail_write,
+    interrupted,
     invocation,
 )
 from pushctl.errors import PushctlError
@@ -122,8 +122,7 @@ def evaluate(
     except PushctlError as error:
         fail(error)
     except KeyboardInterrupt:
-        error_console.print("interrupted: nothing written")
-        raise typer.Exit(code=130) from None
+        interrupted("nothing written")
     except OSError as error:
         fail_write(error)
     console.print(summary_table(evaluation))

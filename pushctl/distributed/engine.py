@@ -91,6 +91,9 @@ def connect(
     ``worker_niceness``; a cluster joined at an address keeps its own)."""
     global _watcher
     os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")
+    # Ray's C++ log lines (a lost raylet's, one per task) would bury the command's own
+    # one-line error under a screen of them; a fatal one still shows
+    os.environ.setdefault("RAY_BACKEND_LOG_LEVEL", "fatal")
     quiet: dict[str, Any] = {"logging_level": "ERROR", "log_to_driver": False}
     target = address_from(address)
     with _own_sigterm_handler():
