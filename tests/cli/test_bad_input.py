@@ -36,7 +36,7 @@ GAINS = "[pd]\nkp = {kp}\nkv = {kv}\nkx_linear = 10.0\nkx_angular = 10.0\n"
 GAINS += "ik_damping = 0.001\nposture_gain = 1.0\n"
 GOAL = ["--goal", "0.62,0.03,30"]
 EVAL = ["evaluate", "--object", "cube", "--profile", "chirp", "--trials", "1", "--plant", "sim"]
-SIM = ["simulate", "--duration", "1"]
+SIM = ["simulate", "--duration", "1", "--seed", "1"]
 
 # (id, arguments with {tmp} for the test's directory, files to write there first)
 CASES: list[tuple[str, list[str], dict[str, object]]] = [
@@ -331,3 +331,29 @@ def test_bad_input_is_one_error_line_and_writes_nothing(
     lines = [line for line in result.stderr.splitlines() if line.strip()]
     assert len(lines) == 1 and lines[0].startswith("error: "), result.stderr
     assert _tree(work) == before  # no partial output
+
+
+FEEDBACK = "[feedback]\nk = {k}\nk_i = 0.1\ncontact_force = 0.05\n"
+FEEDBACK_CASES = {
+    "k-1e200": FEEDBACK.format(k="1e200"),
+    "k-negative": FEEDBACK.format(k="-1.0"),
+    "k-text": FEEDBACK.format(k='"fast"'),
+    "k-nan": FEEDBACK.format(k="nan"),
+    "no-table": "k = 1.0\n",
+    "unknown-key": FEEDBACK.format(k="1.0") + "kd = 3.0\n",
+    "not-toml": "[feedback\nk = ",
+}
+
+
+@pytest.mark.parametrize("text", FEEDBACK_CASES.values(), ids=FEEDBACK_CASES.keys())
+def test_a_bad_feedback_gains_file_is_one_line_naming_it(text, tmp_path, monkeypatch) -> None:
+    path = tmp_path / "feedback_gains.toml"
+    path.write_text(text)
+    monkeypatch.setattr("pushctl.control.feedback.DEFAULT_FEEDBACK_FILE", path)
+    monkeypatch.chdir(tmp_path)
+    result = runner.invoke(app, [*SIM, "--controller", "feedback"])
+    assert result.exit_code == 2, (result.output, result.exception)
+    lines = [line for line in result.stderr.splitlines() if line.strip()]
+    assert len(lines) == 1 and lines[0].startswith("error: "), result.stderr
+    assert str(path) in lines[0]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["feedback_gains.toml"]
