@@ -11,6 +11,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from pushctl.errors import ConfigError
+from pushctl.ranges import check_range
 
 PLANT_KINDS = ("sim", "proxy", "mujoco")
 """The plant kinds (docs/glossary.md): the training simulator, the held-out reality proxy, and
@@ -61,10 +62,13 @@ class PusherConfig:
             value = getattr(self, field)
             if not np.isfinite(value) or value <= 0.0:
                 raise ConfigError(f"pusher {field} must be a positive number, got {value!r}")
+        check_range("pusher mass", self.mass, "pusher: ")
         if not (isinstance(self.n_prongs, int) and 1 <= self.n_prongs <= 4):
             raise ConfigError(f"pusher n_prongs must be an integer in 1..4, got {self.n_prongs!r}")
         if not np.isfinite(self.prong_spacing) or self.prong_spacing < 0.0:
             raise ConfigError(f"pusher prong_spacing must be >= 0 m, got {self.prong_spacing!r}")
+        if self.n_prongs > 1:
+            check_range("prong spacing", self.prong_spacing, f"pusher of {self.n_prongs} prongs: ")
         span = self.prong_spacing * (self.n_prongs - 1)
         if span > self.width + 1e-12:
             raise ConfigError(

@@ -24,3 +24,14 @@ class MLCPInputError(PushctlError):
 class PlanError(PushctlError):
     """A plan that cannot be executed: the goal is out of the arm's reach or the prongs
     cannot produce the wrench the plan needs. The message names the step and the reason."""
+
+
+class WriteError(PushctlError):
+    """A file that could not be written (a full disk, a read-only directory, no permission).
+    The message names the file the user asked for, never a temporary one; the file that was
+    there before, if any, is left as it was."""
+
+
+class DamagedFileError(ConfigError):
+    """A checkpoint, policy or results file whose content does not match the digest it was
+    written with, or that misses rows it names: damaged or edited after it was written."""

@@ -10,21 +10,48 @@ A command refuses, with one line naming ``--force``, to write
 unless the user passed ``--force``. The checks run before any work, so a refused command
 costs nothing; the files are then written atomically (:func:`pushctl.provenance.write_atomic`),
 so a file this run wrote is replaced only by a file the same run wrote.
+
+One command at a time: before its check, a command takes an exclusive lock on its output
+(:func:`hold`; a directory's ``.pushctl.lock``, a file's ``.NAME.lock`` beside it, both
+``fcntl.flock`` locks, which the system drops when the process ends, killed or not) and holds
+it until it returns. A second command writing there meanwhile is refused in one line. The
+lock file is removed when the command ends; a killed command's one is left, unlocked, and
+counts as nothing. The hidden temporary folders of a killed command's writes
+(``.NAME.PID.tmp/``) count as nothing either, and the next command holding the directory
+removes them (:func:`sweep_temporaries`).
 """
 
 from __future__ import annotations
 
+import atexit
+import os
+import re
+import shutil
 from collections.abc import Iterable
 from pathlib import Path
 
 from pushctl.errors import ConfigError
 
+LOCK_NAME = ".pushctl.lock"
+"""The lock file of an output directory."""
+_TEMPORARY = re.compile(r"^\..+\.(\d+)\.tmp$")
+"""A temporary folder of :func:`pushctl.provenance.write_atomic`: ``.NAME.PID.tmp``."""
+_held: dict[Path, int] = {}
+"""Lock file → open descriptor, for the locks this process holds."""
+_created: set[Path] = set()
+"""The lock files of output directories this process created: removed again on release if
+the command left them empty (a refused or failed command leaves no empty directory)."""
+
 
 def refuse_existing_files(option: str, paths: Iterable[Path | None], force: bool) -> None:
     """ConfigError if any of ``paths`` (None entries skipped) already exists, unless ``force``.
+    Each path is locked for this command first (:func:`hold`).
 
     ``option`` names the command-line option the paths come from (``--out``), for the
     message."""
+    for path in paths:
+        if path is not None:
+            hold(option, path)
     if force:
         return
     for path in paths:
@@ -36,11 +63,151 @@ def refuse_existing_files(option: str, paths: Iterable[Path | None], force: bool
 
 
 def refuse_occupied_dir(option: str, directory: Path, force: bool) -> None:
-    """ConfigError if ``directory`` exists and holds anything, unless ``force``."""
+    """ConfigError if ``directory`` exists and holds anything, unless ``force``. The
+    directory is locked for this command first (:func:`hold`); its lock file and a killed
+    command's temporary folders do not count."""
+    hold(option, directory, directory=True)
     if force or not directory.is_dir():
         return
-    if any(directory.iterdir()):
+    if occupied(directory):
         raise ConfigError(
             f"{option}: {directory} is not empty; pass --force to overwrite the results in it, "
             "or choose another directory"
         )
+
+
+def occupied(directory: Path) -> bool:
+    """Whether ``directory`` holds anything but lock files and temporary write folders."""
+    if not directory.is_dir():
+        return False
+    return any(not is_ours(entry.name) for entry in directory.iterdir())
+
+
+def is_ours(name: str) -> bool:
+    """Whether an entry of an output directory is a lock file or a temporary write folder:
+    nothing a user's result is in."""
+    lock = name.startswith(".") and name.endswith(".lock")
+    return lock or _TEMPORARY.match(name) is not None
+
+
+def hold(option: str, path: Path, *, directory: bool = False) -> None:
+    """Lock ``path`` (an output file, or with ``directory`` an output directory) for this
+    command until it returns; ConfigError (one line) if another process holds it. Taking a
+    lock this process already holds does nothing. A directory that does not exist yet is
+    created (and removed again on release if the command wrote nothing into it); then the
+    killed commands' temporary folders in it are removed. The lock is released when the
+    command returns (the click context closes), else when the process exits."""
+    path = Path(path)
+    if directory:
+        if path.exists() and not path.is_dir():
+            raise ConfigError(f"{option} {path} is a file; give a directory")
+        created = not path.exists()
+        try:
+            path.mkdir(parents=True, exist_ok=True)
+        except OSError as error:
+            raise ConfigError(f"{option}: cannot create {path}: {error.strerror}") from None
+        lock = path / LOCK_NAME
+        if created:
+            _created.add(lock.absolute())
+    else:
+        if not path.parent.is_dir():
+            return  # the command's own check reports the missing directory
+        lock = path.with_name(f".{path.name}.lock")
+    key = lock.absolute()
+    if key in _held:
+        return
+    descriptor = _acquire(option, path, lock)
+    _held[key] = descriptor
+    _release_when_done(key)
+    if directory:
+        sweep_temporaries(path)
+
+
+def _acquire(option: str, path: Path, lock: Path) -> int:
+    """An open descriptor of ``lock`` holding its exclusive lock. A lock file removed by
+    its holder between our open and our lock is opened again (else two processes could
+    each hold a lock on a different file of one name)."""
+    import fcntl
+
+    while True:
+        try:
+            descriptor = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+        except OSError as error:
+            raise ConfigError(f"{option}: cannot lock {path}: {error.strerror}") from None
+        try:
+            fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            holder = _read_holder(descriptor)
+            os.close(descriptor)
+            raise ConfigError(
+                f"{option}: {path} is in use by another pushctl command{holder}; wait for it "
+                "to finish or choose another path"
+            ) from None
+        try:
+            same = os.fstat(descriptor).st_ino == os.stat(lock).st_ino
+        except FileNotFoundError:
+            same = False
+        if same:
+            os.ftruncate(descriptor, 0)
+            os.write(descriptor, f"{os.getpid()}\n".encode())
+            return descriptor
+        os.close(descriptor)
+
+
+def _read_holder(descriptor: int) -> str:
+    try:
+        text = os.pread(descriptor, 32, 0).decode().strip()
+    except OSError:
+        return ""
+    return f" (process {text})" if text.isdigit() else ""
+
+
+def _release_when_done(key: Path) -> None:
+    """Release ``key`` when the process exits, if the command has not (``pushctl``'s
+    commands release every lock when they return: :func:`release`, from the app)."""
+    atexit.register(release, key)
+
+
+def release(lock: Path | None = None) -> None:
+    """Give up the lock on ``lock`` (a lock file's absolute path), or every lock this
+    process holds, removing the lock files."""
+    for key in [lock] if lock is not None else list(reversed(_held)):
+        descriptor = _held.pop(key, None)
+        if descriptor is None:
+            continue
+        try:
+            key.unlink(missing_ok=True)  # while still locked: no one else holds this file
+        except OSError:
+            pass
+        os.close(descriptor)
+        if key in _created:
+            _created.discard(key)
+            try:
+                key.parent.rmdir()  # only if empty
+            except OSError:
+                pass
+
+
+def sweep_temporaries(directory: Path) -> list[Path]:
+    """Remove the temporary write folders (``.NAME.PID.tmp/``) in ``directory`` whose
+    process is no longer running (a killed command's); return them."""
+    swept = []
+    for entry in directory.iterdir():
+        found = _TEMPORARY.match(entry.name)
+        if found is None or not entry.is_dir() or _running(int(found.group(1))):
+            continue
+        shutil.rmtree(entry, ignore_errors=True)
+        swept.append(entry)
+    return swept
+
+
+def _running(pid: int) -> bool:
+    if pid == os.getpid():
+        return False  # this process writes nothing before it holds the directory
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True

@@ -7,7 +7,9 @@ writes byte-identical files. Read such files with ``pandas.read_csv(path, commen
 
 from __future__ import annotations
 
+import errno
 import os
+import shutil
 import subprocess
 import sys
 from collections.abc import Callable
@@ -15,6 +17,7 @@ from pathlib import Path
 
 import pandas as pd
 
+from pushctl.errors import WriteError
 from pushctl.version import VERSION
 
 PACKAGE = Path(__file__).resolve().parent
@@ -83,22 +86,63 @@ def recorded_argv(argv: list[str]) -> list[str]:
 def write_atomic(path: Path, write: Callable[[Path], object]) -> None:
     """Call ``write(tmp)`` on a temporary file beside ``path``, then rename it over ``path``:
     readers see the old file or the new one, never a partial one. The temporary file is
-    removed if ``write`` fails.
+    removed if ``write`` fails, and the failure (a full disk, a read-only directory, torch's
+    ``RuntimeError`` for either) becomes a :class:`~pushctl.errors.WriteError` naming
+    ``path``: the file asked for, not the temporary one.
 
     The temporary file has the final file's name, in a hidden directory of this process
     beside it (``.NAME.PID.tmp/NAME``): a writer that records its file's name in the bytes
     (``torch.save`` names its zip archive's records after it) writes the same bytes in every
-    run, where a temporary name holding the process id made two runs' ``.pt`` files differ."""
+    run, where a temporary name holding the process id made two runs' ``.pt`` files differ.
+    A process killed while writing leaves that directory behind; the next command holding
+    the output swept it (:func:`pushctl.output_guard.sweep_temporaries`)."""
     path = Path(path)
     folder = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     tmp = folder / path.name
-    folder.mkdir(exist_ok=True)
     try:
-        write(tmp)
-        tmp.replace(path)
-    finally:
-        tmp.unlink(missing_ok=True)
-        folder.rmdir()
+        folder.mkdir(exist_ok=True)
+        try:
+            write(tmp)
+            tmp.replace(path)
+        finally:
+            tmp.unlink(missing_ok=True)
+            folder.rmdir()
+    except WriteError:
+        raise
+    except (OSError, RuntimeError) as error:
+        raise WriteError(f"cannot write {path}: {write_failure(error, path)}") from None
+
+
+def write_failure(error: BaseException, path: Path) -> str:
+    """Why writing ``path`` failed, in words, on one line: the system's reason for an
+    ``OSError``; for torch's ``RuntimeError`` (its zip writer reports no errno) the full disk
+    or read-only directory behind it when that is what the directory shows, else torch's
+    message, whole words only."""
+    if isinstance(error, OSError) and error.strerror:
+        return error.strerror
+    directory = path.parent if path.parent.exists() else Path(".")
+    try:
+        if shutil.disk_usage(directory).free < FULL_DISK_BYTES:
+            return os.strerror(errno.ENOSPC)
+    except OSError:
+        pass
+    if not os.access(directory, os.W_OK):
+        return os.strerror(errno.EACCES)
+    return one_line(str(error)) or type(error).__name__
+
+
+FULL_DISK_BYTES = 1 << 20
+"""Free bytes under which a failed write is put down to a full disk [B]."""
+
+
+def one_line(text: str, limit: int = 160) -> str:
+    """``text`` on one line (whitespace runs joined), at most ``limit`` characters, cut at a
+    word boundary with an ellipsis rather than mid-word."""
+    words = " ".join(text.split())
+    if len(words) <= limit:
+        return words
+    cut = words[: limit - 1].rsplit(" ", 1)[0]
+    return cut.rstrip(",;:") + " …"
 
 
 def write_csv(

@@ -26,13 +26,12 @@ import pytest  # noqa: E402
 def ray_local():
     """One local Ray instance (2 CPUs) for every test that runs parallel work; the code under
     test finds it connected and leaves it running."""
-    import ray
 
-    from pushctl.distributed.engine import connect
+    from pushctl.distributed.engine import connect, shutdown
 
     connect(num_cpus=2)
     yield
-    ray.shutdown()
+    shutdown()
 
 
 _TINY_PRESET = """

@@ -31,6 +31,7 @@ TOP_LEVEL = {
     "provenance.py",
     "output_guard.py",
     "toml_files.py",
+    "ranges.py",  # the sane range of every physical value a user gives
     "proxqp_build.py",  # ProxQP from its portable build, for planning and contact alike
     "machine.py",  # the kind of machine a run's last bits belong to (its manifest says)
     "kernel_cache.py",  # numba's cached kernels dropped when a file they compile in changed
@@ -70,6 +71,7 @@ LAYERS = {
     "pushctl.provenance": 0,
     "pushctl.output_guard": 0,
     "pushctl.toml_files": 0,
+    "pushctl.ranges": 0,
     "pushctl.proxqp_build": 0,
     "pushctl.machine": 0,
     "pushctl.kernel_cache": 0,

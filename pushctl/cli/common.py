@@ -67,9 +67,72 @@ def fail(error: PushctlError) -> NoReturn:
     raise typer.Exit(code=2)
 
 
-def fail_write(error: OSError) -> NoReturn:
-    """:func:`fail` for a file that could not be written."""
-    fail(PushctlError(f"cannot write {error.filename}: {error.strerror}"))
+def fail_write(error: OSError | PushctlError, path: Path | None = None) -> NoReturn:
+    """:func:`fail` for a file that could not be written: the file (``path``, else the one
+    the error names) and the system's reason."""
+    if isinstance(error, PushctlError):
+        fail(error)
+    from pushctl.provenance import write_failure
+
+    target = path if path is not None else error.filename
+    where = f" {target}" if target is not None else ""
+    fail(PushctlError(f"cannot write{where}: {write_failure(error, Path(str(target or '.')))}"))
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM received: raised in the main thread where Ctrl-C raises KeyboardInterrupt,
+    so a terminated command stops the way an interrupted one does (its ``finally`` blocks
+    shut Ray down, its handler prints what was kept), with exit code 143 instead of 130."""
+
+
+def handle_termination() -> None:
+    """Make SIGTERM raise :class:`Terminated` in this process (the main thread only can
+    set a handler; elsewhere nothing changes)."""
+    import signal
+    import threading
+
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGTERM, _terminate)
+
+
+STOPPED = {"terminated": False, "said": False}
+"""Whether SIGTERM arrived, and whether the command said what it kept (:func:`interrupted`):
+the app ends a stopped command that did not with one line and the right exit code."""
+
+
+def _terminate(signum: int, frame: object) -> None:
+    STOPPED["terminated"] = True
+    raise Terminated
+
+
+def interrupted(message: str) -> NoReturn:
+    """End a command stopped by Ctrl-C (exit code 130) or SIGTERM (143) with one line on
+    stderr: ``interrupted: <message>`` (what was kept, how to continue)."""
+    import sys
+
+    terminated = isinstance(sys.exc_info()[1], Terminated) or STOPPED["terminated"]
+    STOPPED["said"] = True
+    word = "terminated" if terminated else "interrupted"
+    error_console.print(f"{word}: {message}", markup=False, highlight=False)
+    raise typer.Exit(code=143 if terminated else 130)
+
+
+def fail_ray(error: Exception) -> NoReturn:
+    """One line and exit code 1 for a failure of Ray itself (one of its processes killed, a
+    node lost), which retrying the calls did not mend; any other exception is re-raised (a
+    bug, to be reported with its traceback)."""
+    if not type(error).__module__.startswith("ray"):
+        raise error
+    from pushctl.provenance import one_line
+
+    reason = one_line(str(error).split("\n", 1)[0], 120) or type(error).__name__
+    error_console.print(
+        f"error: Ray failed ({type(error).__name__}: {reason}); what was checkpointed is "
+        "kept: run the command again with --resume",
+        markup=False,
+        highlight=False,
+    )
+    raise typer.Exit(code=1)
 
 
 POSE_FORMAT = "x,y,theta_deg (metres, metres, degrees), e.g. 0.62,0.03,30"
@@ -108,8 +171,8 @@ def write_text(path: Path, text: str) -> None:
 
     try:
         write_atomic(path, write)
-    except OSError as error:
-        fail_write(error)
+    except (OSError, PushctlError) as error:
+        fail_write(error, path)
     console.print(f"wrote {path}")
 
 
@@ -132,8 +195,8 @@ def write_outputs(
             console.print(f"wrote {out}")
         else:
             save_figure()
-    except OSError as error:
-        fail_write(error)
+    except (OSError, PushctlError) as error:
+        fail_write(error, out if out is not None else plot)
 
 
 def invocation(context: typer.Context) -> str:

@@ -15,9 +15,9 @@ from pushctl.cli.common import (
     PUSHER_HELP,
     Command,
     console,
-    error_console,
     fail,
     fail_write,
+    interrupted,
     invocation,
     renamed_option,
     take_renamed,
@@ -135,8 +135,7 @@ def evaluate(
     except PushctlError as error:
         fail(error)
     except KeyboardInterrupt:
-        error_console.print("interrupted: nothing written")
-        raise typer.Exit(code=130) from None
+        interrupted("nothing written")
     except OSError as error:
         fail_write(error)
     console.print(summary_table(evaluation))

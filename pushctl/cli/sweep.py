@@ -31,7 +31,7 @@ def sweep(
 ) -> None:
     """Train every configuration of a sweep file × its seeds (one Ray task each), score each
     run's policy on the validation set, and write trials.csv, summary.csv and sweep.png."""
-    from pushctl.cli.common import console, error_console, fail, fail_write, invocation
+    from pushctl.cli.common import console, fail, fail_write, interrupted, invocation
     from pushctl.cli.train_seeds import run_jobs_with_progress
     from pushctl.distributed.sweep import gather, score_policy, sweep_jobs
     from pushctl.distributed.sweep_config import read_sweep
@@ -56,10 +56,7 @@ def sweep(
     except PushctlError as error:
         fail(error)
     except KeyboardInterrupt:
-        error_console.print(
-            f"interrupted: `pushctl sweep {config} --resume --out {directory}` continues"
-        )
-        raise typer.Exit(code=130) from None
+        interrupted(f"`pushctl sweep {config} --resume --out {directory}` continues")
     except OSError as error:
         fail_write(error)
     console.print(summary_table(result))

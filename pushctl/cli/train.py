@@ -13,9 +13,10 @@ import typer
 from pushctl.cli.common import (
     Command,
     console,
-    error_console,
     fail,
+    fail_ray,
     fail_write,
+    interrupted,
     invocation,
 )
 from pushctl.errors import PushctlError
@@ -99,7 +100,7 @@ def train(
             raise PushctlError(f"--episodes must be an integer >= 1, got {total}")
     except PushctlError as error:
         fail(error)
-    if trainer.next_episode >= total:
+    if trainer.finished(total):
         console.print(f"{trainer.out} already has {trainer.next_episode} episodes; nothing to do")
         return
     try:
@@ -107,12 +108,8 @@ def train(
         note_if_cold(error_console)
         run_with_progress(trainer, total, made_by, console)
     except KeyboardInterrupt:
-        error_console.print(
-            f"interrupted: `pushctl train --resume --out {trainer.out}` continues "
-            "from the last checkpoint"
-        )
-        raise typer.Exit(code=130) from None
-    except OSError as error:
+        interrupted(resume_advice(trainer.out))
+    except (OSError, PushctlError) as error:
         fail_write(error)
     console.print(summary_table(trainer))
     console.print(f"wrote {trainer.out / CURVE} and {trainer.out / POLICY}")
@@ -120,6 +117,19 @@ def train(
         console.print(policy_line(trainer.out), soft_wrap=True, highlight=False, markup=False)
     except PushctlError as error:
         fail(error)
+
+
+def resume_advice(directory: Path) -> str:
+    """What an interrupted run kept and how to continue it: ``--resume`` from its last
+    checkpoint, or, stopped before its first one, the same command again (nothing kept)."""
+    from pushctl.rl.train import CHECKPOINT
+
+    if (directory / CHECKPOINT).is_file():
+        return f"`pushctl train --resume --out {directory}` continues from the last checkpoint"
+    return (
+        f"stopped before the first checkpoint, nothing kept in {directory}; run the same "
+        "command again to start over"
+    )
 
 
 def _train_seeds(ctx, preset, episodes, seed, out, resume, force, seeds, address) -> None:
@@ -135,13 +145,14 @@ def _train_seeds(ctx, preset, episodes, seed, out, resume, force, seeds, address
         fail(error)
     except KeyboardInterrupt:
         root = out if out is not None else f"runs/{preset or 'quick'}-seeds"
-        error_console.print(
-            f"interrupted: `pushctl train --seeds {seeds} --resume --out {root}` continues "
-            "each seed from its last checkpoint"
+        interrupted(
+            f"`pushctl train --seeds {seeds} --resume --out {root}` continues "
+            "each seed from its last checkpoint (a seed with none starts over)"
         )
-        raise typer.Exit(code=130) from None
     except OSError as error:
         fail_write(error)
+    except Exception as error:  # Ray's own failures: a killed Ray process, a lost node
+        fail_ray(error)
     console.print(seeds_table(results))
     try:
         for result in results:

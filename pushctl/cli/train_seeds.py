@@ -15,6 +15,7 @@ from pushctl.cli.warm import note_if_cold
 from pushctl.control.gains import load_gains
 from pushctl.distributed.engine import session
 from pushctl.distributed.seeds import (
+    TIMING,
     JobResult,
     SeedStatus,
     TrainJob,
@@ -23,6 +24,7 @@ from pushctl.distributed.seeds import (
     seed_dir,
 )
 from pushctl.errors import ConfigError
+from pushctl.output_guard import hold, is_ours, occupied
 from pushctl.provenance import provenance_line
 from pushctl.rl.presets import load_preset
 from pushctl.rl.train import CHECKPOINT, CURVE, LAST_POLICY, POLICY, VALIDATION, Trainer
@@ -63,7 +65,10 @@ def prepare_seed_jobs(
     chosen = load_preset(name)
     gains = load_gains()
     directories = [seed_dir(root, s).absolute() for s in seeds]
+    hold("--out", root, directory=True)  # one command at a time, until this one ends
     for directory in directories:
+        if not directory.is_file():
+            hold("--out", directory, directory=True)
         _check_seed_directory(directory, resume, force)
     if force:
         for directory in directories:
@@ -86,15 +91,15 @@ def prepare_seed_jobs(
 def _check_seed_directory(directory: Path, resume: bool, force: bool) -> None:
     if directory.exists() and not directory.is_dir():
         raise ConfigError(f"{directory} is a file; a seed's run needs a directory")
-    occupied = directory.is_dir() and any(directory.iterdir())
-    if not occupied or force:
+    if not occupied(directory) or force:
         return
     if not resume:
         raise ConfigError(
             f"{directory} already holds a run; pass --resume to continue it "
             "or --force to start over"
         )
-    if not (directory / CHECKPOINT).is_file():
+    kept = {entry.name for entry in directory.iterdir()} - {TIMING}
+    if not (directory / CHECKPOINT).is_file() and any(not is_ours(name) for name in kept):
         raise ConfigError(
             f"{directory} holds files but no checkpoint to resume; "
             "pass --force to start that seed over"

@@ -18,6 +18,7 @@ from rich.progress import (
 from rich.table import Table
 
 from pushctl.errors import ConfigError
+from pushctl.output_guard import hold, occupied
 from pushctl.rl.presets import load_preset
 from pushctl.rl.train import CHECKPOINT, CURVE, LAST_POLICY, POLICY, VALIDATION, Trainer
 from pushctl.rl.train import Progress as TrainProgress
@@ -43,6 +44,7 @@ def prepare_trainer(
     directory = out if out is not None else Path("runs") / f"{name}-seed{seed or 0}"
     if directory.exists() and not directory.is_dir():
         raise ConfigError(f"--out {directory} is a file; give a directory")
+    hold("--out", directory, directory=True)  # one command at a time, until this one ends
     if resume:
         trainer = Trainer.resume(directory)
         saved = trainer.preset.name, trainer.seed
@@ -53,8 +55,7 @@ def prepare_trainer(
             )
         return trainer
     chosen = load_preset(name)
-    occupied = directory.is_dir() and any(directory.iterdir())
-    if occupied and not force:
+    if occupied(directory) and not force:
         raise ConfigError(
             f"{directory} already holds a run; pass --resume to continue it "
             "or --force to start over"

@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from pushctl.errors import ConfigError
+from pushctl.ranges import check_range
 from pushctl.toml_files import check_keys, read_toml
 
 DEFAULT_FEEDBACK_FILE = Path(__file__).resolve().parents[2] / "experiments" / "feedback_gains.toml"
@@ -109,6 +110,8 @@ class FeedbackGains:
             ok = isinstance(value, int | float) and not isinstance(value, bool)
             if not ok or not math.isfinite(value) or value < 0.0:
                 raise ConfigError(f"feedback {name} must be a finite number >= 0, got {value!r}")
+        for name in ("k", "k_i", "contact_force"):
+            check_range(f"feedback {name}", getattr(self, name))
         for name in _CAPS:
             ratio = getattr(self, name)
             if isinstance(ratio, bool) or not isinstance(ratio, int | float) or not ratio >= 0.0:
@@ -145,7 +148,7 @@ def load_feedback_gains(path: str | Path | None = None) -> FeedbackGains:
     try:
         return FeedbackGains(**table)
     except ConfigError as exc:
-        raise ConfigError(f"{path}: {exc}") from None
+        raise ConfigError(f"feedback gains file {path}: {exc}") from None
 
 
 def feedback_table(gains: FeedbackGains) -> list[str]:

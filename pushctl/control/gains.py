@@ -21,6 +21,7 @@ from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 
 from pushctl.errors import ConfigError
+from pushctl.ranges import check_range
 from pushctl.toml_files import check_keys, read_toml
 
 DEFAULT_GAINS_FILE = Path(__file__).resolve().parents[2] / "experiments" / "pd_gains.toml"
@@ -56,6 +57,8 @@ class PDGains:
             object.__setattr__(self, item.name, float(value))
         if self.kv <= 0.0:
             raise ConfigError(f"PD gain kv must be > 0 N·m·s/rad, got {self.kv!r}")
+        for item in fields(self):
+            check_range(f"PD gain {item.name}", getattr(self, item.name))
 
     def as_dict(self) -> dict[str, float]:
         return asdict(self)

@@ -14,7 +14,9 @@ JIT-compiled kernels, the actor network) is paid once per worker, as with a proc
 from __future__ import annotations
 
 import os
+import signal
 import socket
+import threading
 from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import Future
 from contextlib import contextmanager
@@ -23,6 +25,7 @@ from typing import Any
 
 import ray
 
+from pushctl.distributed import reaper
 from pushctl.errors import ConfigError
 
 ADDRESS_VARIABLE = "RAY_ADDRESS"
@@ -41,6 +44,8 @@ waits, and at 15 a worker's 0.64 s of work took 18.3 s beside a normal-priority 
 spinning on its core (28×; 2.1× at 0: ``python -m benchmarks.worker_priority``). At 0
 they run at the priority of the command that started them: ``nice pushctl train`` still
 runs it all niced (docs/ray.md, *Ray on a laptop*)."""
+_watcher: Any = None
+"""The watcher of the local Ray instance this process started (:mod:`.reaper`), if any."""
 AHEAD = 4
 """Items per worker that :meth:`WorkerPool.ordered` lets run, or wait finished, beyond the
 first result not yet yielded."""
@@ -64,7 +69,16 @@ def session(address: str | None = None) -> Iterator[None]:
     try:
         yield
     finally:
-        ray.shutdown()
+        shutdown()
+
+
+def shutdown() -> None:
+    """Disconnect from Ray; a local instance this process started stops, and its watcher
+    (:mod:`pushctl.distributed.reaper`) ends whatever of it is left."""
+    global _watcher
+    ray.shutdown()
+    reaper.stop(_watcher)
+    _watcher = None
 
 
 def connect(
@@ -75,27 +89,48 @@ def connect(
     """Connect this process to Ray (see :func:`session`); ``num_cpus`` of a local instance
     defaults to the machine's cores, ``worker_niceness`` is its workers' (Ray's
     ``worker_niceness``; a cluster joined at an address keeps its own)."""
+    global _watcher
     os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")
+    # Ray's C++ log lines (a lost raylet's, one per task) would bury the command's own
+    # one-line error under a screen of them; a fatal one still shows
+    os.environ.setdefault("RAY_BACKEND_LOG_LEVEL", "fatal")
     quiet: dict[str, Any] = {"logging_level": "ERROR", "log_to_driver": False}
     target = address_from(address)
-    if target is not None:
-        _check_reachable(target)
-        try:
-            ray.init(address=target, **quiet)
-        except (ConnectionError, RuntimeError, ValueError) as exc:
-            reason = " ".join(str(exc).split())[:160]
-            raise ConfigError(
-                f"--address {target}: no Ray cluster answers there ({reason}); start one with "
-                "`ray start --head` or leave out --address and RAY_ADDRESS to run locally"
-            ) from None
-        return
-    ray.init(
-        num_cpus=num_cpus or os.cpu_count() or 1,
-        include_dashboard=False,
-        object_store_memory=LOCAL_OBJECT_STORE,
-        _system_config={"worker_niceness": worker_niceness},
-        **quiet,
-    )
+    with _own_sigterm_handler():
+        if target is not None:
+            _check_reachable(target)
+            try:
+                ray.init(address=target, **quiet)
+            except (ConnectionError, RuntimeError, ValueError) as exc:
+                reason = " ".join(str(exc).split())[:160]
+                raise ConfigError(
+                    f"--address {target}: no Ray cluster answers there ({reason}); start one "
+                    "with `ray start --head` or leave out --address and RAY_ADDRESS to run "
+                    "locally"
+                ) from None
+            return
+        ray.init(
+            num_cpus=num_cpus or os.cpu_count() or 1,
+            include_dashboard=False,
+            object_store_memory=LOCAL_OBJECT_STORE,
+            _system_config={"worker_niceness": worker_niceness},
+            **quiet,
+        )
+        _watcher = reaper.watch()
+
+
+@contextmanager
+def _own_sigterm_handler() -> Iterator[None]:
+    """Keep this process's SIGTERM handler across ``ray.init``, which replaces it with one
+    calling ``sys.exit(15)`` (the command's own handler stops it cleanly: Ray shut down,
+    what was kept said)."""
+    main = threading.current_thread() is threading.main_thread()
+    before = signal.getsignal(signal.SIGTERM) if main else None
+    try:
+        yield
+    finally:
+        if main and before is not None:
+            signal.signal(signal.SIGTERM, before)
 
 
 def _check_reachable(address: str) -> None:

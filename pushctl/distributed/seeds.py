@@ -191,7 +191,7 @@ def run_job(
 
     if report is not None:  # where the run starts (a finished one: where it ended)
         report(job.name, SeedStatus(min(trainer.next_episode, total), total))
-    if trainer.next_episode < total:
+    if not trainer.finished(total):  # also a run killed after its last checkpoint
         trainer.run(total, on_episode=show, made_by=job.made_by)
         write_timing(job.out, before, time.perf_counter() - clock, trainer)
     extra = finish(trainer) if finish is not None else None

@@ -23,6 +23,7 @@ from pushctl.errors import ConfigError
 from pushctl.objects.footprint import as_points, default_pushed_face, normalise_footprint
 from pushctl.objects.geometry import ConvexPolygon, rotation
 from pushctl.objects.mass import mass_properties, support_loads
+from pushctl.ranges import check_range
 
 DEFAULT_PUSHER_MASS = 0.030
 """Pusher mass [kg] for objects from a config file that do not give one (Table II, cube)."""
@@ -77,6 +78,8 @@ class ObjectSpec:
     def __post_init__(self) -> None:
         _check_positive(f"object '{self.name}' mass", self.mass, "kg")
         _check_positive(f"object '{self.name}' pusher_mass", self.pusher_mass, "kg")
+        check_range("object mass", self.mass, f"object '{self.name}': ")
+        check_range("pusher mass", self.pusher_mass, f"object '{self.name}': ")
         polygon = ConvexPolygon.from_vertices(self.footprint)
         footprint = polygon.vertices
         if not np.array_equal(footprint, np.asarray(self.footprint, dtype=float)):

@@ -27,6 +27,7 @@ import pandas as pd
 from pushctl.config import PLANT_KINDS
 from pushctl.errors import ConfigError
 from pushctl.evaluation.columns import STEP_COLUMNS
+from pushctl.report.completeness import check_complete
 
 TRIALS = Path("evaluation") / "trials.csv"
 STEPS = Path("evaluation") / "steps.csv"
@@ -57,6 +58,8 @@ class CsvSpec:
     if_present: tuple[str, ...] = ()
     """Numbers or empty, in files that have the column (older ones lack it); part of the
     key there."""
+    rest_numbers: bool = False
+    """Every other column holds numbers or empty cells (the report may use any of them)."""
 
     @property
     def columns(self) -> tuple[str, ...]:
@@ -75,6 +78,7 @@ TRIALS_SPEC = CsvSpec(
     choices=_CHOICES,
     key=(*_GROUP, "trial"),
     if_present=("policy_seed",),  # several policies: one rl row per trial and seed
+    rest_numbers=True,
 )
 STEPS_SPEC = CsvSpec(
     what="per-step means from `pushctl evaluate`",
@@ -134,8 +138,10 @@ def read_report_inputs(directory: Path) -> ReportInputs:
     if not steps.exists() and _gzipped(steps).is_file():
         steps = _gzipped(steps)  # a shipped results directory keeps it compressed (11 MB → 3.5)
     curve = directory / CURVE
+    trials = read_results_csv(evaluation / TRIALS.name, TRIALS_SPEC)
+    check_complete(trials.path, trials.frame, trials.made_by)  # not cut short
     return ReportInputs(
-        trials=read_results_csv(evaluation / TRIALS.name, TRIALS_SPEC),
+        trials=trials,
         steps=read_results_csv(steps, STEPS_SPEC),
         curve=read_results_csv(curve, CURVE_SPEC) if curve.exists() else None,
     )
@@ -219,6 +225,10 @@ def _checked(path: Path, raw: pd.DataFrame, spec: CsvSpec) -> pd.DataFrame:
     present = [c for c in spec.if_present if c in frame.columns]
     for column in present:
         frame[column] = _numbers(path, column, frame[column], False)
+    if spec.rest_numbers:
+        named = {*spec.labels, *spec.columns, *present}
+        for column in [c for c in frame.columns if c not in named]:
+            _numbers(path, column, frame[column], False)  # checked; the text is kept
     if spec.key:
         key_columns = [*spec.key, *present]
         duplicated = frame.duplicated(key_columns, keep="first")

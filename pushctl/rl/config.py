@@ -9,6 +9,7 @@ from dataclasses import asdict, dataclass, fields
 from typing import Any
 
 from pushctl.errors import ConfigError
+from pushctl.ranges import check_range
 from pushctl.toml_files import check_keys
 
 _POSITIVE_FLOATS = ("actor_lr", "critic_lr", "updates_per_step", "ou_dt", "reward_scale")
@@ -145,6 +146,9 @@ class DDPGConfig:
                 f"ddpg hidden must be a non-empty tuple of positive integers, got {hidden!r}"
             )
         object.__setattr__(self, "hidden", tuple(int(h) for h in hidden))
+        check_range("hidden layers", len(self.hidden), "ddpg: ")
+        for width in self.hidden:
+            check_range("hidden layer width", width, "ddpg: ")
         for name in _POSITIVE_INTS:
             value = getattr(self, name)
             _check(name, value, _is_int(value) and value > 0, "a positive integer")

@@ -15,13 +15,13 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import torch
 
 from pushctl.control.gains import PDGains
 from pushctl.episode.runner import Episode
 from pushctl.episode.trace import Trace
 from pushctl.errors import ConfigError, StateError
-from pushctl.provenance import write_atomic
+from pushctl.provenance import one_line
+from pushctl.rl.checkpoint import load_checked, nonfinite_entry, save_checked
 from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.feedback_actor import FeedbackActor
@@ -47,8 +47,9 @@ class TrainedPolicy:
 
 
 def save_atomic(path: Path, state: dict[str, Any]) -> None:
-    """``torch.save`` to a temporary file beside ``path``, then renamed over it."""
-    write_atomic(Path(path), lambda tmp: torch.save(state, tmp))
+    """``torch.save`` to a temporary file beside ``path``, then renamed over it, with the
+    content's digest (:func:`pushctl.rl.checkpoint.save_checked`)."""
+    save_checked(Path(path), state)
 
 
 def write_policy(path: Path, actor_state: dict[str, Any], env: EnvConfig, made_by: str) -> None:
@@ -63,14 +64,18 @@ def write_policy(path: Path, actor_state: dict[str, Any], env: EnvConfig, made_b
 
 
 def load_policy(path: str | Path) -> TrainedPolicy:
-    """Read ``policy.pt``; ConfigError (one line) if it is missing, corrupt or not a policy."""
+    """Read ``policy.pt``; ConfigError (one line) if it is missing, damaged (its checksums
+    or digest: :mod:`pushctl.rl.checkpoint`), not a policy, or holds non-finite weights."""
     path = Path(path)
     if not path.is_file():
         raise ConfigError(f"no policy file at {path}: train one with `pushctl train`")
+    state = load_checked(path, "policy file")
     try:
-        state = torch.load(path, weights_only=True)
-        if not isinstance(state, dict) or state.get("format") != POLICY_FORMAT:
-            raise ValueError(f"format {state.get('format') if isinstance(state, dict) else None}")
+        if state.get("format") != POLICY_FORMAT:
+            raise ValueError(f"format {state.get('format')!r}, this pushctl reads {POLICY_FORMAT}")
+        bad = nonfinite_entry(state["actor"]["actor"])
+        if bad is not None:
+            raise ValueError(f"non-finite weights (NaN or infinity) in {bad}")
         return TrainedPolicy(
             actor=ActorPolicy.from_state(state["actor"]),
             env=EnvConfig.from_saved(state["env"]),
@@ -78,9 +83,11 @@ def load_policy(path: str | Path) -> TrainedPolicy:
         )
     except ConfigError as exc:
         raise ConfigError(f"policy file {path}: {exc}") from None
-    except Exception as exc:  # torch raises many types for a damaged file
-        reason = " ".join(str(exc).split())[:120]
-        raise ConfigError(f"policy file {path} is corrupt or not a policy: {reason}") from None
+    except KeyError as exc:
+        raise ConfigError(f"policy file {path} is not a policy: it has no {exc}") from None
+    except Exception as exc:  # a state dict of other shapes: torch's many error types
+        reason = one_line(str(exc), 120) or type(exc).__name__
+        raise ConfigError(f"policy file {path} is not a policy: {reason}") from None
 
 
 def evaluation_env(policy: TrainedPolicy, gains: PDGains, plant: str = "sim") -> PushEnv:

@@ -30,12 +30,12 @@ from pathlib import Path
 from typing import Any
 
 import pandas as pd
-import torch
 
 from pushctl.control.feedback import load_feedback_gains
 from pushctl.control.gains import PDGains, load_gains
 from pushctl.errors import ConfigError
 from pushctl.provenance import write_csv
+from pushctl.rl.checkpoint import CHECKPOINT_FORMAT, read_checkpoint
 from pushctl.rl.collect import Behaviour, EpisodeRecord, curve_row, portable
 from pushctl.rl.collectors import Collector
 from pushctl.rl.critic_side import critic_warmup_due, n_step_rows, warm_critic
@@ -51,8 +51,6 @@ CURVE = "curve.csv"
 POLICY = "policy.pt"
 LAST_POLICY = "policy_last.pt"
 VALIDATION = "validation.csv"
-CHECKPOINT_FORMAT = 1
-"""Bumped when a checkpoint's layout changes; an older one is refused, not misread."""
 
 
 @dataclass(frozen=True)
@@ -182,6 +180,17 @@ class Trainer:
         write_policy(self.out / POLICY, chosen, env, made_by)
 
     # ------------------------------------------------------------------ checkpoints
+
+    def finished(self, episodes: int) -> bool:
+        """Whether ``episodes`` are done and the run's end is written: both policies and,
+        when the preset validates, the last actor's score. A run killed after its last
+        checkpoint has the episodes but not its end; :meth:`run` then writes just that."""
+        if self.next_episode < episodes:
+            return False
+        shipped = (self.out / POLICY).is_file() and (self.out / LAST_POLICY).is_file()
+        return shipped and (
+            not self.preset.train.validate_every or self.next_episode in self._validated
+        )
 
     def state_dict(self) -> dict[str, Any]:
         return {
@@ -338,21 +347,6 @@ class Trainer:
         self.next_episode = record.episode + 1
 
 
-def read_checkpoint(path: Path) -> dict[str, Any]:
-    """A checkpoint's contents; ConfigError if missing, unreadable or of another format."""
-    if not path.is_file():
-        raise ConfigError(f"no checkpoint at {path}: start a run without --resume")
-    try:
-        state = torch.load(path, weights_only=True)
-    except Exception as exc:  # torch raises many types for a damaged file
-        reason = " ".join(str(exc).split())[:120]
-        raise ConfigError(f"checkpoint {path} is corrupt or not a checkpoint: {reason}") from None
-    if not isinstance(state, dict) or state.get("format") != CHECKPOINT_FORMAT:
-        found = state.get("format") if isinstance(state, dict) else type(state).__name__
-        raise ConfigError(
-            f"checkpoint {path} has format {found!r}; this pushctl reads {CHECKPOINT_FORMAT}"
-        )
-    return state
 
 
 @dataclass(frozen=True)
