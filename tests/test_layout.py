@@ -43,12 +43,14 @@ LAYERS = {
     "pushctl.distributed.sweep": 7,
     "pushctl.distributed.sweep_config": 7,
     "pushctl.evaluation": 6,
+    "pushctl.realdata": 6,  # recorded pushes replayed and scored
     "pushctl.rl": 5,
     "pushctl.episode": 4,
     "pushctl.mujoco.validation": 4,  # a study: our world against MuJoCo in episodes
     "pushctl.control": 3,
     "pushctl.planning": 3,
     "pushctl.contact": 2,
+    "pushctl.kinematic": 2,  # a pusher on a prescribed path: the contact step, no arm
     "pushctl.mujoco": 2,  # the other engine: a peer of contact (pushctl.contact.build picks)
     "pushctl.arm": 1,
     "pushctl.objects": 1,
