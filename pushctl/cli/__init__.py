@@ -24,6 +24,7 @@ from pushctl.cli import (
     evaluate,
     info,
     plan,
+    realdata,
     report,
     simulate,
     sweep,
@@ -46,5 +47,6 @@ def _main() -> None:
 
 for _command in (info, plan, simulate, tune_pd, tune_feedback, train, evaluate, report, sweep):
     app.add_typer(_command.app)
+app.add_typer(realdata.app, name="realdata")
 
 __all__ = ["app"]
