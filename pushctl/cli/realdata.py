@@ -90,7 +90,7 @@ def score(
             ("examples.png", figures.example_pushes_figure(result.pushes, result.shapes,
                                                            result.ours, result.zhou)),
         ):  # fmt: skip
-            write_atomic(out / name, lambda tmp, fig=fig: fig.savefig(tmp, format="png", dpi=120))
+            write_atomic(out / name, _png_writer(fig))
     except OSError as error:
         fail_write(error)
     _print_overall(result.summary)
@@ -124,13 +124,22 @@ def logs(
         out.mkdir(exist_ok=True)
         write_csv(out / "segments.csv", table, provenance_line(_invocation(ctx)), "%.6g")
         fig = logs_figure(segments, replays)
-        write_atomic(out / "paths.png", lambda tmp: fig.savefig(tmp, format="png", dpi=120))
+        write_atomic(out / "paths.png", _png_writer(fig))
     except OSError as error:
         fail_write(error)
     share = table["within_3x_floor"].mean()
     console.print(f"{len(table)} segments; end error within 3x the repeat floor on "
                   f"{100 * share:.0f} %; median path RMSE "
                   f"{table['path_rmse_mm'].median():.2f} mm; wrote {out}")  # fmt: skip
+
+
+def _png_writer(fig):
+    """A writer for :func:`~pushctl.provenance.write_atomic` saving ``fig`` as PNG."""
+
+    def write(tmp: Path) -> None:
+        fig.savefig(tmp, format="png", dpi=120)
+
+    return write
 
 
 def _invocation(ctx: typer.Context) -> str:

@@ -76,7 +76,8 @@ def example_pushes_figure(
 
 def logs_figure(segments, replays, count: int = 6):
     """Recorded (black) and replayed (blue) object paths of the first log of each start."""
-    firsts, seen = [], set()
+    firsts: list = []
+    seen: set[str] = set()
     for seg, rep in zip(segments, replays, strict=True):
         if seg.start not in seen or seg.log == firsts[-1][0].log:
             seen.add(seg.start)

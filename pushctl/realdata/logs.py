@@ -72,7 +72,7 @@ def _segments_of(path: Path, start: str) -> list[Segment]:
     # Segments from the pusher's rows, which are never dropped; then the dropouts go.
     cut = (np.diff(table[:, 0]) > SEGMENT_GAP) | (np.diff(table[:, 7]) != 0)
     pieces = np.split(table, np.flatnonzero(cut) + 1)
-    out = []
+    out: list[Segment] = []
     for piece in pieces:
         piece = piece[np.any(piece[:, 1:4] != 0, axis=1)]
         if len(piece) < 10:
@@ -107,7 +107,7 @@ def score_segments(segments: list[Segment], replays: list[np.ndarray]) -> pd.Dat
     """Per segment: path RMSE [mm] over its fresh rows, end position [mm] and angle [deg]
     errors, and the repeat floor of its start and segment index: the median over pairs of
     repeats of their end poses' distance [mm] and angle difference [deg]."""
-    ends = {}
+    ends: dict[tuple[str, int], list[np.ndarray]] = {}
     for seg in segments:
         ends.setdefault((seg.start, seg.index), []).append(seg.object[-1])
     floors = {key: _floor(np.array(v)) for key, v in ends.items()}
