@@ -53,6 +53,7 @@ LAYERS = {
     "pushctl.distributed.sweep": 7,
     "pushctl.distributed.sweep_config": 7,
     "pushctl.evaluation": 6,
+    "pushctl.realdata": 6,  # recorded pushes replayed and scored
     "pushctl.rl": 5,
     "pushctl.episode": 4,
     "pushctl.control": 3,
@@ -60,6 +61,7 @@ LAYERS = {
     "pushctl.engines": 3,  # make_world: picks one of the two engines below
     "pushctl.contact": 2,
     "pushctl.mujoco": 2,  # the other engine: a peer of contact (pushctl.engines picks)
+    "pushctl.kinematic": 2,  # a pusher on a prescribed path: the contact step, no arm
     "pushctl.arm": 1,
     "pushctl.objects": 1,
     "pushctl.distributed": 0,  # the Ray session and worker pool: infrastructure

@@ -38,6 +38,7 @@ from pushctl.cli import (  # noqa: E402
     evaluate,
     info,
     plan,
+    realdata,
     report,
     reproduce,
     simulate,
@@ -100,5 +101,6 @@ def _main(ctx: typer.Context) -> None:
 _COMMANDS = (info, plan, simulate, tune_pd, tune_feedback, train, evaluate, report, sweep)
 for _command in (*_COMMANDS, reproduce):  # reproduce: make reproduce-tables, the others in turn
     app.add_typer(_command.app)
+app.add_typer(realdata.app, name="realdata")
 
 __all__ = ["app"]
