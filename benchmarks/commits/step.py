@@ -79,6 +79,9 @@ _CHILD = (Path(__file__).with_name("step_child.py")).read_text()
 """The child's script (:mod:`benchmarks.commits.step_child`), run with ``python -c``."""
 
 
+BUILD_NATIVE = "from pushctl.native.build import build; print(build(optional=True))"
+
+
 def record_cold_problems(steps: int = 1500, seed: int = 0) -> list[tuple]:
     """The MLCPs whose warm active set failed (the ones that reach the cold path, which
     :func:`solve_box_mlcp` times) during ``steps`` random-action ``Push-v0`` steps of this
@@ -167,7 +170,7 @@ def build_native(tree: Path) -> None:
         shutil.copy2(native.LIBRARY, target / native.LIBRARY.name)
         shutil.copy2(native.STAMP, target / native.STAMP.name)
     subprocess.run(  # does nothing if the copied stamp matches the tree's sources
-        [sys.executable, "-c", "from pushctl.native.build import build; print(build(optional=True))"],
+        [sys.executable, "-c", BUILD_NATIVE],
         env={**os.environ, "PYTHONPATH": str(tree)},
         cwd=tree,
         check=False,

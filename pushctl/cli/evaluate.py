@@ -15,6 +15,7 @@ from pushctl.cli.common import (
     PUSHER_HELP,
     Command,
     console,
+    error_console,
     fail,
     fail_write,
     interrupted,

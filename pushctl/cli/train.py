@@ -13,6 +13,7 @@ import typer
 from pushctl.cli.common import (
     Command,
     console,
+    error_console,
     fail,
     fail_ray,
     fail_write,

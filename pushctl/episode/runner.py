@@ -29,13 +29,13 @@ import numpy as np
 
 from pushctl.arm import ArmModel, ArmTerms, BelievedTerms
 from pushctl.checks import finite_vector
-from pushctl.engines import make_world
 from pushctl.contact.ground_field import FrictionField
 from pushctl.contact.world import World
 from pushctl.control.gains import PDGains, load_gains
 from pushctl.control.pd import PDCommand, PDController
 from pushctl.control.reference import PusherReference, concatenate, minimum_jerk, push_reference
 from pushctl.control.residual import ReferenceOffset, check_residual_path
+from pushctl.engines import make_world
 from pushctl.episode import plant as plant_setup
 from pushctl.episode.approach import ApproachSettings, approach_path, onto_face, standoff_point
 from pushctl.episode.proxy import ProxyActuators, ProxyEffects

@@ -347,8 +347,6 @@ class Trainer:
         self.next_episode = record.episode + 1
 
 
-
-
 @dataclass(frozen=True)
 class _RoundInFlight:
     """A submitted round: its episodes, the futures of their records (one per collector,

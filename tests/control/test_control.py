@@ -9,7 +9,6 @@ import pytest
 
 from pushctl.arm import ArmConfig, load_arm
 from pushctl.config import PusherConfig
-from pushctl.engines import make_world
 from pushctl.control import (
     PDController,
     PDGains,
@@ -18,6 +17,7 @@ from pushctl.control import (
     push_reference,
 )
 from pushctl.control.gains import gains_toml
+from pushctl.engines import make_world
 from pushctl.episode import PhysicalParameters, Scenario, stream_rng
 from pushctl.episode.scenario import TargetRanges
 from pushctl.errors import ConfigError, StateError

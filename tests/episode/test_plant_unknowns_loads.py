@@ -12,8 +12,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from pushctl.config import GRAVITY
-from pushctl.engines import make_world
 from pushctl.contact.ground_field import FrictionField, support_positions
+from pushctl.engines import make_world
 from pushctl.episode.draw import draw_planned_scenario
 from pushctl.episode.metrics import compute_metrics
 from pushctl.episode.runner import Episode

@@ -15,8 +15,8 @@ from dataclasses import fields, replace
 import numpy as np
 import pytest
 
-from pushctl.engines import make_world
 from pushctl.control import PDGains
+from pushctl.engines import make_world
 from pushctl.episode import Episode, Scenario
 from pushctl.episode.draw import draw_planned_scenario
 from pushctl.episode.metrics import compute_metrics

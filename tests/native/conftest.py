@@ -17,7 +17,7 @@ def pytest_collection_modifyitems(config, items):
     if os.environ.get("PUSHCTL_EXPECT_NATIVE") == "1":
         raise pytest.UsageError(
             f"pushctl's compiled library is not in use ({native.status()}): "
-            "python -c \"from pushctl.native.build import build; print(build())\""
+            'python -c "from pushctl.native.build import build; print(build())"'
         )
     for item in ours:
         item.add_marker(pytest.mark.skip(reason=f"not in use: {native.status()}"))
