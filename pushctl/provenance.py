@@ -51,7 +51,7 @@ NOT_RECORDED = frozenset({"out", "plot", "force", "workers", "address"})
 """Options that change no byte of what a command computes: where its files go (``--out``,
 ``--plot``), whether it may replace them, and how many processes or which Ray cluster make
 them. Provenance lines leave them out, so one command run twice, into two places, writes
-the same bytes (issue 15 item 4); a line still names everything that decides the data."""
+the same bytes; a line still names everything that decides the data."""
 
 _NOT_RECORDED_FLAGS = frozenset({"--force"})
 """The options of :data:`NOT_RECORDED` that take no value."""

@@ -10,7 +10,7 @@ The integral is frozen while any prong's measured normal force is below ``contac
 would back the pusher away from it. The threshold sits above the noise of the proxy's force
 estimate (σ = 20 mN at no load, docs/design.md §9): at 10 mN an unloaded prong read as
 loaded on about a third of the steps, which restarted the contact seek's ramp and left the
-seek at a tenth of its rate (docs/residual-and-feedback.md, "Sixth pass"). With
+seek at a tenth of its rate (docs/residual-and-feedback.md §4). With
 ``hold_off_contact`` (the default) the output is zero then too: on the ``reference`` path the
 output is the offset's rate, so its P term is an integrator as well.
 
@@ -18,28 +18,28 @@ The lateral part of the output (plan-frame y, across the push) is capped at ``la
 times the plan's current speed: a pushed object is moved sideways only by the prongs'
 friction, and the tuning pushes showed that a sideways correction faster than a few per
 cent of the forward speed unloads a prong, which on the wedge starts a single-prong spin the
-push never recovers from (docs/residual-and-feedback.md, "Third pass").
+push never recovers from (docs/residual-and-feedback.md §4).
 
 The turn is capped too: it may move the prong farthest from the object's centre at no more
 than ``turn_ratio`` times the plan's speed. Uncapped, an angle error of a degree asked for
-turns of 0.18-0.27 rad/s at the third search's k = 11.3 /s, six to nine times the plan's own
+turns of 0.18-0.27 rad/s at a gain k = 11.3 /s, six to nine times the plan's own
 turn rate on a 35° push; each lifted a prong for a step, and on the wedge one of them started a spin
-(docs/residual-and-feedback.md, "Fourth pass").
+(docs/residual-and-feedback.md §4).
 
 The output passes through a first-order lag of ``smoothing`` (0.1 s). The law switches
 between its modes (acting, holding, seeking) on the measured forces, so its raw output can
 change sign from one 10 ms step to the next; on the MuJoCo plant, whose prong contact has a
 time constant of two steps, that alternation rang the contact and lost it on 86-94 % of
-steps (docs/residual-and-feedback.md, "Fourth pass").
+steps (docs/residual-and-feedback.md §4).
 
 While some prongs carry load and others do not (< ``contact_force``), the law instead turns
 the plate about the loaded prongs' centre at ``seek_rate``, the way that brings the unloaded
 prong farthest from them towards the face: with the output held there, a correction that
 lifted a prong by a hundredth of a millimetre left the push on one prong for good
-(docs/residual-and-feedback.md, "Third pass"). The seek is fast (0.1 rad/s): at the third
-pass's 0.01 rad/s a wedge that came off one prong as its turn began spun away from the plan
+(docs/residual-and-feedback.md §4). The seek is fast (0.1 rad/s): at
+0.01 rad/s a wedge that came off one prong as its turn began spun away from the plan
 at about 17 mrad/s, faster than the plate followed, and 3 of 40 wedge trapezoid tuning
-pushes failed; at 0.1 rad/s none of 240 tuning pushes did ("Fifth pass"). It ramps up over
+pushes failed; at 0.1 rad/s none of 240 tuning pushes did. It ramps up over
 ``seek_ramp`` (0.2 s) of one prong off: on MuJoCo, whose soft contact flickers below the
 threshold for a step at a time, a seek at full rate from the first step lost contact on
 15 % of the wedge's steps and failed 4 of 30 tuning pushes; ramped, 5 % and 1 (the slow
@@ -59,7 +59,7 @@ stayed at 0.1 mm; the prongs slid 0.9 mm along the face, one came off at its edg
 wedge spun away (27 % angle error; PD-only 3.2 %). At 0.5 mm the guard keeps that push
 (0.3 %), but on MuJoCo, whose soft contact creeps along the face, it blocks the sideways
 corrections and costs 46-50 % of the law's translation error, so it is off
-(docs/residual-and-feedback.md, "Seventh pass").
+(docs/residual-and-feedback.md §4).
 
 A catch-up phase (off unless the gains file sets ``catchup_time``) runs the push's first
 seconds at higher gains with relaxed caps: 46 % of the steady law's mean error accrues in

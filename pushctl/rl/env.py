@@ -96,23 +96,21 @@ Version history
     of every policy (:data:`~pushctl.rl.env_config.LEGACY_VALUES` loads an older policy with
     the settings it was trained with).
 
-    - issue 5: the environment, eq. 17 with ``w_pose``, the gate, the ``velocity`` path.
-    - issue 6: the ``proxy`` plant kind (latency, joint friction, noisy force estimates);
-      ``advance`` for loops that only act; gate threshold raised to clear the proxy's lag.
-    - issue 16: ``residual_path`` (``reference`` the new default) and ``observe_camera``;
-      policies saved before load as ``velocity`` with the exact pose; the plant unknowns drawn
-      at reset and reported in ``info["unknowns"]``; action scale resized for the reference
-      path.
-    - issue 17: the ``mujoco`` plant kind, evaluation only (training on it is refused).
-    - issue 16, later: ``observe_offset`` (the reference offset's three rows) and
-      ``action_repeat`` (a decision interval); policies saved before load without either.
-    - issue 16, third pass: ``offset_limit_linear`` / ``offset_limit_angular`` (the reference
-      offset's anti-windup bound); policies saved before load unbounded. ``base_law``
-      (``feedback``: the residual is added to the feedback law's action); saved policies
-      load with ``none``.
-    - issue 16, eighth pass: ``landing`` (``measured``, the new default: the reset re-lands
-      the prongs on the plan's spot of the object as measured); saved policies load with
-      ``believed``.
+    - ``Push-v0``: the environment, eq. 17 with ``w_pose``, the gate, the ``velocity`` path.
+    - ``proxy`` plant kind: latency, joint friction, noisy force estimates; ``advance`` for
+      loops that only act; the gate threshold sits above the proxy's lag.
+    - ``residual_path`` (``reference`` the default) and ``observe_camera``: policies saved
+      without them load as ``velocity`` with the exact pose; the plant unknowns are drawn at
+      reset and reported in ``info["unknowns"]``; the action scale is sized for the
+      reference path.
+    - ``mujoco`` plant kind: evaluation only (training on it is refused).
+    - ``observe_offset`` (the reference offset's three rows) and ``action_repeat`` (a
+      decision interval): policies saved without them load without either.
+    - ``offset_limit_linear`` / ``offset_limit_angular`` (the reference offset's anti-windup
+      bound): policies saved without them load unbounded. ``base_law`` (``feedback``: the
+      residual is added to the feedback law's action): saved policies load with ``none``.
+    - ``landing`` (``measured``, the default: the reset re-lands the prongs on the plan's
+      spot of the object as measured): saved policies load with ``believed``.
     - ``Push-v1`` (``EnvConfig.v1()``, :data:`~pushctl.rl.env_config.PUSH_V1`): the policy
       acts inside the gate's dead band (``policy_gated`` False; the gate switches the law
       only), with the whole envelope on the feedback law, and observes the context rows

@@ -114,12 +114,12 @@ class EnvConfig:
     observe_offset: bool = True
     action_repeat: int = 1
     # Anti-windup: 1.5x the sim plant's placement error (2 mm) would allow 3 mm; of the bounds
-    # tried on the tuning stream with the third pass's law (3/4/5/8 mm x 1.5/2/2.5/3/5 deg,
-    # 180 pushes) 3 mm and 1.5 deg lost the fewest pushes (docs/residual-and-feedback.md,
-    # section 4). The yaw bound is 3 deg since the sixth pass: the proxy's placement yaw
-    # (up to 3 deg) plus its plate yaw can need more than 1.5 deg of contact seek; with the
-    # seek and turn cap of today's law 3 deg cost at most 0.02 points of angle error on sim
-    # and none on MuJoCo's tuning pushes ("Sixth pass").
+    # tried on the tuning stream with an earlier feedback law (no turn cap, a 0.01 rad/s seek;
+    # 3/4/5/8 mm x 1.5/2/2.5/3/5 deg, 180 pushes), 3 mm and 1.5 deg lost the fewest
+    # pushes (docs/residual-and-feedback.md, section 4). The yaw bound is 3 deg: the proxy's
+    # placement yaw (up to 3 deg) plus its plate yaw can need more than 1.5 deg of contact
+    # seek; with the seek and turn cap of today's law 3 deg costs at most 0.02 points of
+    # angle error on sim and none on MuJoCo's tuning pushes.
     # Unbounded, a correction that cannot take effect winds up to tens of mm and degrees.
     offset_limit_linear: float = 0.003
     offset_limit_angular: float = math.radians(3.0)
@@ -243,11 +243,11 @@ LEGACY_VALUES: dict[str, Any] = {
     "policy_gated": True,
     "observe_context": False,
 }
-"""Settings of the keys added by issue 16 as every policy trained before them used them: the
-residual added to v_e, the exact object pose in the observation and the gate, no offset in
-the observation, a decision every step, an unbounded reference offset, and the prongs where
-the approach landed them; and of the keys ``Push-v1`` added: the gate switching the policy,
-no context rows."""
+"""Settings of the keys added after ``Push-v0``'s first policies, as every policy trained
+before them used them: the residual added to v_e, the exact object pose in the observation
+and the gate, no offset in the observation, a decision every step, an unbounded reference
+offset, and the prongs where the approach landed them; and of the keys ``Push-v1`` added:
+the gate switching the policy, no context rows."""
 
 PUSH_V1: dict[str, Any] = {
     "base_law": "feedback",

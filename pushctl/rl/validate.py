@@ -157,8 +157,8 @@ class ValidationScore:
     @property
     def beats_pd(self) -> bool:
         """``force_and_translation``: lower force error *and* lower translation error than
-        PD-only, what issue 5 asked of the trained controller (a lower sum alone could trade
-        one for the other); ``tracking``: lower translation and angle error."""
+        PD-only, what the trained controller is required to achieve (a lower sum alone could
+        trade one for the other); ``tracking``: lower translation and angle error."""
         if self.rule in ("tracking", "paired"):
             return self.translation_ratio < 1.0 and self.angle_ratio < 1.0
         return self.force_ratio < 1.0 and self.translation_ratio < 1.0

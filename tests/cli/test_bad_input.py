@@ -36,7 +36,7 @@ GAINS = "[pd]\nkp = {kp}\nkv = {kv}\nkx_linear = 10.0\nkx_angular = 10.0\n"
 GAINS += "ik_damping = 0.001\nposture_gain = 1.0\n"
 GOAL = ["--goal", "0.62,0.03,30"]
 EVAL = ["evaluate", "--object", "cube", "--profile", "chirp", "--trials", "1", "--plant", "sim"]
-SIM = ["simulate", "--duration", "1", "--seed", "1"]
+SIM = ["simulate", "--duration", "1", "--scenario", "1"]
 
 # (id, arguments with {tmp} for the test's directory, files to write there first)
 CASES: list[tuple[str, list[str], dict[str, object]]] = [
@@ -64,8 +64,8 @@ CASES: list[tuple[str, list[str], dict[str, object]]] = [
     ("simulate-unknown-plant", [*SIM, "--plant", "real"], {}),
     ("simulate-duration-zero", ["simulate", "--duration", "0"], {}),
     ("simulate-duration-nan", ["simulate", "--duration", "nan"], {}),
-    ("simulate-seed-negative", [*SIM, "--seed", "-1"], {}),
-    ("simulate-seed-text", [*SIM, "--seed", "one"], {}),
+    ("simulate-scenario-negative", [*SIM, "--scenario", "-1"], {}),
+    ("simulate-scenario-text", [*SIM, "--scenario", "one"], {}),
     ("simulate-mass-huge", [*SIM, "--object-mass", "1e12"], {}),
     ("simulate-mass-tiny", [*SIM, "--object-mass", "1e-9"], {}),
     ("simulate-mass-zero", [*SIM, "--object-mass", "0"], {}),

@@ -14,6 +14,7 @@ from typer.testing import CliRunner
 
 from pushctl.cli import app
 from pushctl.cli.report_steps import write_chain
+from pushctl.errors import WriteError
 
 runner = CliRunner()
 OUTPUTS = (
@@ -161,7 +162,7 @@ def test_a_failed_write_renames_no_file(tmp_path):
 
         write_atomic(second, write)
 
-    with pytest.raises(OSError):
+    with pytest.raises(WriteError):
         write_chain([write_first, fail])
     assert first.read_text() == "old"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a.txt"]

@@ -1,4 +1,4 @@
-"""Issue 15 item 4: the same `pushctl train` command and seed write the same bytes.
+"""The same `pushctl train` command and seed write the same bytes.
 
 Two runs of a shortened `paper` preset (its collectors, learner, checkpoints and validation,
 with a short warm-up so that learning updates run) in fresh processes, each into a run

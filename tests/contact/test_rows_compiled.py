@@ -12,7 +12,7 @@ from pushctl.objects import make_object
 
 
 def _reference(polygon, pose, prongs, margin):
-    """prong_contacts as it was written in Python on ConvexPolygon.query (before issue 15)."""
+    """prong_contacts as it was written in Python on ConvexPolygon.query (uncompiled)."""
     x0, y0, theta = pose.tolist()
     c, s = math.cos(theta), math.sin(theta)
     index, geometry, gaps = [], [], []

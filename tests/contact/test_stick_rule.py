@@ -78,7 +78,7 @@ def _zero_residual_push_counts(monkeypatch, fraction: float) -> tuple[int, int, 
 
 
 def test_the_rule_halves_a_zero_residual_push_s_solves_as_measured(monkeypatch) -> None:
-    """The counts the tenth pass measured on the branch the rule was first made on
+    """The counts measured on the branch the rule was first made on
     (docs/reproducibility-and-speed.md), which did not survive: this rebuild is that rule."""
     assert _zero_residual_push_counts(monkeypatch, 0.0) == (6139, 3499, 581)
     assert _zero_residual_push_counts(monkeypatch, STICK_FRACTION) == (3049, 409, 36)

@@ -49,10 +49,9 @@ def test_the_integral_is_frozen_while_a_prong_carries_under_50_mN() -> None:
 
 def test_the_proxys_force_noise_on_an_unloaded_prong_leaves_the_seek_at_full_rate() -> None:
     """The proxy's force estimate (σ = 20 mN at no load) on a prong that carries nothing:
-    at the 50 mN threshold the seek ramps up and turns at its full rate; at the first five
-    passes' 10 mN the prong reads loaded on about a third of the steps, each restarting the
-    ramp, and the seek turns at a tenth of its rate (docs/residual-and-feedback.md,
-    "Sixth pass")."""
+    at the 50 mN threshold the seek ramps up and turns at its full rate; at a 10 mN threshold
+    the prong reads loaded on about a third of the steps, each restarting the ramp, and the
+    seek turns at a tenth of its rate (docs/residual-and-feedback.md §4)."""
     from pushctl.episode.proxy import ProxyEffects
 
     effects = ProxyEffects()

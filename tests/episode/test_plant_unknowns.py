@@ -114,12 +114,11 @@ def test_a_ranges_file_without_unknowns_has_none_and_a_bad_key_is_named(tmp_path
 
 # sha256 (first 16 hex digits) of the object pose, contact forces, joint angles and desired
 # forces of these 2 s pushes, computed by the code before plant unknowns existed on the same
-# scenarios: a plant with every range zero must give the same bits. (First recorded at
-# 551bcac; recorded again at the h15s branch, whose deterministic cold MLCP path picks
-# another valid solution of some non-unique problems; again when ProxQP came from its
-# portable build, pushctl.proxqp_build; and again when the step's kernels left BLAS and
-# LAPACK for loops, pushctl.contact.small_algebra.) Until then OpenBLAS's kernels, which
-# it picks by CPU, rounded the step's sums differently on a machine with AVX-512 and on one
+# scenarios: a plant with every range zero must give the same bits. (Recorded with the
+# deterministic cold MLCP path, which picks one valid solution of some non-unique problems;
+# ProxQP from its portable build, pushctl.proxqp_build; and the step's kernels as loops,
+# pushctl.contact.small_algebra, not BLAS and LAPACK.) Through BLAS, OpenBLAS's kernels,
+# which it picks by CPU, rounded the step's sums differently on a machine with AVX-512 and on one
 # with its Haswell kernels (an AMD EPYC): pushctl kept a set for each. Recorded on the AMD
 # EPYC only: whether the AVX-512 machine still differs (the PD law and numpy in the
 # planner and the IK still reach OpenBLAS) is not known, and it is held to the same set.

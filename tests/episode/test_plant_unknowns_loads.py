@@ -1,6 +1,6 @@
 """Plant unknowns that change the forces, not the motion (docs/design.md §6): the centre of
 pressure of the support loads (c) and ground friction varying over the table (d), and the
-two force errors they separate (issue 16 item 4)."""
+two force errors they separate."""
 
 from __future__ import annotations
 
