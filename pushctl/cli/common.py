@@ -10,7 +10,7 @@ from typing import NoReturn
 
 import typer
 from rich.console import Console
-from typer.core import TyperCommand
+from typer.core import TyperCommand, TyperGroup
 
 from pushctl.errors import ConfigError, PushctlError
 
@@ -32,16 +32,24 @@ physical option: rich reads brackets in help text as markup, so they go here."""
 RENAMED_HELP = "renamed; still accepted"
 
 
-class Command(TyperCommand):
-    """Every ``pushctl`` command's class: in ``--help`` a flag (an option that takes no
-    value, ``--force``) shows no value placeholder, as it takes none."""
+class _FlagsShowNoValue:
+    """In ``--help`` a flag (an option that takes no value, ``--force``) shows no value
+    placeholder, as it takes none."""
 
     def get_params(self, ctx):  # noqa: ANN001, ANN201 (click's signature)
-        params = super().get_params(ctx)
+        params = super().get_params(ctx)  # type: ignore[misc]
         for param in params:
             if getattr(param, "is_flag", False):
                 param.metavar = ""
         return params
+
+
+class Command(_FlagsShowNoValue, TyperCommand):
+    """Every ``pushctl`` command's class."""
+
+
+class Group(_FlagsShowNoValue, TyperGroup):
+    """A command group's class (``pushctl realdata``)."""
 
 
 def renamed_option(old: str) -> typer.models.OptionInfo:

@@ -8,22 +8,22 @@ from typing import Annotated
 
 import typer
 
-from pushctl.cli.common import FORCE_HELP, console, fail, fail_write, invocation
+from pushctl.cli.common import FORCE_HELP, Command, Group, console, fail, fail_write, invocation
 from pushctl.errors import ConfigError, PushctlError
 from pushctl.output_guard import refuse_existing_files, refuse_occupied_dir
 
-app = typer.Typer(no_args_is_help=True, help="Recorded pushes: fit, score, replay logs.")
+app = typer.Typer(cls=Group, no_args_is_help=True, help="Recorded pushes: fit, score, replay logs.")
 
 DATA_HELP = "directory holding mit/pushes.csv, mit/shapes.csv (and two_finger_logs/)"
 WORKERS_HELP = "worker processes for the replay (results do not depend on it)"
 
 
-@app.command()
+@app.command(cls=Command)
 def fit(
     ctx: typer.Context,
     data: Annotated[Path, typer.Option(help=DATA_HELP)],
     out: Annotated[Path, typer.Option(help="the fit, a .toml file")],
-    seed: Annotated[int, typer.Option(help="seed of the calibration split")] = 0,
+    split_seed: Annotated[int, typer.Option(help="seed of the calibration split")] = 0,
     exclude_shape: Annotated[
         list[str], typer.Option(help="leave this shape out of the fit (repeatable)")
     ] = [],  # noqa: B006 (Typer reads the default)
@@ -47,14 +47,14 @@ def fit(
         _check_workers(workers)
         settings = ReplaySettings(friction_model=friction_model)
         header = [provenance_line(_invocation(ctx))]
-        text = run_fit(data, seed, exclude_shape, settings, header, workers,
+        text = run_fit(data, split_seed, exclude_shape, settings, header, workers,
                        progress=lambda line: console.print(line, highlight=False))  # fmt: skip
     except PushctlError as error:
         fail(error)
     _write_text(out, text)
 
 
-@app.command()
+@app.command(cls=Command)
 def score(
     ctx: typer.Context,
     data: Annotated[Path, typer.Option(help=DATA_HELP)],
@@ -99,7 +99,7 @@ def score(
                   f"scored on the {split_name}; wrote {out}")  # fmt: skip
 
 
-@app.command()
+@app.command(cls=Command)
 def logs(
     ctx: typer.Context,
     data: Annotated[Path, typer.Option(help=DATA_HELP)],

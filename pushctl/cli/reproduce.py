@@ -17,22 +17,24 @@ from typing import Annotated
 
 import typer
 
-from pushctl.cli.common import console, error_console, fail
+from pushctl.cli.common import Command, console, error_console, fail
 from pushctl.errors import ConfigError
 
 app = typer.Typer()
 
 
-@app.command("reproduce")
+@app.command("reproduce", cls=Command)
 def reproduce_command(
     quick: Annotated[
         bool, typer.Option("--quick", help="quick preset, 4 trials, into results-quick/")
     ] = False,
     seeds: Annotated[
-        str | None, typer.Option(help="training seeds, e.g. 0,1,2 or 0-2 or 0; default 0,1,2")
+        str | None,
+        typer.Option(help="training seeds, e.g. 0,1,2 or 0-2 or 0", show_default="0,1,2"),
     ] = None,
     preset: Annotated[
-        str | None, typer.Option(help="training preset; default paper (quick with --quick)")
+        str | None,
+        typer.Option(help="training preset", show_default="paper; quick with --quick"),
     ] = None,
     force: Annotated[
         bool, typer.Option("--force", help="overwrite a results directory it did not make")

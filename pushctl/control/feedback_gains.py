@@ -24,7 +24,7 @@ DEFAULT_FEEDBACK_FILE = Path(__file__).resolve().parents[2] / "experiments" / "f
 """The tuned steady gains (``pushctl tune-feedback`` writes them)."""
 
 CATCHUP_FEEDBACK_FILE = DEFAULT_FEEDBACK_FILE.with_name("feedback_gains_catchup.toml")
-"""The law with its catch-up phase (``python -m pushctl.evaluation.catchup_search`` searched it)."""
+"""The law with its catch-up phase (``python -m studies.catchup_search`` searched it)."""
 
 _NON_NEGATIVE = (
     "k",

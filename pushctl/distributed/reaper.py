@@ -29,13 +29,21 @@ GRACE = 0.5
 """Seconds a noted process has to end after ``SIGTERM`` before it is sent ``SIGKILL``."""
 
 
+_BOOTSTRAP = (
+    "import sys; path = sys.argv[1]; "
+    "exec(compile(open(path).read(), path, 'exec')); _main(int(sys.argv[2]))"
+)
+"""Run this file's code in a bare interpreter and watch the pid given after it (the package's
+one command line is Typer's, so this file has no ``__main__`` block of its own)."""
+
+
 def watch() -> subprocess.Popen | None:
     """Start the watcher of this process; keep the returned handle for the process's life
     (its pipe is what the watcher waits on) and :func:`stop` it after ``ray.shutdown()``."""
     if not Path("/proc/self/stat").is_file():
         return None
     return subprocess.Popen(
-        [sys.executable, "-I", "-S", __file__, str(os.getpid())],
+        [sys.executable, "-I", "-S", "-c", _BOOTSTRAP, __file__, str(os.getpid())],
         stdin=subprocess.PIPE,
         stdout=subprocess.DEVNULL,
         stderr=subprocess.DEVNULL,
@@ -113,7 +121,3 @@ def _main(command: int) -> None:
         if readable and not sys.stdin.buffer.read1(1024):
             break  # the command closed the pipe or died
     _end(_alive(noted))
-
-
-if __name__ == "__main__":
-    _main(int(sys.argv[1]))

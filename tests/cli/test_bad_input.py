@@ -222,7 +222,6 @@ CASES: list[tuple[str, list[str], dict[str, object]]] = [
             ("trials-word", lambda root: _edit(root / "evaluation" / "trials.csv", ",0.001,",
                                                ",lots,")),
             ("steps-missing", lambda root: (root / "evaluation" / "steps.csv").unlink()),
-            ("curve-missing", lambda root: (root / "training" / "curve.csv").unlink()),
             ("curve-text", lambda root: (root / "training" / "curve.csv").write_text("a\n")),
         ]
     ],  # fmt: skip
@@ -349,7 +348,7 @@ FEEDBACK_CASES = {
 def test_a_bad_feedback_gains_file_is_one_line_naming_it(text, tmp_path, monkeypatch) -> None:
     path = tmp_path / "feedback_gains.toml"
     path.write_text(text)
-    monkeypatch.setattr("pushctl.control.feedback.DEFAULT_FEEDBACK_FILE", path)
+    monkeypatch.setattr("pushctl.control.feedback_gains.DEFAULT_FEEDBACK_FILE", path)
     monkeypatch.chdir(tmp_path)
     result = runner.invoke(app, [*SIM, "--controller", "feedback"])
     assert result.exit_code == 2, (result.output, result.exception)

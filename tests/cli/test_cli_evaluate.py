@@ -95,7 +95,7 @@ def test_pd_only_needs_no_policy_and_the_seed_moves_the_targets(tmp_path: Path) 
         (["--workers", "9"], "--workers must be an integer in 1 … 8"),
         (["--scenario-block", "-1"], "--scenario-block must be an integer >= 0"),
         (["--policy", "MISSING"], "no policy file"),
-        (["--policy", "CORRUPT"], "corrupt or not a policy"),
+        (["--policy", "CORRUPT"], "is not a policy file or is cut short"),
         (["--policy", "SMALL"], "incompatible: its actor takes 14 observations"),
         (["--out", "FILE"], "is a file; give a directory"),
         (["--out", "UNDER_FILE"], "is a file, not a directory"),

@@ -175,10 +175,14 @@ def test_the_docs_name_every_output_and_table_column():
     section = page.split("## Tables and figures: `pushctl report`")[1].split("\n## ")[0]
     for name in OUTPUTS:
         assert f"`{name}`" in section
-    # the tables' columns, the feedback controller's included: its docs page
-    docs = (Path(__file__).resolve().parents[2] / "docs" / "residual-and-feedback.md").read_text()
-    assert ", ".join(["object", "profile", *TABLE3_COLUMNS]) in docs
-    assert "`force_error_{pd,feedback,rl}_{sim,proxy}`" in docs
+    # the tables' columns, the feedback controller's included: the results-files reference
+    docs = Path(__file__).resolve().parents[2] / "docs" / "reference" / "results-files.md"
+    text = docs.read_text()
+    for column in TABLE3_COLUMNS:
+        stem, _, controller = column.rpartition("_")
+        assert f"`{stem}_{{pd,feedback,rl}}`" in text and controller in "pd,feedback,rl"
+    for pattern in ("`force_error_*`", "`{pd,feedback,rl}_{sim,proxy}`", "`_ci95`", "`_seed_sd`"):
+        assert pattern in text
 
 
 def test_the_proxy_table_and_the_behaviour_table_hold_their_plants_means(report_run):

@@ -13,7 +13,14 @@ from pushctl.cli import app
 from pushctl.cli.common import POSE
 
 runner = CliRunner()
-COMMANDS = typer.main.get_command(app).commands  # type: ignore[attr-defined]
+TOP = typer.main.get_command(app).commands  # type: ignore[attr-defined]
+COMMANDS = dict(TOP) | {
+    f"{name} {sub}": command
+    for name, group in TOP.items()
+    if hasattr(group, "commands")
+    for sub, command in group.commands.items()
+}
+"""Every command, a group's commands under ``group sub`` as well."""
 UNITS = {"--goal": POSE, "--start": POSE, "--object-mass": "[kg]", "--duration": "[s]"}
 """Options whose placeholder must be this unit; every other number with a fraction
 (``float``) must show some bracketed unit too."""
@@ -24,7 +31,9 @@ def _options(name: str):
 
 
 def _help(name: str) -> str:
-    result = runner.invoke(app, [name, "--help"], env={"COLUMNS": "200"}, terminal_width=200)
+    result = runner.invoke(
+        app, [*name.split(), "--help"], env={"COLUMNS": "200"}, terminal_width=200
+    )
     assert result.exit_code == 0, result.output
     return result.output
 

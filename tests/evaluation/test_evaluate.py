@@ -203,7 +203,7 @@ def test_bad_policies_and_workers_are_refused(tmp_path: Path) -> None:
     with pytest.raises(ConfigError, match="no policy file"):
         load_evaluation_policy(tmp_path / "none.pt")
     (tmp_path / "bad.pt").write_bytes(b"garbage")
-    with pytest.raises(ConfigError, match="corrupt"):
+    with pytest.raises(ConfigError, match="not a policy file or is cut short"):
         load_evaluation_policy(tmp_path / "bad.pt")
     with pytest.raises(ConfigError, match="incompatible: its actor takes 14 observations"):
         load_evaluation_policy(policy_file(tmp_path, 0.0, n_obs=14))

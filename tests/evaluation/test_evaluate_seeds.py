@@ -145,7 +145,7 @@ def test_the_cli_takes_repeated_policies_and_any_workers_write_the_same_bytes(
     trials = pd.read_csv(tmp_path / "one" / "trials.csv", comment="#")
     assert sorted(trials["policy_seed"].dropna().astype(int).unique()) == [3, 7]
     made_by = (tmp_path / "one" / "trials.csv").read_text().splitlines()[0]
-    assert f"--policy {policies[0]} --policy {policies[1]} --seed 0" in made_by
+    assert f"--policy {policies[0]} --policy {policies[1]} --scenario-block 0" in made_by
     assert f"policy {policies[0]}, made by: a test run; seed 7" in made_by
     assert f"policy {policies[1]}, made by: a test run; seed 3" in made_by
     twice = _evaluate(

@@ -1,4 +1,4 @@
-"""The catch-up law's search (pushctl.evaluation.catchup_search) without pushing: its
+"""The catch-up law's search (studies.catchup_search) without pushing: its
 candidates, the refinement's neighbours, the summary's ratios on a synthetic rows file, and
 the gains file it writes."""
 
@@ -11,7 +11,7 @@ import pandas as pd
 import pytest
 
 from pushctl.control.feedback import load_feedback_gains
-from pushctl.evaluation import catchup_search as search
+from studies import catchup_search as search
 
 
 def test_the_candidates_are_fixed_named_and_keep_the_steady_law_after_the_phase() -> None:
@@ -74,7 +74,7 @@ def test_a_failed_push_makes_the_objective_infinite(tmp_path: Path) -> None:
 
 def test_the_written_file_loads_as_the_candidates_gains(tmp_path: Path) -> None:
     found = search.summary([_rows(tmp_path)])
-    text = search.catchup_toml("hand", found, "python -m pushctl.evaluation.catchup_search")
+    text = search.catchup_toml("hand", found, "python -m studies.catchup_search")
     path = tmp_path / "catchup.toml"
     path.write_text(text)
     assert load_feedback_gains(path) == search.candidates()["hand"]

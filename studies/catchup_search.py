@@ -28,10 +28,10 @@ push); a run skips the rows its file already holds, so a killed run resumes. The
 ranks the candidates on the coarse pushes only (i < 10), so a resumed run ranks them alike.
 Run (the coarse stage on both plants before the fine stage on either)::
 
-    python -m pushctl.evaluation.catchup_search run sim coarse
-    python -m pushctl.evaluation.catchup_search run sim fine
-    python -m pushctl.evaluation.catchup_search refine sim
-    python -m pushctl.evaluation.catchup_search summary [PER_CASE]
+    python -m studies.catchup_search run sim coarse
+    python -m studies.catchup_search run sim fine
+    python -m studies.catchup_search refine sim
+    python -m studies.catchup_search summary [PER_CASE]
 """
 
 from __future__ import annotations
@@ -282,7 +282,7 @@ def catchup_toml(name: str, found: dict[str, dict[str, float]], command: str) ->
     entry = found.get(name, {})
     record: dict[str, object] = {
         "procedure": "seeded random search, coarse, fine, then one-at-a-time refinement "
-        "(pushctl.evaluation.catchup_search)",
+        "(studies.catchup_search)",
         "objective": "mean over the pushes of both plants of translation error % + angle error %",
         "stream": "tuning",
         "plants": ["sim", "proxy"],
@@ -333,7 +333,7 @@ def main(argv: list[str]) -> None:
     if argv[0] == "write":
         per_case = int(argv[2]) if len(argv) > 2 else PER_CASE
         found = summary([RUNS / "sim.csv", RUNS / "proxy.csv"], per_case)
-        command = "python -m pushctl.evaluation.catchup_search " + " ".join(argv)
+        command = "python -m studies.catchup_search " + " ".join(argv)
         text = catchup_toml(argv[1], found, command)
         write_atomic(CATCHUP_FEEDBACK_FILE, lambda tmp: Path(tmp).write_text(text))
         return
