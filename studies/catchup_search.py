@@ -1,4 +1,4 @@
-"""The search of the ``feedback`` law's catch-up phase (experiments/feedback_gains_catchup.toml)
+"""The search of the ``feedback`` law's catch-up phase (experiments/feedback_gains.toml)
 on the tuning stream, over the ``sim`` and ``proxy`` plants together.
 
 The space (:data:`SPACE`), around the steady gains of ``experiments/feedback_gains.toml``:
@@ -48,7 +48,8 @@ from pathlib import Path
 import numpy as np
 
 from pushctl.control.feedback_gains import (
-    CATCHUP_FEEDBACK_FILE,
+    DEFAULT_FEEDBACK_FILE,
+    STEADY_FEEDBACK_FILE,
     FeedbackGains,
     feedback_table,
     load_feedback_gains,
@@ -150,7 +151,7 @@ def neighbours(centre: Point) -> dict[str, Point]:
 
 def candidates(steady: FeedbackGains | None = None) -> dict[str, FeedbackGains]:
     """The coarse stage's candidates: ``steady`` and :func:`points`, in a fixed order."""
-    steady = steady or load_feedback_gains()
+    steady = steady or load_feedback_gains(STEADY_FEEDBACK_FILE)
     return {"steady": steady} | {n: point_gains(steady, p) for n, p in points().items()}
 
 
@@ -184,7 +185,7 @@ def refine_centre() -> Point:
 def all_candidates() -> dict[str, FeedbackGains]:
     """Every candidate the stages may push: the coarse stage's, every point the rows name,
     and the neighbours of :func:`refine_centre` once the fine stage is done."""
-    steady = load_feedback_gains()
+    steady = load_feedback_gains(STEADY_FEEDBACK_FILE)
     pool = candidates(steady)
     try:
         found = summary([RUNS / "sim.csv", RUNS / "proxy.csv"], PER_CASE)
@@ -275,7 +276,7 @@ def summary(paths: list[Path], per_case: int = PER_CASE) -> dict[str, dict[str, 
 
 
 def catchup_toml(name: str, found: dict[str, dict[str, float]], command: str) -> str:
-    """The text of experiments/feedback_gains_catchup.toml: candidate ``name``'s gains and a
+    """The text of experiments/feedback_gains.toml: candidate ``name``'s gains and a
     ``[search]`` record of ``found`` (:func:`summary`): its figures and every candidate's
     objective beside the steady law's."""
     gains = all_candidates()[name]
@@ -335,7 +336,7 @@ def main(argv: list[str]) -> None:
         found = summary([RUNS / "sim.csv", RUNS / "proxy.csv"], per_case)
         command = "python -m studies.catchup_search " + " ".join(argv)
         text = catchup_toml(argv[1], found, command)
-        write_atomic(CATCHUP_FEEDBACK_FILE, lambda tmp: Path(tmp).write_text(text))
+        write_atomic(DEFAULT_FEEDBACK_FILE, lambda tmp: Path(tmp).write_text(text))
         return
     if argv[0] == "run":
         plant, stage = argv[1], argv[2]

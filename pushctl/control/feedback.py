@@ -83,14 +83,14 @@ from collections.abc import Sequence
 import numpy as np
 
 from pushctl.control.feedback_gains import (
-    CATCHUP_FEEDBACK_FILE,
     DEFAULT_FEEDBACK_FILE,
+    STEADY_FEEDBACK_FILE,
     FeedbackGains,
     load_feedback_gains,
 )
 
 __all__ = [
-    "CATCHUP_FEEDBACK_FILE",
+    "STEADY_FEEDBACK_FILE",
     "DEFAULT_FEEDBACK_FILE",
     "FeedbackGains",
     "FeedbackLaw",

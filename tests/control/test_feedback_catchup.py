@@ -11,8 +11,7 @@ import numpy as np
 import pytest
 
 from pushctl.control.feedback import (
-    CATCHUP_FEEDBACK_FILE,
-    DEFAULT_FEEDBACK_FILE,
+    STEADY_FEEDBACK_FILE,
     FeedbackGains,
     FeedbackLaw,
     load_feedback_gains,
@@ -100,12 +99,11 @@ def test_a_bad_catch_up_setting_is_a_config_error() -> None:
 
 
 def test_the_named_gains_files() -> None:
-    """feedback_gains_v1.toml is the steady law (the default file's today); the catch-up
-    file has a phase, a guard above contact, and its own gate."""
-    v1 = load_feedback_gains(DEFAULT_FEEDBACK_FILE.with_name("feedback_gains_v1.toml"))
-    assert v1 == load_feedback_gains()
+    """feedback_gains_v1.toml is the steady law; the default file has a catch-up phase, a
+    guard above contact, and its own gate."""
+    v1 = load_feedback_gains(STEADY_FEEDBACK_FILE)
     assert v1.catchup_time == 0.0 and not v1.owns_gate
-    catchup = load_feedback_gains(CATCHUP_FEEDBACK_FILE)
+    catchup = load_feedback_gains()
     assert catchup.catchup_time > 0.0 and catchup.owns_gate
     assert catchup.catchup_force > catchup.contact_force
     assert (catchup.k, catchup.k_i) == (v1.k, v1.k_i)  # the steady law after the phase
