@@ -2,12 +2,16 @@
 
 Every CSV the tool writes starts with one comment line, ``# made by: <command>; pushctl
 <version>; commit <git describe>; …``. It holds no clock time, so one command with one seed
-writes byte-identical files. Read such files with ``pandas.read_csv(path, comment="#")``.
+writes byte-identical files. Its last line, ``# sha256: <hex>``, is the SHA-256 of every byte
+before it: :func:`check_csv_digest` refuses a file edited or cut short after it was written.
+Read such files with ``pandas.read_csv(path, comment="#")``.
 """
 
 from __future__ import annotations
 
 import errno
+import gzip
+import hashlib
 import os
 import shutil
 import subprocess
@@ -157,10 +161,29 @@ def write_csv(
     if it fails, ``path`` is left as it was)."""
 
     def write(tmp: Path) -> None:
-        with tmp.open("w", newline="") as handle:
-            handle.write(provenance + "\n")
-            frame.to_csv(handle, index=False, float_format=float_format, lineterminator="\n")
+        body = frame.to_csv(index=False, float_format=float_format, lineterminator="\n")
+        data = (provenance + "\n" + body).encode()
+        tmp.write_bytes(data + f"{DIGEST_PREFIX}{hashlib.sha256(data).hexdigest()}\n".encode())
         if before_rename is not None:
             before_rename()
 
     write_atomic(path, write)
+
+
+DIGEST_PREFIX = "# sha256: "
+"""The start of a CSV's last line: the SHA-256 (hex) of every byte before that line."""
+
+
+def check_csv_digest(path: Path) -> str | None:
+    """Why ``path`` (a CSV, gzip-compressed if its name ends in ``.gz``) does not match the
+    digest on its last line, or None if it does or has none (a file written by hand or by an
+    older pushctl); OSError if it cannot be read."""
+    data = gzip.decompress(path.read_bytes()) if path.suffix == ".gz" else path.read_bytes()
+    start = data.rfind(b"\n", 0, len(data) - 1) + 1
+    last = data[start:]
+    if not last.startswith(DIGEST_PREFIX.encode()):
+        return None
+    recorded = last[len(DIGEST_PREFIX) :].strip().decode("ascii", "replace")
+    if hashlib.sha256(data[:start]).hexdigest() != recorded:
+        return "its rows do not match the digest on its last line (edited or damaged)"
+    return None

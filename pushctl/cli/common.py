@@ -5,6 +5,7 @@ and output paths. Light on purpose: ``pushctl --help`` imports it and nothing of
 from __future__ import annotations
 
 import math
+import sys
 from pathlib import Path
 from typing import NoReturn
 
@@ -101,6 +102,20 @@ def handle_termination() -> None:
 
     if threading.current_thread() is threading.main_thread():
         signal.signal(signal.SIGTERM, _terminate)
+        sys.unraisablehook = _raise_again_where_it_counts
+
+
+def _raise_again_where_it_counts(unraisable) -> None:  # noqa: ANN001 (sys.UnraisableHookArgs)
+    """A SIGTERM whose :class:`Terminated` was raised inside a callback Python cannot stop
+    (a weakref callback during an import) would only be printed as "Exception ignored":
+    send it again, so that it stops the command at its next step instead."""
+    import os
+    import signal
+
+    if isinstance(unraisable.exc_value, Terminated):
+        os.kill(os.getpid(), signal.SIGTERM)
+        return
+    sys.__unraisablehook__(unraisable)
 
 
 STOPPED = {"terminated": False, "said": False}

@@ -27,6 +27,7 @@ import pandas as pd
 from pushctl.config import PLANT_KINDS
 from pushctl.errors import ConfigError
 from pushctl.evaluation.columns import STEP_COLUMNS
+from pushctl.provenance import check_csv_digest
 from pushctl.report.completeness import check_complete
 
 TRIALS = Path("evaluation") / "trials.csv"
@@ -167,9 +168,12 @@ def read_results_csv(path: Path, spec: CsvSpec) -> ResultsTable:
     try:
         with _open_text(path) as handle:
             first = handle.readline().strip()
+        damage = check_csv_digest(path)
+        if damage is not None:
+            raise ResultsFileError(f"{path}: {damage}; expected the {spec.what}")
         _check_row_lengths(path)
         raw = pd.read_csv(path, comment="#", dtype=str, keep_default_na=False, index_col=False)
-    except (UnicodeDecodeError, gzip.BadGzipFile):
+    except (UnicodeDecodeError, gzip.BadGzipFile, EOFError):
         raise ResultsFileError(f"{path}: not a text file; expected the {spec.what}") from None
     except pd.errors.EmptyDataError:
         raise ResultsFileError(

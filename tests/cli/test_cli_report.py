@@ -218,8 +218,8 @@ def test_a_gzipped_steps_file_is_read_as_the_plain_one(report_run, tmp_path):
     result = runner.invoke(app, ["report", "--in", str(packed), "--out", str(tmp_path / "o")])
     assert result.exit_code == 0, result.output
     for name in ("table3.csv", "table4.csv"):
-        ours = (tmp_path / "o" / name).read_text().splitlines()[1:]
-        assert ours == (out / name).read_text().splitlines()[1:]
+        ours = (tmp_path / "o" / name).read_text().splitlines()[1:-1]  # made-by, digest differ
+        assert ours == (out / name).read_text().splitlines()[1:-1]
 
 
 @pytest.mark.parametrize("layout", ["results-without-training", "evaluation-directory"])

@@ -43,7 +43,8 @@ def tiny(write_tiny_preset) -> str:
 
 def _body(path: Path) -> str:
     """A CSV without its provenance line (which names the command)."""
-    return path.read_text().split("\n", 1)[1]
+    lines = path.read_text().splitlines(True)
+    return "".join(line for line in lines if line.strip() and not line.startswith("#"))
 
 
 def _actor(run: Path) -> dict[str, torch.Tensor]:

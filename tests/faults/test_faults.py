@@ -76,7 +76,8 @@ def results(out: Path) -> dict[str, object]:
     """What must not differ between an interrupted-and-resumed run and an uninterrupted one."""
     found: dict[str, object] = {}
     for name in (CURVE, VALIDATION):
-        found[name] = (out / name).read_text().split("\n", 1)[1]  # rows, not provenance
+        text = (out / name).read_text()  # rows, not the provenance and digest lines
+        found[name] = "".join(r for r in text.splitlines(True) if r.strip() and r[0] != "#")
     for name in (POLICY, LAST_POLICY):
         state = load_checked(out / name, "policy file")
         found[name] = content_digest({"actor": state["actor"], "env": state["env"]})
@@ -285,6 +286,46 @@ def test_a_trials_file_cut_at_a_line_boundary_is_refused(tmp_path):
     trials.write_text("".join(lines[: len(lines) - 5]))
     result = runner.invoke(app, ["report", "--in", str(root), "--out", str(tmp_path / "out")])
     one_error_line(result, str(trials), "cut short")
+    assert not (tmp_path / "out").exists() or not list((tmp_path / "out").iterdir())
+
+
+@pytest.mark.parametrize("damage", ["edited-value", "line-dropped", "gzipped-edit"])
+def test_a_results_file_that_does_not_match_its_digest_is_refused(tmp_path, damage):
+    """A CSV pushctl wrote ends in the SHA-256 of its bytes: one edited value, a dropped
+    row (the cells stay complete) or an edit inside the gzipped steps is refused in one line;
+    the untouched file reports."""
+    import gzip
+
+    import pandas as pd
+    from synthetic_results import write_results
+
+    from pushctl.provenance import write_csv
+
+    root = write_results(tmp_path / "results")
+    trials = root / "evaluation" / "trials.csv"
+    write_csv(trials, pd.read_csv(trials, comment="#"), "# made by: a test")
+    steps = root / "evaluation" / "steps.csv"
+    write_csv(steps, pd.read_csv(steps, comment="#"), "# made by: a test")
+    ok = runner.invoke(app, ["report", "--in", str(root), "--out", str(tmp_path / "ok")])
+    assert ok.exit_code == 0, ok.output
+    target = trials
+    lines = trials.read_text().splitlines(keepends=True)
+    if damage == "edited-value":  # one digit of row 3's last field
+        head, _, last = lines[3].rpartition(",")
+        lines[3] = (
+            f"{head},{last.replace(last.strip()[-1], '7' if last.strip()[-1] != '7' else '3')}"
+        )
+        trials.write_text("".join(lines))
+    elif damage == "line-dropped":
+        trials.write_text("".join([*lines[:-3], *lines[-2:]]))
+    else:
+        text = steps.read_text().splitlines(keepends=True)
+        text[2] = text[2].replace("0", "5", 1) if "0" in text[2] else text[2].replace("1", "2", 1)
+        target = steps.with_name("steps.csv.gz")
+        target.write_bytes(gzip.compress("".join(text).encode()))
+        steps.unlink()
+    result = runner.invoke(app, ["report", "--in", str(root), "--out", str(tmp_path / "out")])
+    one_error_line(result, str(target), "digest")
     assert not (tmp_path / "out").exists() or not list((tmp_path / "out").iterdir())
 
 
