@@ -46,14 +46,14 @@ lint: install
 bench: install
 	$(PY) -m benchmarks.suite --out results/bench.csv --page docs/performance.md --force
 
-# Train (paper preset, seeds $(SEEDS) on Ray), evaluate (50 trials x 2 objects x 3 profiles x
-# every controller x the plants sim, proxy and mujoco), report, bench: `pushctl reproduce`.
+# Train (experiments/train_paper_v1.toml, seeds 0-4 on Ray; about 71 min here), evaluate
+# (50 trials x 2 objects x 3 profiles x every controller x the plants sim, proxy and
+# mujoco), report, bench: `pushctl reproduce`.
 # QUICK=1: quick preset, 4 trials, into results-quick/; SEEDS=0: one training seed;
 # PRESET=quick: another training preset, full evaluation; FORCE=1: overwrite a results
 # directory an earlier reproduction did not make.
-SEEDS ?= 0,1,2
 reproduce-tables: install
-	$(PY) -m pushctl.cli reproduce $(if $(filter 1,$(QUICK)),--quick,) $(if $(filter 1,$(FORCE)),--force,) --seeds $(SEEDS) $(if $(PRESET),--preset $(PRESET),)
+	$(PY) -m pushctl.cli reproduce $(if $(filter 1,$(QUICK)),--quick,) $(if $(filter 1,$(FORCE)),--force,) $(if $(SEEDS),--seeds $(SEEDS),) $(if $(PRESET),--preset $(PRESET),)
 
 # The PD baseline on drawn scenarios (studies/pd_sweep.py): results/pd_sweep_{sim,proxy}.csv.
 pd-sweep: install

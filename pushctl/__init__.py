@@ -6,16 +6,16 @@ The stable Python API (docs/model.md):
 - :func:`solve_box_mlcp` solves one box-friction mixed linear complementarity problem.
 - :func:`reproducible` pins numpy's CPU code so that a seed gives the same bytes on every
   x86-64 machine; call it before anything imports numpy (the ``pushctl`` command does).
-- The gymnasium environment ``pushctl/Push-v0`` (:data:`ENV_ID`)::
+- The gymnasium environment ``pushctl/Push-v1`` (:data:`ENV_ID`)::
 
       import gymnasium as gym
       import pushctl
-      env = gym.make("pushctl/Push-v0")
+      env = gym.make("pushctl/Push-v1")
 
 Importing pushctl changes nothing outside it and loads neither numpy nor the simulator:
 the names above load their modules on first use. It registers the environment with
 gymnasium when gymnasium is already imported (``import pushctl.rl`` registers it in any
-case, and ``gym.make("pushctl:pushctl/Push-v0")`` imports it).
+case, and ``gym.make("pushctl:pushctl/Push-v1")`` imports it).
 """
 
 from __future__ import annotations

@@ -65,7 +65,7 @@ def test_the_readme_python_example_runs() -> None:
 
     block = next(b for b in python_blocks(README) if "gymnasium.make" in b)
     env_id = re.search(r'gymnasium\.make\("([^"]+)"', block)[1]
-    import pushctl  # noqa: F401 - registers the environments
+    import pushctl.rl  # noqa: F401 - registers them here, where pushctl came before gymnasium
 
     registered = {name for name in gymnasium.registry if name.startswith("pushctl/")}
     assert registered, "import pushctl registers no environment"

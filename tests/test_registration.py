@@ -71,14 +71,14 @@ def test_env_id_is_the_newest_version() -> None:
     assert "v1:" in pushctl.rl.__doc__ and "v0:" in pushctl.rl.__doc__  # the version history
 
 
-def test_push_v0_runs_the_shipped_policy() -> None:
-    """The shipped policy acts on ``Push-v0``'s observation as it was trained on it."""
+def test_push_v1_runs_the_shipped_policy() -> None:
+    """The shipped policy acts on ``Push-v1``'s observation, the one it was trained on."""
     import numpy as np
 
     from pushctl.rl.policy import load_policy
 
     shipped = load_policy(SHIPPED_POLICY)
-    env = gymnasium.make("pushctl/Push-v0")
+    env = gymnasium.make("pushctl/Push-v1")
     obs, _ = env.reset(seed=0)
     assert obs.shape == (shipped.actor.actor.obs_dim,)
     action = shipped.actor(obs.astype(np.float64))

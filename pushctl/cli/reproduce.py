@@ -30,11 +30,16 @@ def reproduce_command(
     ] = False,
     seeds: Annotated[
         str | None,
-        typer.Option(help="training seeds, e.g. 0,1,2 or 0-2 or 0", show_default="0,1,2"),
+        typer.Option(
+            help="training seeds, e.g. 0,1,2 or 0-2 or 0", show_default="0-4; 0,1,2 with --quick"
+        ),
     ] = None,
     preset: Annotated[
         str | None,
-        typer.Option(help="training preset", show_default="paper; quick with --quick"),
+        typer.Option(
+            help="training preset",
+            show_default="experiments/train_paper_v1.toml; quick with --quick",
+        ),
     ] = None,
     force: Annotated[
         bool, typer.Option("--force", help="overwrite a results directory it did not make")

@@ -19,7 +19,6 @@ from pushctl.cli.reproduce_plan import (
     MANIFEST,
     QUICK,
     SEED,
-    SEEDS,
     Setup,
     StepRecord,
     run_line,
@@ -38,9 +37,9 @@ BUDGET_MACHINE_MJ_STEP = 10.4
 (2026-11-23) [µs]: the manifest sets this run's own beside it."""
 MJ_STEP_ROW = "world step arm+cube [mujoco mj_step alone]"
 """The bench row (``benchmarks/engines.py``) with MuJoCo's step alone [µs]."""
-TOTAL_BUDGETS = {1: 30 * 60.0, 3: 60 * 60.0}
+TOTAL_BUDGETS = {1: 30 * 60.0, 3: 60 * 60.0, 5: 120 * 60.0}
 """The whole ``make reproduce-tables`` by training seeds [s] (other counts: interpolated):
-60 min with three seeds, 30 min with one."""
+2 h with five seeds, 60 min with three, 30 min with one."""
 
 
 def commands(setup: Setup) -> tuple[str, str]:
@@ -51,7 +50,7 @@ def commands(setup: Setup) -> tuple[str, str]:
     flags = [
         ("QUICK=1", "--quick", quick),
         (f"PRESET={setup.preset}", f"--preset {setup.preset}", setup.preset != default.preset),
-        (f"SEEDS={seeds}", f"--seeds {seeds}", setup.seeds != SEEDS),
+        (f"SEEDS={seeds}", f"--seeds {seeds}", setup.seeds != default.seeds),
         ("FORCE=1", "--force", setup.force),
     ]
     make = " ".join(["make reproduce-tables", *(m for m, _, on in flags if on)])

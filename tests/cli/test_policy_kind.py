@@ -26,9 +26,11 @@ def test_the_shipped_seed_0_policy_is_the_law() -> None:
 
 def test_a_trained_policy_names_the_episode_its_run_kept(tmp_path: Path) -> None:
     shipped = load_policy(SHIPPED / "seed-2" / "policy.pt")
-    assert not is_zero_residual(shipped)
+    state = shipped.actor.state()  # a trained actor: the shipped (zero) one, every weight moved
+    state["actor"] = {name: tensor + 0.01 for name, tensor in state["actor"].items()}
     path = tmp_path / "policy.pt"
-    write_policy(path, shipped.actor.state(), shipped.env, shipped.made_by)
+    write_policy(path, state, shipped.env, shipped.made_by)
+    assert not is_zero_residual(load_policy(path))
     rows = {"episode": [0, 250, 500], "updates": [0, 8880, 23880], "score": [1.0, 0.9, 0.95]}
     frame = pd.DataFrame({**rows, "kept": [True, True, False]})
     frame.to_csv(tmp_path / "validation.csv", index=False)

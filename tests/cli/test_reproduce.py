@@ -34,12 +34,13 @@ def test_the_full_setup_is_the_paper_s_protocol(
     assert list(commands) == ["train", "evaluate", "report", "bench"]
     assert commands["bench"][1:4] == ["-m", "benchmarks.suite", "--profile"]
     train = commands["train"]
-    assert train[3:] == ["train", "--preset", "paper", "--seeds", "0,1,2", "--out", "runs/paper"]
+    preset, run = "experiments/train_paper_v1.toml", "runs/train_paper_v1"
+    assert train[3:] == ["train", "--preset", preset, "--seeds", "0,1,2,3,4", "--out", run]
     evaluate = " ".join(commands["evaluate"])
     assert "--trials 50 --workers 2 --plant all" in evaluate
     # every seed's policy in one evaluation (docs/several-seeds.md)
-    every = " ".join(f"--policy results/training/seed-{k}/policy.pt" for k in (0, 1, 2))
-    assert f"--seed 0 {every} --out results/evaluation" in evaluate
+    every = " ".join(f"--policy results/training/seed-{k}/policy.pt" for k in range(5))
+    assert f"--scenario-block 0 {every} --out results/evaluation" in evaluate
     assert commands["report"][3:] == ["report", "--in", "results", "--out", "results", "--force"]
 
 
@@ -158,7 +159,7 @@ def test_the_training_seeds_are_an_option(tmp_path: Path, monkeypatch: pytest.Mo
 
 
 def test_the_manifest_sets_each_stage_beside_its_budget(tmp_path: Path) -> None:
-    setup = replace(FULL, run=tmp_path / "run", results=tmp_path / "results")
+    setup = replace(FULL, run=tmp_path / "run", results=tmp_path / "results", seeds=(0, 1, 2))
     for seed, seconds in ((0, 900.0), (1, 1500.0)):  # seed 2 recorded no time
         plan.seed_run(setup, seed).mkdir(parents=True)
         (plan.seed_run(setup, seed) / "timing.json").write_text(
@@ -185,7 +186,7 @@ def test_the_manifest_sets_each_stage_beside_its_budget(tmp_path: Path) -> None:
     assert "| training, seed 0 | 15 min 00.0 s | 20 min 00.0 s | yes |" in manifest
     # the budget is for a seed alone: the rows say the seeds shared the cores
     cores = len(os.sched_getaffinity(0))
-    assert f"one seed; here 3 seeds at once on {cores} cores" in rows["training, seed 0"].basis
+    assert f"here 3 seeds at once on {cores} cores" in rows["training, seed 0"].basis
     # the kind of machine the bytes belong to (docs/reproducibility.md)
     assert f"- machine: {machine_description()} (the bytes repeat" in manifest
     one = replace(setup, seeds=(0,))
