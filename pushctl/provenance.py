@@ -3,14 +3,13 @@
 Every CSV the tool writes starts with one comment line, ``# made by: <command>; pushctl
 <version>; commit <git describe>; …``. It holds no clock time, so one command with one seed
 writes byte-identical files. Its last line, ``# sha256: <hex>``, is the SHA-256 of every byte
-before it: :func:`check_csv_digest` refuses a file edited or cut short after it was written.
+before it: :func:`csv_digest_problem` tells a file edited or cut short after it was written.
 Read such files with ``pandas.read_csv(path, comment="#")``.
 """
 
 from __future__ import annotations
 
 import errno
-import gzip
 import hashlib
 import os
 import shutil
@@ -174,11 +173,9 @@ DIGEST_PREFIX = "# sha256: "
 """The start of a CSV's last line: the SHA-256 (hex) of every byte before that line."""
 
 
-def check_csv_digest(path: Path) -> str | None:
-    """Why ``path`` (a CSV, gzip-compressed if its name ends in ``.gz``) does not match the
-    digest on its last line, or None if it does or has none (a file written by hand or by an
-    older pushctl); OSError if it cannot be read."""
-    data = gzip.decompress(path.read_bytes()) if path.suffix == ".gz" else path.read_bytes()
+def csv_digest_problem(data: bytes) -> str | None:
+    """Why a CSV's bytes ``data`` (decompressed) do not match the digest on their last line,
+    or None if they do or have none (a file written by hand or by an older pushctl)."""
     start = data.rfind(b"\n", 0, len(data) - 1) + 1
     last = data[start:]
     if not last.startswith(DIGEST_PREFIX.encode()):

@@ -16,10 +16,10 @@ from __future__ import annotations
 
 import csv
 import gzip
+import io
 import re
 from dataclasses import dataclass
 from pathlib import Path
-from typing import IO
 
 import numpy as np
 import pandas as pd
@@ -27,7 +27,7 @@ import pandas as pd
 from pushctl.config import PLANT_KINDS
 from pushctl.errors import ConfigError
 from pushctl.evaluation.columns import STEP_COLUMNS
-from pushctl.provenance import check_csv_digest
+from pushctl.provenance import csv_digest_problem
 from pushctl.report.completeness import check_complete
 
 TRIALS = Path("evaluation") / "trials.csv"
@@ -152,13 +152,6 @@ def _gzipped(path: Path) -> Path:
     return path.with_name(path.name + ".gz")
 
 
-def _open_text(path: Path) -> IO[str]:
-    """``path`` as text, decompressed if its name ends in ``.gz``."""
-    if path.suffix == ".gz":
-        return gzip.open(path, "rt", newline="")
-    return path.open(newline="")
-
-
 def read_results_csv(path: Path, spec: CsvSpec) -> ResultsTable:
     """Read ``path`` (a CSV with an optional leading ``# made by:`` line; gzip-compressed if
     its name ends in ``.gz``) and check it against ``spec``; raises :class:`ResultsFileError`."""
@@ -166,13 +159,16 @@ def read_results_csv(path: Path, spec: CsvSpec) -> ResultsTable:
         problem = "is a directory" if path.is_dir() else "no such file"
         raise ResultsFileError(f"{path}: {problem}; expected the {spec.what}")
     try:
-        with _open_text(path) as handle:
-            first = handle.readline().strip()
-        damage = check_csv_digest(path)
+        data = gzip.decompress(path.read_bytes()) if path.suffix == ".gz" else path.read_bytes()
+        damage = csv_digest_problem(data)
         if damage is not None:
             raise ResultsFileError(f"{path}: {damage}; expected the {spec.what}")
-        _check_row_lengths(path)
-        raw = pd.read_csv(path, comment="#", dtype=str, keep_default_na=False, index_col=False)
+        text = data.decode()
+        first = text.partition("\n")[0].strip()
+        _check_row_lengths(path, text)
+        raw = pd.read_csv(
+            io.StringIO(text), comment="#", dtype=str, keep_default_na=False, index_col=False
+        )
     except (UnicodeDecodeError, gzip.BadGzipFile, EOFError):
         raise ResultsFileError(f"{path}: not a text file; expected the {spec.what}") from None
     except pd.errors.EmptyDataError:
@@ -189,21 +185,20 @@ def read_results_csv(path: Path, spec: CsvSpec) -> ResultsTable:
     return ResultsTable(path=path, frame=frame, made_by=made_by)
 
 
-def _check_row_lengths(path: Path) -> None:
-    """Every data row has as many fields as the header (pandas would silently turn extra
-    leading fields into an index, or pad a short row)."""
-    with _open_text(path) as handle:
-        lines = (line for line in handle if line.strip() and not line.startswith("#"))
-        rows = csv.reader(lines)
-        header = next(rows, None)
-        if header is None:
-            return  # empty: pandas names it
-        for number, row in enumerate(rows, start=1):
-            if len(row) != len(header):
-                raise ResultsFileError(
-                    f"{path}: not a well-formed CSV (data row {number} has {len(row)} fields, "
-                    f"the header {len(header)})"
-                )
+def _check_row_lengths(path: Path, text: str) -> None:
+    """Every data row of ``path``'s ``text`` has as many fields as the header (pandas would
+    silently turn extra leading fields into an index, or pad a short row)."""
+    lines = (line for line in text.splitlines(True) if line.strip() and not line.startswith("#"))
+    rows = csv.reader(lines)
+    header = next(rows, None)
+    if header is None:
+        return  # empty: pandas names it
+    for number, row in enumerate(rows, start=1):
+        if len(row) != len(header):
+            raise ResultsFileError(
+                f"{path}: not a well-formed CSV (data row {number} has {len(row)} fields, "
+                f"the header {len(header)})"
+            )
 
 
 def _checked(path: Path, raw: pd.DataFrame, spec: CsvSpec) -> pd.DataFrame:

@@ -180,7 +180,7 @@ def test_the_docs_name_every_output_and_table_column():
     text = docs.read_text()
     for column in TABLE3_COLUMNS:
         stem, _, controller = column.rpartition("_")
-        assert f"`{stem}_{{pd,feedback,rl}}`" in text and controller in "pd,feedback,rl"
+        assert controller in ("pd", "feedback", "rl") and f"`{stem}_{{pd,feedback,rl}}`" in text
     for pattern in ("`force_error_*`", "`{pd,feedback,rl}_{sim,proxy}`", "`_ci95`", "`_seed_sd`"):
         assert pattern in text
 
