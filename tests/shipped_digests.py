@@ -20,6 +20,9 @@ MANIFEST = ROOT / "tests" / "data" / "shipped_digests.json"
 UNPINNED = ("bench.csv", "provenance.md")
 """Shipped files that are not results of a seed: the bench's timings and the manifest of
 the run that made ``results/`` (its dates and wall times)."""
+KEPT_COMPRESSED = ("evaluation/steps.csv",)
+"""Files ``make reproduce-tables`` writes that the repository ships only compressed
+(``.gitignore`` keeps them out; a clean clone has only the ``.gz``)."""
 
 EVALUATION_ARGS = ["evaluate", "--object", "cube", "--profile", "constant", "--trials", "2",
                    "--controller", "all", "--plant", "all", "--seed", "0",
@@ -37,11 +40,14 @@ def file_digest(path: Path) -> str:
 
 
 def shipped_files() -> dict[str, str]:
-    """Path under ``results/`` → sha256 of every shipped file but :data:`UNPINNED`."""
+    """Path under ``results/`` → sha256 of every shipped file but :data:`UNPINNED` (and
+    :data:`KEPT_COMPRESSED`, which a clean clone does not have)."""
+    files = (path for path in sorted(RESULTS.rglob("*")) if path.is_file())
+    names = {path.relative_to(RESULTS).as_posix(): path for path in files}
     return {
-        path.relative_to(RESULTS).as_posix(): file_digest(path)
-        for path in sorted(RESULTS.rglob("*"))
-        if path.is_file() and path.name not in UNPINNED
+        name: file_digest(path)
+        for name, path in names.items()
+        if path.name not in UNPINNED and name not in KEPT_COMPRESSED
     }
 
 
