@@ -115,7 +115,9 @@ Version history
       acts inside the gate's dead band (``policy_gated`` False; the gate switches the law
       only), with the whole envelope on the feedback law, and observes the context rows
       (``observe_context``). ``EnvConfig()``'s defaults stay ``Push-v0``'s, to the bit;
-      saved policies load with the gate on the policy and no context rows.
+      saved policies load with the gate on the policy and no context rows. Under a law that
+      gates itself (the catch-up law's ``gate_threshold``) the environment's gate stays
+      open, so a zero residual pushes as the ``feedback`` controller.
 """
 
 from __future__ import annotations
@@ -188,6 +190,7 @@ class PushEnv(EpisodeReadings, gym.Env[np.ndarray, np.ndarray]):
         if self.config.base_law == "feedback":
             self._base_gains = load_feedback_gains()
         self._base: FeedbackActor | None = None
+        self._law_owns_gate = self._base_gains is not None and self._base_gains.owns_gate
 
     # ------------------------------------------------------------------ gymnasium API
 

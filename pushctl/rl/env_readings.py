@@ -49,8 +49,8 @@ class EpisodeReadings:
     """The readings of :class:`~pushctl.rl.env.PushEnv` (see the module docstring). State it
     reads, set by the environment: ``episode``, ``config``, ``_last`` (the last step's
     result), ``_plan_rows``, ``_plan_forces``, ``_true_forces``, ``_true_torques``,
-    ``_measured``, ``_exact_pose``, ``_action_scales``; state it keeps: ``_error``,
-    ``_error_deviation``, ``_error_rate``, ``_law_action``."""
+    ``_measured``, ``_exact_pose``, ``_action_scales``, ``_law_owns_gate``; state it
+    keeps: ``_error``, ``_error_deviation``, ``_error_rate``, ``_law_action``."""
 
     episode: Any
     config: Any
@@ -113,8 +113,15 @@ class EpisodeReadings:
     @property
     def gate_open(self) -> bool:
         """Whether the next step() applies its action: the pose deviation exceeds the gate's
-        threshold. While it is shut any action gives the same step."""
-        return self._error_deviation > self.config.gate_threshold
+        threshold (:attr:`gate_threshold`). While it is shut any action gives the same step."""
+        return self._error_deviation > self.gate_threshold
+
+    @property
+    def gate_threshold(self) -> float:
+        """The gate's threshold [m]: ``config.gate_threshold``, or 0 (always open) under a
+        base law that gates itself (``gains.owns_gate``), which then sees every step, as the
+        ``feedback`` controller's law does; a zero residual then pushes as that controller."""
+        return 0.0 if self._law_owns_gate else self.config.gate_threshold
 
     def _set_error(self, n: int) -> None:
         """The observation's pose error at step ``n`` (:meth:`_pose_error`) and its gate

@@ -85,3 +85,26 @@ def test_the_residual_scale_shrinks_the_policys_action_before_the_law_is_added()
     for bad in (0.0, 1.5, True):
         with pytest.raises(ConfigError, match="residual_scale must be a number in"):
             EnvConfig(residual_scale=bad)
+
+
+@pytest.mark.parametrize("plant", ["sim", "proxy"])
+def test_a_zero_residual_on_push_v1_is_the_feedback_column_to_the_bit(plant) -> None:
+    """The shipped law gates itself (``gate_threshold`` in its file): Push-v1's environment
+    leaves its own gate open under it, as the ``feedback`` column's does, so a policy that
+    holds zeros reports the feedback column's trial exactly."""
+    gains = load_feedback_gains()
+    assert gains.owns_gate
+    config = replace(EnvConfig.v1(), stream="tuning", duration=4.0, plant=plant)
+    options = {"object": "wedge", "profile": "chirp", "scenario_seed": 3}
+    on_law = PushEnv(config)
+    on_law.reset(options=options)
+    assert on_law.gate_threshold == 0.0 < config.gate_threshold
+    finish_with_policy(on_law, lambda obs: ZERO)
+    column = PushEnv(feedback_config(config, gains))
+    column.reset(options=options)
+    finish_with_policy(column, FeedbackActor(column, gains))
+    assert _frame(on_law) == _frame(column)
+    # a law that leaves the gate to the environment keeps the environment's threshold
+    steady = PushEnv(config)
+    steady._law_owns_gate = False
+    assert steady.gate_threshold == config.gate_threshold
