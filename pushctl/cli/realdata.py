@@ -12,7 +12,9 @@ from pushctl.cli.common import FORCE_HELP, Command, Group, console, fail, fail_w
 from pushctl.errors import ConfigError, PushctlError
 from pushctl.output_guard import refuse_existing_files, refuse_occupied_dir
 
-app = typer.Typer(cls=Group, no_args_is_help=True, help="Recorded pushes: fit, score, replay logs.")
+app = typer.Typer(
+    cls=Group, no_args_is_help=True, help="Recorded pushes: fit, score, leave one shape out, logs."
+)
 
 DATA_HELP = "directory holding mit/pushes.csv, mit/shapes.csv (and two_finger_logs/)"
 WORKERS_HELP = "worker processes for the replay (results do not depend on it)"
@@ -91,12 +93,51 @@ def score(
                                                            result.ours, result.zhou)),
         ):  # fmt: skip
             write_atomic(out / name, _png_writer(fig))
-    except OSError as error:
+    except (OSError, PushctlError) as error:
         fail_write(error)
     _print_overall(result.summary)
     split_name = "test split" if result.split_known else "all pushes (unseen by the fit)"
     console.print(f"{len(result.pushes)} pushes replayed in {result.seconds:.1f} s; "
                   f"scored on the {split_name}; wrote {out}")  # fmt: skip
+
+
+@app.command(cls=Command)
+def loso(
+    ctx: typer.Context,
+    data: Annotated[Path, typer.Option(help=DATA_HELP)],
+    out: Annotated[Path, typer.Option(help="output directory (created if missing)")],
+    split_seed: Annotated[int, typer.Option(help="seed of the calibration split")] = 0,
+    friction_model: Annotated[str, typer.Option(help="ground friction: polygon or box")] = (
+        "polygon"
+    ),
+    workers: Annotated[int, typer.Option(help=WORKERS_HELP)] = 2,
+    force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
+) -> None:
+    """Leave one shape out: per shape, fit on the others' calibration pushes, score it."""
+    from pushctl.provenance import provenance_line, write_csv
+    from pushctl.realdata.loso import run_loso
+    from pushctl.realdata.replay import ReplaySettings
+
+    try:
+        _prepare_dir(out, force)
+        _check_workers(workers)
+        settings = ReplaySettings(friction_model=friction_model)
+        result = run_loso(data, split_seed, settings, workers=workers,
+                          progress=lambda line: console.print(line, highlight=False))  # fmt: skip
+    except PushctlError as error:
+        fail(error)
+    line = provenance_line(_invocation(ctx))
+    try:
+        out.mkdir(exist_ok=True)
+        write_csv(out / "loso.csv", result.table, line, float_format="%.6g")
+        write_csv(out / "groups.csv", result.groups, line, float_format="%.6g")
+        write_csv(out / "predictions.csv", result.predictions, line)
+    except (OSError, PushctlError) as error:
+        fail_write(error)
+    total = result.table.iloc[-1]
+    zhou = f"; Zhou {total['zhou_nmse']:.3f}" if "zhou_nmse" in total else ""
+    console.print(f"{int(total['n'])} held-out pushes: NMSE {total['nmse']:.3f}{zhou}; "
+                  f"wrote {out}", highlight=False)  # fmt: skip
 
 
 @app.command(cls=Command)
@@ -125,7 +166,7 @@ def logs(
         write_csv(out / "segments.csv", table, provenance_line(_invocation(ctx)), "%.6g")
         fig = logs_figure(segments, replays)
         write_atomic(out / "paths.png", _png_writer(fig))
-    except OSError as error:
+    except (OSError, PushctlError) as error:
         fail_write(error)
     share = table["within_3x_floor"].mean()
     console.print(f"{len(table)} segments; end error within 3x the repeat floor on "
@@ -166,7 +207,7 @@ def _write_text(path: Path, text: str) -> None:
 
     try:
         write_atomic(path, lambda tmp: tmp.write_text(text))
-    except OSError as error:
+    except (OSError, PushctlError) as error:
         fail_write(error)
     console.print(f"wrote {path}")
 

@@ -1,16 +1,16 @@
 """Fitting the per-surface parameters on the calibration split, and their TOML file.
 
 Per surface, the calibration pushes' mean NMSE (the protocol of
-:mod:`pushctl.realdata.metrics`) is minimised by coordinate search over a fixed grid:
-μ_c first, then the pressure prior's rim weight, then μ_c again around its best value,
-then μ_g. The grids are part of the method (no randomness): one data set, split and seed
-give one file.
+:mod:`pushctl.realdata.metrics`) is minimised by coordinate search over fixed grids
+(:class:`FitGrids`): μ_c first, then the pressure prior's rim weight, then the rim weight
+±1 and μ_c ±0.05 around the best values, then μ_g. The grids are part of the method (no
+randomness): one data set, split and seed give one file.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import asdict, replace
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -21,11 +21,41 @@ from pushctl.errors import ConfigError
 from pushctl.realdata.metrics import group_scores
 from pushctl.realdata.replay import ReplaySettings, SurfaceParameters, replay_pushes
 
-MU_CONTACT_GRID = (0.1, 0.2, 0.3, 0.4, 0.6)
-RIM_WEIGHT_GRID = (-2.0, 0.0, 2.0)
-MU_GROUND_GRID = (0.15, 0.3, 0.6)
-"""μ_g hardly matters when the motion is quasi-static (it scales every friction force
-alike); it is searched last, over a coarse grid, to show how little it moves the score."""
+
+@dataclass(frozen=True)
+class FitGrids:
+    """The coordinate search's grids. μ_g hardly matters when the motion is quasi-static
+    (it scales every friction force alike); it is searched last, over a coarse grid, to
+    show how little it moves the score."""
+
+    mu_contact: tuple[float, ...] = (0.1, 0.2, 0.3, 0.4, 0.6)
+    rim_weight: tuple[float, ...] = (-2.0, 0.0, 2.0)
+    mu_ground: tuple[float, ...] = (0.15, 0.3, 0.6)
+
+
+class ReplayCache:
+    """End poses of pushes already replayed, by parameters and push id: fits over
+    overlapping pushes (the leave-one-shape-out folds) replay each push once per parameter
+    set. A push's prediction depends only on its own row and the parameters."""
+
+    def __init__(
+        self, shapes: Mapping[str, np.ndarray], settings: ReplaySettings, workers: int = 1
+    ) -> None:
+        self.shapes, self.settings, self.workers = shapes, settings, workers
+        self._ends: dict[SurfaceParameters, dict[str, np.ndarray]] = {}
+        self.replayed = 0
+
+    def ends(self, pushes: pd.DataFrame, surface: str, params: SurfaceParameters) -> np.ndarray:
+        """End poses (N, 3) of ``pushes`` (all on ``surface``) under ``params``."""
+        known = self._ends.setdefault(params, {})
+        ids = pushes["push_id"].tolist()
+        missing = [i for i, push_id in enumerate(ids) if push_id not in known]
+        if missing:
+            rows = pushes.iloc[missing].reset_index(drop=True)
+            new = replay_pushes(rows, self.shapes, {surface: params}, self.settings, self.workers)
+            known.update(zip(rows["push_id"], new, strict=True))
+            self.replayed += len(missing)
+        return np.array([known[push_id] for push_id in ids]).reshape(-1, 3)
 
 
 def fit_surfaces(
@@ -34,32 +64,36 @@ def fit_surfaces(
     settings: ReplaySettings,
     workers: int = 1,
     progress: Callable[[str], None] | None = None,
+    grids: FitGrids = FitGrids(),
+    cache: ReplayCache | None = None,
 ) -> dict[str, dict]:
     """Fit each surface in ``pushes`` (the calibration split). Returns surface →
-    {"parameters": SurfaceParameters, "calibration_nmse": float, "evaluations": int}."""
+    {"parameters": SurfaceParameters, "calibration_nmse": float, "evaluations": int}.
+    ``cache`` (built with the same shapes and settings) reuses earlier replays."""
+    cache = cache if cache is not None else ReplayCache(shapes, settings, workers)
     fits = {}
     for surface in sorted(pushes["surface"].unique()):
         part = pushes[pushes["surface"] == surface].reset_index(drop=True)
-        cache: dict[SurfaceParameters, float] = {}
+        scores: dict[SurfaceParameters, float] = {}
 
-        def score(params: SurfaceParameters, part=part, cache=cache, surface=surface) -> float:
-            if params not in cache:
-                end = replay_pushes(part, shapes, {surface: params}, settings, workers)
-                cache[params] = float(group_scores(part, end)["nmse"].mean())
+        def score(params: SurfaceParameters, part=part, scores=scores, surface=surface) -> float:
+            if params not in scores:
+                end = cache.ends(part, surface, params)
+                scores[params] = float(group_scores(part, end)["nmse"].mean())
                 if progress is not None:
-                    progress(f"{surface}: {params} -> NMSE {cache[params]:.4f}")
-            return cache[params]
+                    progress(f"{surface}: {params} -> NMSE {scores[params]:.4f}")
+            return scores[params]
 
         best = SurfaceParameters()
-        best = _line(score, best, "mu_contact", MU_CONTACT_GRID)
-        best = _line(score, best, "rim_weight", RIM_WEIGHT_GRID)
+        best = _line(score, best, "mu_contact", grids.mu_contact)
+        best = _line(score, best, "rim_weight", grids.rim_weight)
         rim = best.rim_weight
         best = _line(score, best, "rim_weight", (rim - 1.0, rim, rim + 1.0))
         mu = best.mu_contact
         best = _line(score, best, "mu_contact", (round(mu - 0.05, 3), mu, round(mu + 0.05, 3)))
-        best = _line(score, best, "mu_ground", MU_GROUND_GRID)
+        best = _line(score, best, "mu_ground", grids.mu_ground)
         fits[surface] = {"parameters": best, "calibration_nmse": score(best),
-                         "evaluations": len(cache)}  # fmt: skip
+                         "evaluations": len(scores)}  # fmt: skip
     return fits
 
 
