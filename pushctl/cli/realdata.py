@@ -148,6 +148,12 @@ def logs(
     friction_model: Annotated[str, typer.Option(help="ground friction: polygon or box")] = (
         "polygon"
     ),
+    fit: Annotated[
+        bool,
+        typer.Option(
+            "--fit", help="fit mu_c and the rim weight per setup on the other starts' segments"
+        ),
+    ] = False,
     force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
 ) -> None:
     """Replay each two-finger segment from its logged start; errors against the repeats."""
@@ -158,7 +164,9 @@ def logs(
 
     try:
         _prepare_dir(out, force)
-        table, segments, replays = run_logs(data, PressurePrior(), friction_model)
+        progress = lambda line: console.print(line, highlight=False)  # noqa: E731
+        table, segments, replays = run_logs(data, PressurePrior(), friction_model,
+                                            fit=fit, progress=progress)  # fmt: skip
     except PushctlError as error:
         fail(error)
     try:

@@ -37,9 +37,11 @@ STEP = 0.05
 
 @dataclass(frozen=True)
 class Segment:
-    """One push segment: ``t`` (n,) [s], ``object`` (n, 3) and ``pusher`` (n, 3) poses
-    [m, m, rad]; ``fresh`` (n,) rows whose object pose changed (not a stale frame)."""
+    """One push segment of a ``setup`` (the support under the object) and ``start``: ``t``
+    (n,) [s], ``object`` (n, 3) and ``pusher`` (n, 3) poses [m, m, rad]; ``fresh`` (n,)
+    rows whose object pose changed (not a stale frame)."""
 
+    setup: str
     start: str
     log: str
     index: int
@@ -57,11 +59,11 @@ def read_segments(data_dir: Path) -> list[Segment]:
         raise ConfigError(f"{root}: no logs (two_finger_logs/<setup>/<start>/log*.txt)")
     segments = []
     for path in files:
-        segments += _segments_of(path, path.parent.name)
+        segments += _segments_of(path, path.parent.parent.name, path.parent.name)
     return segments
 
 
-def _segments_of(path: Path, start: str) -> list[Segment]:
+def _segments_of(path: Path, setup: str, start: str) -> list[Segment]:
     try:
         table = np.loadtxt(path, delimiter=",", ndmin=2)
     except ValueError:
@@ -80,7 +82,7 @@ def _segments_of(path: Path, start: str) -> list[Segment]:
         obj = np.column_stack((piece[:, 1:3] * 1e-3, np.unwrap(piece[:, 3])))
         push = np.column_stack((piece[:, 4:6] * 1e-3, np.unwrap(piece[:, 6])))
         fresh = np.r_[True, np.any(np.diff(piece[:, 1:4], axis=0) != 0, axis=1)]
-        out.append(Segment(start, path.name, len(out), piece[:, 0], obj, push, fresh))
+        out.append(Segment(setup, start, path.name, len(out), piece[:, 0], obj, push, fresh))
     return out
 
 
@@ -107,26 +109,39 @@ def score_segments(segments: list[Segment], replays: list[np.ndarray]) -> pd.Dat
     """Per segment: path RMSE [mm] over its fresh rows, end position [mm] and angle [deg]
     errors, and the repeat floor of its start and segment index: the median over pairs of
     repeats of their end poses' distance [mm] and angle difference [deg]."""
-    ends: dict[tuple[str, int], list[np.ndarray]] = {}
-    for seg in segments:
-        ends.setdefault((seg.start, seg.index), []).append(seg.object[-1])
-    floors = {key: _floor(np.array(v)) for key, v in ends.items()}
+    floors = repeat_floors(segments)
     rows = []
     for seg, replay in zip(segments, replays, strict=True):
         f = seg.fresh
         err = np.hypot(*(replay[f, :2] - seg.object[f, :2]).T)
-        end_pos = 1e3 * math.hypot(*(replay[-1, :2] - seg.object[-1, :2]))
-        end_ang = math.degrees(abs(float(wrap_angle(replay[-1, 2] - seg.object[-1, 2]))))
+        end_pos, end_ang = end_error(seg, replay)
         moved = 1e3 * math.hypot(*(seg.object[-1, :2] - seg.object[0, :2]))
         floor_pos, floor_ang, repeats = floors[(seg.start, seg.index)]
         rows.append({
-            "start": seg.start, "log": seg.log, "segment": seg.index, "repeats": repeats,
+            "setup": seg.setup, "start": seg.start, "log": seg.log, "segment": seg.index,
+            "repeats": repeats,
             "moved_mm": moved, "path_rmse_mm": 1e3 * math.sqrt(float((err**2).mean())),
             "end_position_error_mm": end_pos, "end_angle_error_deg": end_ang,
             "floor_position_mm": floor_pos, "floor_angle_deg": floor_ang,
             "within_3x_floor": bool(end_pos <= 3 * floor_pos and end_ang <= 3 * floor_ang),
         })  # fmt: skip
     return pd.DataFrame(rows)
+
+
+def end_error(segment: Segment, replay: np.ndarray) -> tuple[float, float]:
+    """The replay's end position [mm] and angle [deg] error against the segment's end."""
+    end_pos = 1e3 * math.hypot(*(replay[-1, :2] - segment.object[-1, :2]))
+    end_ang = math.degrees(abs(float(wrap_angle(replay[-1, 2] - segment.object[-1, 2]))))
+    return end_pos, end_ang
+
+
+def repeat_floors(segments: list[Segment]) -> dict[tuple[str, int], tuple[float, float, int]]:
+    """(start, segment index) → the repeats' floor: median pairwise end distance [mm] and
+    angle difference [deg], and the number of repeats."""
+    ends: dict[tuple[str, int], list[np.ndarray]] = {}
+    for seg in segments:
+        ends.setdefault((seg.start, seg.index), []).append(seg.object[-1])
+    return {key: _floor(np.array(v)) for key, v in ends.items()}
 
 
 def _floor(end_poses: np.ndarray) -> tuple[float, float, int]:

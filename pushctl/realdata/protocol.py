@@ -23,6 +23,7 @@ from pushctl.errors import ConfigError
 from pushctl.kinematic import Friction, PressurePrior
 from pushctl.realdata.data import PushData, calibration_mask, load_pushes
 from pushctl.realdata.fit import fit_surfaces, friction_toml
+from pushctl.realdata.logfit import LogGrids, fit_logs
 from pushctl.realdata.logs import LOG_MU_CONTACT, read_segments, replay_segment, score_segments
 from pushctl.realdata.metrics import COMPONENTS, group_scores, overall, zhou_end
 from pushctl.realdata.replay import ReplaySettings, SurfaceParameters, replay_pushes
@@ -145,9 +146,23 @@ def _summary(pushes: pd.DataFrame, ours: np.ndarray, zhou, split: str) -> pd.Dat
     return table
 
 
-def run_logs(data_dir: Path, prior: PressurePrior, model: str, mu_ground: float = 0.3):
-    """Replay every two-finger segment; (per-segment scores, segments, replays)."""
+def run_logs(
+    data_dir: Path,
+    prior: PressurePrior,
+    model: str,
+    mu_ground: float = 0.3,
+    fit: bool = False,
+    progress: Callable[[str], None] | None = None,
+):
+    """Replay every two-finger segment; (per-segment scores, segments, replays). With
+    ``fit``, each start is replayed with μ_c and the rim weight fitted on its setup's other
+    starts (:func:`~pushctl.realdata.logfit.fit_logs`); else with ``prior`` and the
+    planner's μ_c."""
     segments = read_segments(data_dir)
+    if fit:
+        fitted = fit_logs(segments, model, LogGrids(mu_ground=mu_ground,
+                          support_count=prior.count), progress)  # fmt: skip
+        return fitted.table, segments, fitted.replays
     friction = Friction(LOG_MU_CONTACT, mu_ground, model)
     replays = [replay_segment(s, friction, prior) for s in segments]
     return score_segments(segments, replays), segments, replays
