@@ -58,6 +58,9 @@ from pushctl.errors import ConfigError
 from pushctl.output_guard import refuse_existing_files
 from pushctl.provenance import git_commit, provenance_line, write_csv
 
+ROOT = Path(__file__).resolve().parents[2]
+"""This checkout's root (its ``benchmarks`` package)."""
+
 METRICS = (
     "world step",
     "world step, cube at 5 cm/s",
@@ -83,40 +86,30 @@ BUILD_NATIVE = "from pushctl.native.build import build; print(build(optional=Tru
 
 
 def record_cold_problems(steps: int = 1500, seed: int = 0) -> list[tuple]:
-    """The MLCPs whose warm active set failed (the ones that reach the cold path, which
-    :func:`solve_box_mlcp` times) during ``steps`` random-action ``Push-v0`` steps of this
-    tree: (D, b, lo, hi, findex, mu, warm_start) each."""
-    import pushctl.contact.substep as world_module  # where the world step calls the solver
-    from pushctl.contact.cold_step import HELD
-    from pushctl.contact.kernels import assemble
-
+    """The MLCPs of the steps where a warm active set failed (some solve of the step was
+    not a verified warm start, so the cold path ran) during ``steps`` random-action
+    ``Push-v0`` steps of this tree: (D, b, lo, hi, findex, mu, warm_start) each, the step's
+    first problem (:meth:`StepSolver.problem`) with the guess the step started from."""
+    from pushctl.contact.step_solver import StepSolver
     from pushctl.rl.env import PushEnv
     from pushctl.rl.env_config import EnvConfig
 
     recorded: list[tuple] = []
-    solve = world_module.cold_contact_step
-    # every solve of the cold path as its own cold_contact_step call (the compiled step,
-    # slip_step, and the compiled loop, cold_slip_step, make the same calls inside one): the
-    # step made in parts, its cold loop in Python
-    compiled_step = world_module.SubstepSolver._compiled_step
-    cold_path = world_module.SubstepSolver._cold_path
-    python_loop = world_module.SubstepSolver._cold_path_in_python
+    solve = StepSolver.solve
 
-    def in_parts(self, inputs, prongs, guess):
-        return None
-
-    def record(*args):
-        solved = solve(*args)
-        guess, has_guess = args[18], args[19]
-        if not (has_guess and solved[0] == HELD):
-            D, b, lo, hi, findex, mu, *_ = assemble(*args[:18])
-            warm = guess.copy() if has_guess else None
-            recorded.append((D, b, lo, hi, findex, mu, warm))
+    def record(self: StepSolver, state: tuple, prongs: tuple[int, ...]):
+        same = prongs == self.last_prongs and self.last_p is not None
+        guess = self.last_p.copy() if same else None  # type: ignore[union-attr]
+        problem = self.problem(state, prongs)
+        solves, warm = self.stats.solves, self.stats.warm_starts
+        solved = solve(self, state, prongs)
+        if self.stats.warm_starts - warm < self.stats.solves - solves:
+            recorded.append(
+                (problem.D, problem.b, problem.lo, problem.hi, problem.findex, problem.mu, guess)
+            )
         return solved
 
-    world_module.cold_contact_step = record  # type: ignore[assignment]
-    world_module.SubstepSolver._compiled_step = in_parts  # type: ignore[method-assign]
-    world_module.SubstepSolver._cold_path = python_loop  # type: ignore[method-assign]
+    StepSolver.solve = record  # type: ignore[method-assign]
     try:
         env = PushEnv(EnvConfig(duration=6.0, gate_threshold=0.0))
         rng = np.random.default_rng(seed)
@@ -126,9 +119,7 @@ def record_cold_problems(steps: int = 1500, seed: int = 0) -> list[tuple]:
             if terminated or truncated:
                 env.reset(seed=seed + i + 1)
     finally:
-        world_module.cold_contact_step = solve  # type: ignore[assignment]
-        world_module.SubstepSolver._compiled_step = compiled_step  # type: ignore[method-assign]
-        world_module.SubstepSolver._cold_path = cold_path  # type: ignore[method-assign]
+        StepSolver.solve = solve  # type: ignore[method-assign]
     return recorded
 
 
@@ -178,10 +169,11 @@ def build_native(tree: Path) -> None:
 
 
 def run_child(tree: Path, problems: Path, core: int = 0) -> dict[str, Any]:
-    """One child process timing the tree at ``tree`` (its ``pushctl`` first on the path),
-    pinned to ``core``."""
+    """One child process timing the tree at ``tree`` (its ``pushctl`` first on the path,
+    this checkout's ``benchmarks`` after it: both trees time the same scenes), pinned to
+    ``core``."""
     pin = ["taskset", "-c", str(core)] if shutil.which("taskset") else []
-    env = {**os.environ, "PYTHONPATH": str(tree)}
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join((str(tree), str(ROOT)))}
     done = subprocess.run(
         [*pin, sys.executable, "-c", _CHILD, str(problems)],
         capture_output=True,
