@@ -36,14 +36,14 @@ def sweep(
     from pushctl.distributed.sweep import gather, score_policy, sweep_jobs
     from pushctl.distributed.sweep_config import read_sweep
     from pushctl.errors import ConfigError, PushctlError
+    from pushctl.output_guard import hold, occupied
     from pushctl.provenance import provenance_line
 
     directory = out if out is not None else Path("runs") / f"sweep-{config.stem}"
     try:
         chosen = read_sweep(config)
-        if directory.exists() and not directory.is_dir():
-            raise ConfigError(f"--out {directory} is a file; give a directory")
-        if directory.is_dir() and any(directory.iterdir()) and not resume:
+        hold("--out", directory, directory=True)  # one command at a time, until this one ends
+        if occupied(directory) and not resume:
             raise ConfigError(
                 f"{directory} already holds a sweep; pass --resume to continue it "
                 "or choose another --out"
