@@ -18,6 +18,7 @@ app = typer.Typer(
 
 DATA_HELP = "directory holding mit/pushes.csv, mit/shapes.csv (and two_finger_logs/)"
 WORKERS_HELP = "worker processes for the replay (results do not depend on it)"
+RIM_HELP = "the rim-weight grid the fit searches first, comma-separated (then +-1 around the best)"
 
 
 @app.command(cls=Command)
@@ -32,6 +33,7 @@ def fit(
     friction_model: Annotated[str, typer.Option(help="ground friction: polygon or box")] = (
         "polygon"
     ),
+    rim_weights: Annotated[str, typer.Option(help=RIM_HELP)] = "-2,0,2",
     workers: Annotated[int, typer.Option(help=WORKERS_HELP)] = 2,
     force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
 ) -> None:
@@ -50,7 +52,8 @@ def fit(
         settings = ReplaySettings(friction_model=friction_model)
         header = [provenance_line(_invocation(ctx))]
         text = run_fit(data, split_seed, exclude_shape, settings, header, workers,
-                       progress=lambda line: console.print(line, highlight=False))  # fmt: skip
+                       progress=lambda line: console.print(line, highlight=False),
+                       grids=_grids(rim_weights))  # fmt: skip
     except PushctlError as error:
         fail(error)
     _write_text(out, text)
@@ -110,6 +113,7 @@ def loso(
     friction_model: Annotated[str, typer.Option(help="ground friction: polygon or box")] = (
         "polygon"
     ),
+    rim_weights: Annotated[str, typer.Option(help=RIM_HELP)] = "-2,0,2",
     workers: Annotated[int, typer.Option(help=WORKERS_HELP)] = 2,
     force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
 ) -> None:
@@ -122,7 +126,7 @@ def loso(
         _prepare_dir(out, force)
         _check_workers(workers)
         settings = ReplaySettings(friction_model=friction_model)
-        result = run_loso(data, split_seed, settings, workers=workers,
+        result = run_loso(data, split_seed, settings, _grids(rim_weights), workers=workers,
                           progress=lambda line: console.print(line, highlight=False))  # fmt: skip
     except PushctlError as error:
         fail(error)
@@ -194,6 +198,22 @@ def _png_writer(fig):
 def _invocation(ctx: typer.Context) -> str:
     """The command line for provenance lines, with this sub-app's name."""
     return invocation(ctx).replace("pushctl ", "pushctl realdata ", 1)
+
+
+def _grids(rim_weights: str):
+    """The fit's grids with the rim-weight grid ``rim_weights`` ("-2,0,2")."""
+    from pushctl.kinematic import PressurePrior
+    from pushctl.realdata.fit import FitGrids
+
+    try:
+        grid = tuple(float(w) for w in rim_weights.split(","))
+    except ValueError:
+        raise ConfigError(
+            f"--rim-weights: expected numbers like -2,0,2, got {rim_weights!r}"
+        ) from None
+    for w in grid:
+        PressurePrior(rim_weight=w)  # |w| <= 20
+    return FitGrids(rim_weight=grid)
 
 
 def _check_workers(workers: int) -> None:

@@ -22,7 +22,7 @@ import pandas as pd
 from pushctl.errors import ConfigError
 from pushctl.kinematic import Friction, PressurePrior
 from pushctl.realdata.data import PushData, calibration_mask, load_pushes
-from pushctl.realdata.fit import fit_surfaces, friction_toml
+from pushctl.realdata.fit import FitGrids, fit_surfaces, friction_toml
 from pushctl.realdata.logfit import LogGrids, fit_logs
 from pushctl.realdata.logs import LOG_MU_CONTACT, read_segments, replay_segment, score_segments
 from pushctl.realdata.metrics import COMPONENTS, group_scores, overall, zhou_end
@@ -51,12 +51,14 @@ def run_fit(
     header: list[str],
     workers: int = 1,
     progress: Callable[[str], None] | None = None,
+    grids: FitGrids | None = None,
 ) -> str:
     """Fit every surface on the calibration split; the TOML text to write."""
     data = load_pushes(data_dir)
     mask = calibration_split(data, seed, exclude)
     calibration = data.pushes[mask].reset_index(drop=True)
-    fits = fit_surfaces(calibration, data.shapes, settings, workers, progress)
+    grids = grids if grids is not None else FitGrids()
+    fits = fit_surfaces(calibration, data.shapes, settings, workers, progress, grids)
     header = header + [
         f"split: seed {seed}, 20 % of each surface x shape x speed group, "
         f"{int(mask.sum())} calibration pushes, excluded shapes: {', '.join(exclude) or 'none'}",

@@ -33,11 +33,13 @@ class SurfaceParameters:
 @dataclass(frozen=True)
 class ReplaySettings:
     """How pushes are simulated: ``step_length`` [m] the tip moves per step (dt follows
-    from each push's speed), the ground ``friction_model`` and ``support_count``."""
+    from each push's speed), the ground ``friction_model`` (with ``facets`` sides for the
+    polygon) and ``support_count``."""
 
     step_length: float = 2e-3
     friction_model: str = "polygon"
     support_count: int = 16
+    facets: int = 8
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.step_length) and 1e-4 <= self.step_length <= 0.01):
@@ -86,7 +88,9 @@ def _replay_chunk(
     slider = Slider.from_vertices(
         vertices, plate_mass(vertices), PressurePrior(settings.support_count, params.rim_weight)
     )
-    friction = Friction(params.mu_contact, params.mu_ground, settings.friction_model)
+    friction = Friction(
+        params.mu_contact, params.mu_ground, settings.friction_model, settings.facets
+    )
     out = np.empty((len(rows), 3))
     for i, (x0, y0, th0, tx0, ty0, tx1, ty1, speed) in enumerate(rows.tolist()):
         dt = settings.step_length / (speed * 1e-3)

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import pandas as pd
 import pytest
+import tomllib
 from typer.testing import CliRunner
 
 from pushctl.cli import app
@@ -62,6 +63,15 @@ def test_leave_one_shape_out(synthetic_data, tmp_path):
     assert summary[summary.split == "test"]["n"].iloc[0] == 8  # all of tri is unseen
 
 
+def test_the_fit_searches_the_rim_weights_it_is_given(synthetic_data, tmp_path):
+    out = tmp_path / "fit.toml"
+    result = runner.invoke(app, ["realdata", "fit", "--data", str(synthetic_data), "--out",
+                                 str(out), "--rim-weights", "7", "--workers", "1"])  # fmt: skip
+    assert result.exit_code == 0, result.output
+    rim = tomllib.loads(out.read_text())["surface"]["felt"]["rim_weight"]
+    assert rim in (6.0, 7.0, 8.0)  # the grid's one value, then +-1 around it
+
+
 def test_logs_replay(synthetic_data, tmp_path):
     result = runner.invoke(app, ["realdata", "logs", "--data", str(synthetic_data),
                                  "--out", str(tmp_path / "logs")])  # fmt: skip
@@ -76,6 +86,9 @@ def test_logs_replay(synthetic_data, tmp_path):
         (["fit", "--data", "/nonexistent", "--out", "{tmp}/f.toml"], "not a directory"),
         (["fit", "--data", "{data}", "--out", "{tmp}/f.txt"], ".toml"),
         (["fit", "--data", "{data}", "--out", "{tmp}/f.toml", "--exclude-shape", "x"], "x"),
+        (["fit", "--data", "{data}", "--out", "{tmp}/f.toml", "--rim-weights", "0,a"],
+         "--rim-weights"),
+        (["loso", "--data", "{data}", "--out", "{tmp}/o", "--rim-weights", "40"], "rim_weight"),
         (["score", "--data", "{data}", "--friction", "{tmp}/none.toml", "--out", "{tmp}/o"],
          "does not exist"),
         (["score", "--data", "{data}", "--friction", "{data}/mit/shapes.csv", "--out",
