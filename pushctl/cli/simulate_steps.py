@@ -5,7 +5,7 @@ terminal. The commands are in
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import replace
 from pathlib import Path
 
@@ -107,7 +107,7 @@ def simulate_scenario(
     goal: tuple[float, float, float] | None,
     seed: int | None,
     randomize: bool,
-    overrides: dict[str, float | None],
+    overrides: Mapping[str, float | None],
     duration: float,
     arm: str,
     plant: str = "sim",

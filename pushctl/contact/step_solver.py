@@ -11,7 +11,7 @@ resumes (:func:`~pushctl.contact.compiled.step.resume_step`).
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from typing import NamedTuple, TypeAlias
 
 import numpy as np
 
@@ -31,6 +31,13 @@ STEP_STATE = (
 assemble`, :func:`~pushctl.contact.compiled.step.slip_step`, ``resume_step``): the state of
 one step, which changes every step (shapes and units in ``assemble``). The world passes them
 as a plain tuple in this order, then the solver's :class:`ContactModel`."""
+
+StepState: TypeAlias = tuple[
+    np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+    np.ndarray, np.ndarray,
+]  # fmt: skip
+"""The step's state as the world passes it, one array per name of :data:`STEP_STATE`. Its
+fixed length lets a type checker count the kernels' arguments after ``*state``."""
 
 TIE_BREAK = 1e-6
 """Relative diagonal term added to the prong rows of D [-] (docs/design.md §3: 1e-6·diag D)."""
@@ -125,7 +132,7 @@ class StepSolver:
         self.last_prongs: tuple[int, ...] | None = None
         self.last_p: np.ndarray | None = None
 
-    def solve(self, state: tuple, prongs: tuple[int, ...]) -> SolvedStep:
+    def solve(self, state: StepState, prongs: tuple[int, ...]) -> SolvedStep:
         """The (sub)step of ``state`` (the kernels' leading arguments, :data:`STEP_STATE`)
         with ``prongs`` in contact.
 
@@ -166,7 +173,7 @@ class StepSolver:
         self.last_prongs, self.last_p = prongs, last_p
         return SolvedStep(v_arm, v_obj, next_pose, forces, residual, converged, pivots)
 
-    def problem(self, state: tuple, prongs: tuple[int, ...]) -> ContactProblem:
+    def problem(self, state: StepState, prongs: tuple[int, ...]) -> ContactProblem:
         """The MLCP the next (sub)step would solve first, without solving it (the boxes and
         bounds are left as they were)."""
         model = self.model
@@ -179,9 +186,9 @@ class StepSolver:
         model.slip_directions[:], model.sliding[:] = directions, sliding
         return problem
 
-    def _problem(self, state: tuple, prongs: tuple[int, ...]) -> ContactProblem:
+    def _problem(self, state: StepState, prongs: tuple[int, ...]) -> ContactProblem:
         """The MLCP of ``state`` with the current boxes."""
-        assembled = assemble(*state, *self.model)  # type: ignore[call-arg]  # numba
+        assembled = assemble(*state, *self.model)
         D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, A_arm = assembled
         h = self.model.h
         return ContactProblem(
@@ -216,7 +223,7 @@ class StepSolver:
         # settled on ProxQP's solve (no solve after it) or on a later, verified one
         return status, residual, latest[5] if solves == 0 else True, pivots
 
-    def _proxqp_solve(self, state: tuple, guess: np.ndarray | None, pivots: int):
+    def _proxqp_solve(self, state: StepState, guess: np.ndarray | None, pivots: int):
         """The step's MLCP with the current boxes by ProxQP and pivoting, after the compiled
         pivoting from ``guess`` (None or empty: none) verified nothing in ``pivots`` pivots:
         (MLCPResult, v_arm, v_obj, forces)."""

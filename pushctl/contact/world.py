@@ -34,7 +34,7 @@ from pushctl.contact.compiled.step_end import arm_moved, native_arm_moved, nativ
 from pushctl.contact.ground_field import FrictionField
 from pushctl.contact.recycle import ArrayRecycler
 from pushctl.contact.rows import PRONG_ROWS, edge_array, mask_indices, prong_contacts
-from pushctl.contact.step_solver import SLIP_COS_TOLERANCE, StepSolver
+from pushctl.contact.step_solver import SLIP_COS_TOLERANCE, StepSolver, StepState
 from pushctl.contact.world_config import (
     DEFAULT_OBJECT_POSE,
     MAX_SLIP_ITERATIONS,
@@ -220,7 +220,9 @@ class World:
             self._find_contacts()
         return forces, solved.residual, solved.converged, solved.pivots
 
-    def _step_state(self, tau: np.ndarray, damping: np.ndarray) -> tuple[tuple[int, ...], tuple]:
+    def _step_state(
+        self, tau: np.ndarray, damping: np.ndarray
+    ) -> tuple[tuple[int, ...], StepState]:
         """The prongs in contact and the step's state: the kernels' leading arguments
         (:data:`~pushctl.contact.step_solver.STEP_STATE`). ``damping`` (nv,) [N·m·s/rad]:
         all joint damping applied implicitly."""

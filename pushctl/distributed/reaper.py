@@ -15,6 +15,7 @@ Linux only (it reads ``/proc``); elsewhere :func:`watch` does nothing.
 
 from __future__ import annotations
 
+import io
 import os
 import select
 import signal
@@ -22,6 +23,7 @@ import subprocess
 import sys
 import time
 from pathlib import Path
+from typing import cast
 
 INTERVAL = 0.5
 """Seconds between two notes of the command's descendants."""
@@ -115,9 +117,12 @@ def _main(command: int) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     noted: set[tuple[int, int]] = set()
     me = os.getpid()
+    # stdin is the command's pipe, which Python opens as a BufferedReader (typeshed says
+    # only BinaryIO): read1 returns what the pipe holds without waiting for more
+    pipe = cast(io.BufferedReader, sys.stdin.buffer)
     while True:
         noted |= {child for child in _ray_processes(command) if child[0] != me}
         readable, _, _ = select.select([sys.stdin], [], [], INTERVAL)
-        if readable and not sys.stdin.buffer.read1(1024):
+        if readable and not pipe.read1(1024):
             break  # the command closed the pipe or died
     _end(_alive(noted))

@@ -180,7 +180,7 @@ def paired_differences(trials: pd.DataFrame, other: str = "feedback") -> pd.Data
     rl = averaged[averaged["controller"] == "rl"].set_index(TRIAL_KEYS)
     base = averaged[averaged["controller"] == other].set_index(TRIAL_KEYS)
     joined = rl.join(base, how="inner", suffixes=("_rl", "_other")).reset_index()
-    rows = []
+    rows: list[dict[str, object]] = []
     if joined.empty:
         return pd.DataFrame(rows)
     plants = [p for p in ("sim", "proxy", "mujoco") if (joined["plant"] == p).any()]
