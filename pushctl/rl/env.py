@@ -115,9 +115,9 @@ Version history
       acts inside the gate's dead band (``policy_gated`` False; the gate switches the law
       only), with the whole envelope on the feedback law, and observes the context rows
       (``observe_context``). ``EnvConfig()``'s defaults stay ``Push-v0``'s, to the bit;
-      saved policies load with the gate on the policy and no context rows. Under a law that
-      gates itself (the catch-up law's ``gate_threshold``) the environment's gate stays
-      open, so a zero residual pushes as the ``feedback`` controller.
+      saved policies load with the gate on the policy and no context rows. A base law that
+      gates itself (the catch-up law's ``gate_threshold``) acts at every step, whatever
+      the environment's gate, so a zero residual pushes as the ``feedback`` controller.
 """
 
 from __future__ import annotations
@@ -354,25 +354,29 @@ class PushEnv(EpisodeReadings, gym.Env[np.ndarray, np.ndarray]):
         n = episode.step_index
         residual = None
         gate = self.gate_open
-        if gate or not self.config.policy_gated:
+        base = self._base
+        law_acts = base is not None and (gate or self._law_owns_gate)
+        policy_acts = gate or not self.config.policy_gated
+        if policy_acts and action is not None:
+            a_x, a_y, a_w = action
             scale = self.config.residual_scale
-            if action is not None:
-                a_x, a_y, a_w = action
-                if scale != 1.0:
-                    a_x, a_y, a_w = scale * a_x, scale * a_y, scale * a_w
+            if scale != 1.0:
+                a_x, a_y, a_w = scale * a_x, scale * a_y, scale * a_w
+        if law_acts:  # the law acts on the state now; the policy's held action is added
+            assert base is not None
+            law = self._law_action = base.act()
+            if policy_acts and action is not None:
+                law = clipped_action(law[0] + a_x, law[1] + a_y, law[2] + a_w)
+            residual = self._world_twist(law, n)
+        elif policy_acts:
+            self._law_action = (0.0, 0.0, 0.0)
             if not gate:  # the policy alone, inside the dead band (Push-v1); zero: none
-                self._law_action = (0.0, 0.0, 0.0)
                 if action is not None and (a_x or a_y or a_w):
                     residual = self._world_twist(clipped_action(a_x, a_y, a_w), n)
-            elif self._base is None:
+            else:  # no base law: the open gate applies the policy's action (None: zeros)
                 clipped = (0.0, 0.0, 0.0) if action is None else clipped_action(a_x, a_y, a_w)
                 residual = self._world_twist(clipped, n)
-            else:  # the law acts at every step, on the state now; the policy's action is held
-                law = self._law_action = self._base.act()
-                if action is not None:
-                    law = clipped_action(law[0] + a_x, law[1] + a_y, law[2] + a_w)
-                residual = self._world_twist(law, n)
-        elif self._base is not None:
+        elif base is not None:
             self._law_action = (0.0, 0.0, 0.0)
         self._last = episode.step(residual)
         self._set_error(n + 1)  # the observation's, the next gate's

@@ -72,8 +72,9 @@ class EnvConfig:
         nothing), and the policy acts at every step, inside the gate's dead band too, where
         the deviation is an observation rather than a switch. With ``base_law`` and a zero
         action it still pushes as the law does. A base law with its own gate
-        (``gate_threshold`` in its file, as the shipped catch-up law has) overrides
-        ``gate_threshold``: the environment's gate stays open and the law gates itself.
+        (``gate_threshold`` in its file, as the shipped catch-up law has) acts at every
+        step, whatever ``gate_threshold``; the environment's gate then switches the policy
+        only (with ``policy_gated``).
         ``observe_context``: the observation also carries the pose error's rate (through a
         0.1 s lag), the plan's speed now (which the law's caps scale with) and the base law's
         output (:mod:`pushctl.rl.spaces`), what a residual needs to tell where the law is

@@ -112,16 +112,10 @@ class EpisodeReadings:
 
     @property
     def gate_open(self) -> bool:
-        """Whether the next step() applies its action: the pose deviation exceeds the gate's
-        threshold (:attr:`gate_threshold`). While it is shut any action gives the same step."""
-        return self._error_deviation > self.gate_threshold
-
-    @property
-    def gate_threshold(self) -> float:
-        """The gate's threshold [m]: ``config.gate_threshold``, or 0 (always open) under a
-        base law that gates itself (``gains.owns_gate``), which then sees every step, as the
-        ``feedback`` controller's law does; a zero residual then pushes as that controller."""
-        return 0.0 if self._law_owns_gate else self.config.gate_threshold
+        """Whether the pose deviation exceeds the gate's threshold: the policy acts then
+        (always without ``policy_gated``), and so does a base law that leaves the gate to
+        the environment; a law that gates itself acts at every step."""
+        return self._error_deviation > self.config.gate_threshold
 
     def _set_error(self, n: int) -> None:
         """The observation's pose error at step ``n`` (:meth:`_pose_error`) and its gate

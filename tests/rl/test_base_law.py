@@ -41,8 +41,11 @@ def test_a_zero_residual_on_the_law_is_the_feedback_controller_to_the_bit(repeat
     assert by_steps.episode is not None
     while not by_steps.episode.done:
         by_steps.step(ZERO)
-    # the feedback controller decides every 10 ms whatever the policy's interval
-    law_alone.config = replace(law_alone.config, base_law="none", action_repeat=1)
+    # the feedback controller decides every 10 ms whatever the policy's interval, and the
+    # shipped law, which gates itself, sees every step (feedback_config opens the gate)
+    law_alone.config = replace(
+        law_alone.config, base_law="none", action_repeat=1, gate_threshold=0.0
+    )
     law_alone._base = None  # the copy was reset with the law under it
     finish_with_policy(law_alone, FeedbackActor(law_alone, load_feedback_gains()))
     assert _frame(on_law) == _frame(by_steps) == _frame(law_alone)
@@ -87,24 +90,44 @@ def test_the_residual_scale_shrinks_the_policys_action_before_the_law_is_added()
             EnvConfig(residual_scale=bad)
 
 
-@pytest.mark.parametrize("plant", ["sim", "proxy"])
-def test_a_zero_residual_on_push_v1_is_the_feedback_column_to_the_bit(plant) -> None:
-    """The shipped law gates itself (``gate_threshold`` in its file): Push-v1's environment
-    leaves its own gate open under it, as the ``feedback`` column's does, so a policy that
-    holds zeros reports the feedback column's trial exactly."""
+@pytest.mark.parametrize(
+    ("plant", "policy_gated"), [("sim", False), ("proxy", False), ("sim", True)]
+)
+def test_a_zero_residual_on_a_self_gating_law_is_the_feedback_column_to_the_bit(
+    plant, policy_gated
+) -> None:
+    """The shipped law gates itself (``gate_threshold`` in its file): it acts at every step
+    whatever the environment's gate (which then switches only the policy, if
+    ``policy_gated``), as in the ``feedback`` column, so a policy that holds zeros reports
+    the feedback column's trial exactly, on Push-v1 and on the gated Push-v0 settings."""
     gains = load_feedback_gains()
     assert gains.owns_gate
     config = replace(EnvConfig.v1(), stream="tuning", duration=4.0, plant=plant)
+    config = replace(config, policy_gated=policy_gated)
+    assert config.gate_threshold > 0.0
     options = {"object": "wedge", "profile": "chirp", "scenario_seed": 3}
     on_law = PushEnv(config)
     on_law.reset(options=options)
-    assert on_law.gate_threshold == 0.0 < config.gate_threshold
-    finish_with_policy(on_law, lambda obs: ZERO)
+    shut = finish_with_policy(on_law, lambda obs: ZERO)
     column = PushEnv(feedback_config(config, gains))
     column.reset(options=options)
     finish_with_policy(column, FeedbackActor(column, gains))
     assert _frame(on_law) == _frame(column)
-    # a law that leaves the gate to the environment keeps the environment's threshold
-    steady = PushEnv(config)
-    steady._law_owns_gate = False
-    assert steady.gate_threshold == config.gate_threshold
+    if plant == "sim":  # on the proxy the camera's noise holds the gate open
+        assert 0 < shut < on_law.episode.n_steps  # the environment's gate was shut at times
+
+
+def test_the_gate_still_switches_the_policy_under_a_self_gating_law() -> None:
+    """With ``policy_gated`` an action inside the dead band changes nothing: the push with
+    a constant action equals the zero-residual push until the gate first opens."""
+    config = replace(EnvConfig.v1(policy_gated=True, gate_threshold=1.0), stream="tuning")
+    env = PushEnv(replace(config, duration=2.0))
+    env.reset(options={"object": "cube", "profile": "constant", "scenario_seed": 1})
+    zero, pushed = copy.deepcopy(env), copy.deepcopy(env)
+    finish_with_policy(zero, lambda obs: ZERO)
+    finish_with_policy(pushed, lambda obs: np.array([0.0, 0.5, 0.0]))
+    assert _frame(zero) == _frame(pushed)  # a 1 m gate never opens: the law alone
+    free = copy.deepcopy(env)
+    free.config = replace(free.config, policy_gated=False)
+    finish_with_policy(free, lambda obs: np.array([0.0, 0.5, 0.0]))
+    assert _frame(free) != _frame(zero)
