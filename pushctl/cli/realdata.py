@@ -33,7 +33,7 @@ def fit(
     friction_model: Annotated[str, typer.Option(help="ground friction: polygon or box")] = (
         "polygon"
     ),
-    rim_weights: Annotated[str, typer.Option(help=RIM_HELP)] = "-2,0,2",
+    rim_weights: Annotated[str, typer.Option(help=RIM_HELP)] = "-2,0,2,4,6,8",
     workers: Annotated[int, typer.Option(help=WORKERS_HELP)] = 2,
     force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
 ) -> None:
@@ -113,7 +113,7 @@ def loso(
     friction_model: Annotated[str, typer.Option(help="ground friction: polygon or box")] = (
         "polygon"
     ),
-    rim_weights: Annotated[str, typer.Option(help=RIM_HELP)] = "-2,0,2",
+    rim_weights: Annotated[str, typer.Option(help=RIM_HELP)] = "-2,0,2,4,6,8",
     workers: Annotated[int, typer.Option(help=WORKERS_HELP)] = 2,
     force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
 ) -> None:
@@ -201,7 +201,7 @@ def _invocation(ctx: typer.Context) -> str:
 
 
 def _grids(rim_weights: str):
-    """The fit's grids with the rim-weight grid ``rim_weights`` ("-2,0,2")."""
+    """The fit's grids with the rim-weight grid ``rim_weights`` ("-2,0,2,4,6,8")."""
     from pushctl.kinematic import PressurePrior
     from pushctl.realdata.fit import FitGrids
 

@@ -29,7 +29,7 @@ class FitGrids:
     show how little it moves the score."""
 
     mu_contact: tuple[float, ...] = (0.1, 0.2, 0.3, 0.4, 0.6)
-    rim_weight: tuple[float, ...] = (-2.0, 0.0, 2.0)
+    rim_weight: tuple[float, ...] = (-2.0, 0.0, 2.0, 4.0, 6.0, 8.0)
     mu_ground: tuple[float, ...] = (0.15, 0.3, 0.6)
 
 
