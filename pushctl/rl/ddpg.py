@@ -303,6 +303,7 @@ class DDPGAgent:
         0), which the actor loss then uses without the prior's forward pass."""
         self.prior = copy.deepcopy(actor).requires_grad_(False)
         last = self.prior.net[-1]
+        assert isinstance(last, nn.Linear)
         self._prior_is_zero = not (bool(last.weight.any()) or bool(last.bias.any()))
 
     def actor_state(self) -> dict[str, Any]:

@@ -55,6 +55,19 @@ class EpisodeReadings:
     episode: Any
     config: Any
     _last: Any
+    _plan_rows: list[list[float]]
+    _plan_forces: np.ndarray
+    _plan_speed: list[float]
+    _true_forces: np.ndarray
+    _true_torques: np.ndarray
+    _measured: np.ndarray
+    _exact_pose: bool
+    _action_scales: tuple[float, float, float]
+    _law_owns_gate: bool
+    _law_action: tuple[float, float, float]
+    _error: np.ndarray
+    _error_deviation: float
+    _error_rate: list[float]
 
     def observation(self) -> np.ndarray:
         """The observation (float32, :mod:`pushctl.rl.spaces`) of the current state: what

@@ -166,4 +166,4 @@ def _scaled(env: PushEnv, obs_scale: np.ndarray, reward_scale: float) -> Any:
     scaled = gymnasium.wrappers.TransformObservation(
         env, lambda obs: (obs / scale).astype(np.float32), space
     )
-    return gymnasium.wrappers.TransformReward(scaled, lambda r: reward_scale * r)
+    return gymnasium.wrappers.TransformReward(scaled, lambda r: reward_scale * float(r))
