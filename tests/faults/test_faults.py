@@ -20,6 +20,7 @@ from pathlib import Path
 
 import pytest
 import torch
+from fault_helpers import lock_held_elsewhere, one_error_line
 from typer.testing import CliRunner
 
 from pushctl.cli import app
@@ -82,16 +83,6 @@ def results(out: Path) -> dict[str, object]:
         state = load_checked(out / name, "policy file")
         found[name] = content_digest({"actor": state["actor"], "env": state["env"]})
     return found
-
-
-def one_error_line(result, *fragments: str) -> str:
-    assert result.exit_code == 2, result.output
-    assert "Traceback" not in result.output
-    lines = [line for line in result.stderr.splitlines() if line.strip()]
-    assert len(lines) == 1 and lines[0].startswith("error:"), result.stderr
-    for fragment in fragments:
-        assert fragment in lines[0], lines[0]
-    return lines[0]
 
 
 class Killed(BaseException):
@@ -183,25 +174,13 @@ def test_killed_after_the_last_checkpoint_ships_its_policy(
 def test_a_second_writer_is_refused_while_the_first_holds_the_directory(tmp_path):
     out = tmp_path / "evaluation"
     out.mkdir()
-    holder = subprocess.Popen(
-        [sys.executable, "-c",
-         "import fcntl, os, sys, time\n"
-         f"fd = os.open({str(out / LOCK_NAME)!r}, os.O_RDWR | os.O_CREAT)\n"
-         "fcntl.flock(fd, fcntl.LOCK_EX); os.write(fd, str(os.getpid()).encode())\n"
-         "print('held', flush=True); time.sleep(60)"],
-        stdout=subprocess.PIPE, text=True,
-    )  # fmt: skip
-    try:
-        assert holder.stdout.readline().strip() == "held"
-        args = ["evaluate", "--object", "cube", "--profile", "chirp", "--trials", "1",
-                "--controller", "pd", "--plant", "sim", "--out", str(out)]  # fmt: skip
+    args = ["evaluate", "--object", "cube", "--profile", "chirp", "--trials", "1",
+            "--controller", "pd", "--plant", "sim", "--out", str(out)]  # fmt: skip
+    with lock_held_elsewhere(out / LOCK_NAME):
         one_error_line(runner.invoke(app, args), str(out), "in use by another pushctl command")
         assert sorted(p.name for p in out.iterdir()) == [LOCK_NAME]  # nothing written
         train = ["train", "--out", str(out)]
         one_error_line(runner.invoke(app, train), "in use")
-    finally:
-        holder.kill()  # a killed holder's lock is released by the system
-        holder.wait()
     done = runner.invoke(app, args)
     assert done.exit_code == 0, done.output
     assert sorted(p.name for p in out.iterdir()) == ["steps.csv", "trials.csv"]

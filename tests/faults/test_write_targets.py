@@ -5,10 +5,9 @@ for, with the earlier good file intact."""
 from __future__ import annotations
 
 import errno
-import subprocess
-import sys
 from pathlib import Path
 
+from fault_helpers import lock_held_elsewhere, one_error_line
 from typer.testing import CliRunner
 
 from pushctl.cli import app
@@ -18,37 +17,15 @@ ROOT = Path(__file__).resolve().parents[2]
 runner = CliRunner()
 
 
-def one_error_line(result, *fragments: str) -> str:
-    assert result.exit_code == 2, result.output
-    assert "Traceback" not in result.output
-    lines = [line for line in result.stderr.splitlines() if line.strip()]
-    assert len(lines) == 1 and lines[0].startswith("error:"), result.stderr
-    for fragment in fragments:
-        assert fragment in lines[0], lines[0]
-    return lines[0]
-
-
 def test_a_second_sweep_into_a_held_directory_is_refused(tmp_path):
     out = tmp_path / "sweep"
     out.mkdir()
-    holder = subprocess.Popen(
-        [sys.executable, "-c",
-         "import fcntl, os, time\n"
-         f"fd = os.open({str(out / LOCK_NAME)!r}, os.O_RDWR | os.O_CREAT)\n"
-         "fcntl.flock(fd, fcntl.LOCK_EX); os.write(fd, str(os.getpid()).encode())\n"
-         "print('held', flush=True); time.sleep(60)"],
-        stdout=subprocess.PIPE, text=True,
-    )  # fmt: skip
-    try:
-        assert holder.stdout is not None and holder.stdout.readline().strip() == "held"
-        sweep = ["sweep", str(ROOT / "experiments" / "sweep_gate.toml"), "--out", str(out)]
+    sweep = ["sweep", str(ROOT / "experiments" / "sweep_gate.toml"), "--out", str(out)]
+    with lock_held_elsewhere(out / LOCK_NAME):
         one_error_line(runner.invoke(app, sweep), str(out), "in use by another pushctl command")
         resumed = runner.invoke(app, [*sweep, "--resume"])
         one_error_line(resumed, "in use by another pushctl command")
         assert sorted(p.name for p in out.iterdir()) == [LOCK_NAME]  # nothing written
-    finally:
-        holder.kill()
-        holder.wait()
 
 
 def test_a_sweep_directory_with_results_asks_for_resume(tmp_path):
