@@ -10,6 +10,7 @@ machine beside its time on the machine the budgets were set on (:func:`machine_s
 from __future__ import annotations
 
 import csv
+import re
 from dataclasses import dataclass
 from datetime import datetime
 from pathlib import Path
@@ -78,6 +79,7 @@ def write_manifest(
         "docs/reproducibility.md)",
         f"- outcome: {'running (or stopped)' if running else outcome}",
         run_line(setup),
+        *training_commit_lines(setup),
         "",
         "| step | command | exit | wall time |",
         "|---|---|---|---|",
@@ -92,6 +94,24 @@ def write_manifest(
     ]
     setup.results.mkdir(parents=True, exist_ok=True)
     write_atomic(setup.results / MANIFEST, lambda tmp: tmp.write_text("\n".join(lines)))
+
+
+def training_commit_lines(setup: Setup) -> list[str]:
+    """The line naming the commit(s) each seed's training was made at, read from the first
+    line of its ``curve.csv`` in ``results/training/seed-K/``: a resumed run that was
+    already finished keeps the commit that trained it. No line before the curves exist."""
+    commits: dict[str, list[int]] = {}
+    for seed in setup.seeds:
+        curve = setup.results / "training" / f"seed-{seed}" / "curve.csv"
+        if not curve.exists():
+            return []
+        with curve.open() as lines:
+            found = re.search(r"commit ([0-9a-f]{7,}(?:-dirty)?|unknown)", lines.readline())
+        commits.setdefault(found.group(1) if found else "unknown", []).append(seed)
+    made = "; ".join(
+        f"commit {commit} (seeds {','.join(map(str, seeds))})" for commit, seeds in commits.items()
+    )
+    return [f"- training made at: {made}"]
 
 
 @dataclass(frozen=True)

@@ -261,26 +261,28 @@ def test_the_steps_are_compressed_from_this_run_s_file_to_the_same_bytes_each_ti
 
 def test_every_shipped_file_of_the_reproduction_names_its_commit() -> None:
     """Each file ``make reproduce-tables`` wrote into the shipped ``results/`` (the tables,
-    trials, per-step means, curves) names the commit of ``results/provenance.md``: none is
-    left over from an earlier run. (``bench.csv`` is not among them: ``make bench``
+    trials, per-step means) names the commit of ``results/provenance.md``, and each training
+    curve the commit the manifest says trained the seeds: none is left over from an earlier
+    run. (``bench.csv`` is not among them: ``make bench``
     rewrites it with its own run's commit.)"""
     import re
 
     results = Path(__file__).resolve().parents[2] / "results"
     manifest = (results / MANIFEST).read_text()
     commit = re.search(r"commit ([0-9a-f]{7,})", manifest)
-    assert commit is not None
+    trained = re.search(r"- training made at: commit ([0-9a-f]{7,}) \(seeds [0-9,]+\)\n", manifest)
+    assert commit is not None and trained is not None  # one commit trained every seed
     made_here = [
         *(results / name for name in ("table3.csv", "table4.csv", "behaviour.csv")),
         results / "evaluation" / "trials.csv",
         results / "evaluation" / "steps.csv.gz",
-        *sorted((results / "training").rglob("*.csv")),
     ]
-    for path in made_here:
+    training = sorted((results / "training").rglob("*.csv"))
+    for path, made_at in [*((p, commit) for p in made_here), *((p, trained) for p in training)]:
         raw = path.read_bytes()
         head = (gzip.decompress(raw) if path.suffix == ".gz" else raw)[:4000].decode()
         assert head.startswith("# made by:"), path
-        assert f"commit {commit.group(1)}" in head.splitlines()[0], path
+        assert f"commit {made_at.group(1)}" in head.splitlines()[0], path
 
 
 def test_the_manifest_sets_the_machine_s_speed_beside_the_budgets_machine(tmp_path: Path) -> None:
@@ -302,3 +304,21 @@ def test_the_manifest_sets_the_machine_s_speed_beside_the_budgets_machine(tmp_pa
     (setup.results / "bench.csv").write_text("name,value\nother,1\n")
     manifests.write_manifest(setup, [*before_bench, bench], started)
     assert "this machine's speed" not in (setup.results / MANIFEST).read_text()
+
+
+def test_the_manifest_names_the_commit_each_seed_was_trained_at(tmp_path: Path) -> None:
+    """A resumed run found finished keeps the commit that trained it: the manifest says so,
+    seed by seed, rather than the commit of the evaluation."""
+    setup = replace(FULL, run=tmp_path / "run", results=tmp_path / "results", seeds=(0, 1, 2))
+    assert manifests.training_commit_lines(setup) == []  # no curves yet
+    for seed, commit in ((0, "b09e038"), (1, "b09e038-dirty"), (2, "b09e038")):
+        curve = setup.results / "training" / f"seed-{seed}" / "curve.csv"
+        curve.parent.mkdir(parents=True)
+        curve.write_text(f"# made by: pushctl train; pushctl 0.1.0; commit {commit}; seed {seed}\n")
+    assert manifests.training_commit_lines(setup) == [
+        "- training made at: commit b09e038 (seeds 0,2); commit b09e038-dirty (seeds 1)"
+    ]
+    manifests.write_manifest(setup, [], datetime.now(timezone.utc))
+    assert (
+        "- training made at: commit b09e038 (seeds 0,2)" in (setup.results / MANIFEST).read_text()
+    )
