@@ -263,8 +263,8 @@ def test_every_shipped_file_of_the_reproduction_names_its_commit() -> None:
     """Each file ``make reproduce-tables`` wrote into the shipped ``results/`` (the tables,
     trials, per-step means) names the commit of ``results/provenance.md``, and each training
     curve the commit the manifest says trained the seeds: none is left over from an earlier
-    run. (``bench.csv`` is not among them: ``make bench``
-    rewrites it with its own run's commit.)"""
+    run. (``bench.csv`` is not among them: ``make bench`` rewrites it with its own run's
+    commit.)"""
     import re
 
     results = Path(__file__).resolve().parents[2] / "results"
