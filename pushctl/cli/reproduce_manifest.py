@@ -165,7 +165,7 @@ def budgets(setup: Setup, records: list[StepRecord]) -> list[Budget]:
         total = TOTAL_BUDGETS[1] + (TOTAL_BUDGETS[3] - TOTAL_BUDGETS[1]) / 2 * (count - 1)
         basis += " (interpolated from 30 min for 1, 60 min for 3)"
     if any(r.name == "train" and "--resume" in r.command.split() for r in records):
-        basis += "; this invocation only: its training resumed earlier sessions' runs"
+        basis += "; this invocation only: its training resumed earlier runs"
     rows.append(Budget("whole run", sum(took.values()) if records else None, total, basis))
     return rows
 
