@@ -20,22 +20,31 @@ DATA_HELP = "directory holding mit/pushes.csv, mit/shapes.csv (and two_finger_lo
 WORKERS_HELP = "worker processes for the replay (results do not depend on it)"
 RIM_HELP = "the rim-weight grid the fit searches first, comma-separated (then +-1 around the best)"
 
+# The options the subcommands share, declared once.
+DataOption = Annotated[Path, typer.Option(help=DATA_HELP)]
+OutDirOption = Annotated[Path, typer.Option(help="output directory (created if missing)")]
+SplitSeedOption = Annotated[int, typer.Option(help="seed of the calibration split")]
+FrictionModelOption = Annotated[str, typer.Option(help="ground friction: polygon or box")]
+RimWeightsOption = Annotated[str, typer.Option(help=RIM_HELP)]
+RIM_WEIGHTS = "-2,0,2,4,6,8"
+"""The rim-weight grid ``fit`` and ``loso`` search first by default."""
+WorkersOption = Annotated[int, typer.Option(help=WORKERS_HELP)]
+ForceOption = Annotated[bool, typer.Option("--force", help=FORCE_HELP)]
+
 
 @app.command(cls=Command)
 def fit(
     ctx: typer.Context,
-    data: Annotated[Path, typer.Option(help=DATA_HELP)],
+    data: DataOption,
     out: Annotated[Path, typer.Option(help="the fit, a .toml file")],
-    split_seed: Annotated[int, typer.Option(help="seed of the calibration split")] = 0,
+    split_seed: SplitSeedOption = 0,
     exclude_shape: Annotated[
         list[str], typer.Option(help="leave this shape out of the fit (repeatable)")
     ] = [],  # noqa: B006 (Typer reads the default)
-    friction_model: Annotated[str, typer.Option(help="ground friction: polygon or box")] = (
-        "polygon"
-    ),
-    rim_weights: Annotated[str, typer.Option(help=RIM_HELP)] = "-2,0,2,4,6,8",
-    workers: Annotated[int, typer.Option(help=WORKERS_HELP)] = 2,
-    force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
+    friction_model: FrictionModelOption = "polygon",
+    rim_weights: RimWeightsOption = RIM_WEIGHTS,
+    workers: WorkersOption = 2,
+    force: ForceOption = False,
 ) -> None:
     """Fit μ_c, μ_g and the pressure prior's rim weight per surface on a seeded 20 % split."""
     from pushctl.provenance import provenance_line
@@ -62,14 +71,14 @@ def fit(
 @app.command(cls=Command)
 def score(
     ctx: typer.Context,
-    data: Annotated[Path, typer.Option(help=DATA_HELP)],
+    data: DataOption,
     friction: Annotated[Path, typer.Option(help="a fit written by `pushctl realdata fit`")],
-    out: Annotated[Path, typer.Option(help="output directory (created if missing)")],
+    out: OutDirOption,
     shapes: Annotated[
         list[str], typer.Option(help="score only pushes of this shape (repeatable)")
     ] = [],  # noqa: B006
-    workers: Annotated[int, typer.Option(help=WORKERS_HELP)] = 2,
-    force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
+    workers: WorkersOption = 2,
+    force: ForceOption = False,
 ) -> None:
     """Replay every push; write predictions.csv, summary.csv and figures into OUT."""
     from pushctl.provenance import provenance_line, write_atomic, write_csv
@@ -107,15 +116,13 @@ def score(
 @app.command(cls=Command)
 def loso(
     ctx: typer.Context,
-    data: Annotated[Path, typer.Option(help=DATA_HELP)],
-    out: Annotated[Path, typer.Option(help="output directory (created if missing)")],
-    split_seed: Annotated[int, typer.Option(help="seed of the calibration split")] = 0,
-    friction_model: Annotated[str, typer.Option(help="ground friction: polygon or box")] = (
-        "polygon"
-    ),
-    rim_weights: Annotated[str, typer.Option(help=RIM_HELP)] = "-2,0,2,4,6,8",
-    workers: Annotated[int, typer.Option(help=WORKERS_HELP)] = 2,
-    force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
+    data: DataOption,
+    out: OutDirOption,
+    split_seed: SplitSeedOption = 0,
+    friction_model: FrictionModelOption = "polygon",
+    rim_weights: RimWeightsOption = RIM_WEIGHTS,
+    workers: WorkersOption = 2,
+    force: ForceOption = False,
 ) -> None:
     """Leave one shape out: per shape, fit on the others' calibration pushes, score it."""
     from pushctl.provenance import provenance_line, write_csv
@@ -147,18 +154,16 @@ def loso(
 @app.command(cls=Command)
 def logs(
     ctx: typer.Context,
-    data: Annotated[Path, typer.Option(help=DATA_HELP)],
-    out: Annotated[Path, typer.Option(help="output directory (created if missing)")],
-    friction_model: Annotated[str, typer.Option(help="ground friction: polygon or box")] = (
-        "polygon"
-    ),
+    data: DataOption,
+    out: OutDirOption,
+    friction_model: FrictionModelOption = "polygon",
     fit: Annotated[
         bool,
         typer.Option(
             "--fit", help="fit mu_c and the rim weight per setup on the other starts' segments"
         ),
     ] = False,
-    force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
+    force: ForceOption = False,
 ) -> None:
     """Replay each two-finger segment from its logged start; errors against the repeats."""
     from pushctl.kinematic import PressurePrior
