@@ -355,26 +355,23 @@ class PushEnv(EpisodeReadings, gym.Env[np.ndarray, np.ndarray]):
         residual = None
         gate = self.gate_open
         base = self._base
-        law_acts = base is not None and (gate or self._law_owns_gate)
         policy_acts = gate or not self.config.policy_gated
+        pushed = None  # the policy's scaled action, when it acts and has one
         if policy_acts and action is not None:
-            a_x, a_y, a_w = action
             scale = self.config.residual_scale
-            if scale != 1.0:
-                a_x, a_y, a_w = scale * a_x, scale * a_y, scale * a_w
-        if law_acts:  # the law acts on the state now; the policy's held action is added
-            assert base is not None
-            law = self._law_action = base.act()
-            if policy_acts and action is not None:
-                law = clipped_action(law[0] + a_x, law[1] + a_y, law[2] + a_w)
+            pushed = action if scale == 1.0 else [scale * a for a in action]
+        if base is not None and (gate or self._law_owns_gate):
+            law = self._law_action = base.act()  # on the state now; the policy's held action
+            if pushed is not None:
+                law = clipped_action(law[0] + pushed[0], law[1] + pushed[1], law[2] + pushed[2])
             residual = self._world_twist(law, n)
         elif policy_acts:
             self._law_action = (0.0, 0.0, 0.0)
             if not gate:  # the policy alone, inside the dead band (Push-v1); zero: none
-                if action is not None and (a_x or a_y or a_w):
-                    residual = self._world_twist(clipped_action(a_x, a_y, a_w), n)
+                if pushed is not None and any(pushed):
+                    residual = self._world_twist(clipped_action(*pushed), n)
             else:  # no base law: the open gate applies the policy's action (None: zeros)
-                clipped = (0.0, 0.0, 0.0) if action is None else clipped_action(a_x, a_y, a_w)
+                clipped = (0.0, 0.0, 0.0) if pushed is None else clipped_action(*pushed)
                 residual = self._world_twist(clipped, n)
         elif base is not None:
             self._law_action = (0.0, 0.0, 0.0)
