@@ -161,10 +161,109 @@ def usable_cores() -> int:
     return os.cpu_count() or 1
 
 
+def cpu_vendor(cpuinfo: Path = Path("/proc/cpuinfo")) -> str:
+    """The CPU's vendor as it names itself (``GenuineIntel``, ``AuthenticAMD``), from
+    ``cpuinfo`` on Linux; ``unknown`` where it cannot be read."""
+    try:
+        for line in cpuinfo.read_text().splitlines():
+            if line.startswith("vendor_id"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return "unknown"
+
+
+_X86_64_V3 = frozenset({"avx2", "fma", "bmi1", "bmi2", "f16c", "movbe"})
+_X86_64_V4 = _X86_64_V3 | {"avx512f", "avx512bw", "avx512cd", "avx512dq", "avx512vl"}
+
+
+def cpu_level(flags: frozenset[str]) -> str:
+    """The x86-64 micro-architecture level that feature ``flags`` reach: ``x86-64-v4``
+    (AVX-512), ``x86-64-v3`` (AVX2 and FMA), or ``below x86-64-v3``. Libraries that choose
+    their code by CPU (torch's MKL among them) choose by it."""
+    if _X86_64_V4 <= flags:
+        return "x86-64-v4"
+    if _X86_64_V3 <= flags:
+        return "x86-64-v3"
+    return "below x86-64-v3"
+
+
+def torch_cpu_capability() -> str:
+    """The vector code torch's own kernels run on this CPU (``AVX512``, ``AVX2``,
+    ``DEFAULT``; ``ATEN_CPU_CAPABILITY`` lowers it), or ``no torch``. Imports torch."""
+    try:
+        import torch  # here, not at the top: seconds to load, and it loads numpy
+    except ImportError:
+        return "no torch"
+    return str(torch.backends.cpu.get_cpu_capability())
+
+
+def _version(distribution: str) -> str:
+    try:
+        return metadata.version(distribution)
+    except metadata.PackageNotFoundError:
+        return "not installed"
+
+
+_LIBRARIES = ("numpy", "scipy", "pin", "proxsuite", "numba", "mujoco", "torch")
+
+SCOPES: dict[str, tuple[str, ...]] = {
+    "evaluation": (
+        "architecture", "openblas_kernels", "numpy_loops",
+        "numpy", "scipy", "pin", "proxsuite", "numba", "mujoco",
+    ),
+    "training": (
+        "architecture", "cpu_vendor", "cpu_level", "openblas_kernels", "numpy_loops",
+        "torch_capability", "mkl_cbwr",
+        "numpy", "scipy", "pin", "proxsuite", "numba", "mujoco", "torch",
+    ),
+}  # fmt: skip
+"""What must match for a recorded digest to repeat, by kind of run.
+
+- ``evaluation`` (pushes, the policy's forward pass in pushctl's own compiled loop): the
+  pinned numpy code and the libraries that step the worlds. Seen equal on the Intel Xeon
+  that made the shipped results and on two AMD EPYCs, one with AVX-512 and one without.
+- ``training`` adds torch's updates: torch's own kernels choose their vector code by CPU
+  (``torch_capability``), and its matrix products run in Intel's MKL, which chooses its code
+  by vendor and by level (AVX-512 or not) unless ``MKL_CBWR`` fixes it. (The thread count
+  also matters; training sets it, ``[ddpg] torch_threads``.) The same commit and seed
+  trained other bits on that Intel Xeon than on the AMD EPYCs; the two EPYCs agreed."""
+
+
+def reproducibility_scope() -> dict[str, str]:
+    """This machine's value of every field of :data:`SCOPES`. Imports numpy and torch."""
+    return {
+        "architecture": platform.machine(),
+        "cpu_vendor": cpu_vendor(),
+        "cpu_level": cpu_level(cpu_flags()),
+        "openblas_kernels": blas_kernels(),
+        "numpy_loops": numpy_simd(),
+        "torch_capability": torch_cpu_capability(),
+        "mkl_cbwr": os.environ.get("MKL_CBWR", "unset"),
+        **{name: _version(name) for name in _LIBRARIES},
+    }
+
+
+def scope_of(kind: str, scope: dict[str, str]) -> dict[str, str]:
+    """The fields of ``scope`` that a digest of ``kind`` (a key of :data:`SCOPES`) depends on."""
+    return {name: scope[name] for name in SCOPES[kind]}
+
+
+def scope_differences(recorded: dict[str, str], here: dict[str, str]) -> list[str]:
+    """One phrase per field of ``recorded`` whose value ``here`` differs, e.g.
+    ``cpu_vendor: AuthenticAMD here, GenuineIntel recorded``."""
+    return [
+        f"{name}: {here.get(name, 'absent')} here, {value} recorded"
+        for name, value in recorded.items()
+        if here.get(name) != value
+    ]
+
+
 def machine_description() -> str:
     """One line: the CPU, the cores this process may use, the OpenBLAS kernels numpy runs and
     the highest target its own loops use."""
     return (
-        f"{cpu_model()}, {usable_cores()} cores; numpy's OpenBLAS runs its {blas_kernels()} "
+        f"{cpu_model()} ({cpu_vendor()}, {cpu_level(cpu_flags())}), {usable_cores()} cores; "
+        f"numpy's OpenBLAS runs its {blas_kernels()} "
         f"kernels, its own loops up to {numpy_simd()}"
     )

@@ -2,8 +2,16 @@
 two small pieces recomputed from the code (a short evaluation of the shipped seed-0 policy,
 a few training episodes of the ``paper`` preset), recorded in ``tests/data/shipped_digests.json``.
 
+A recomputed digest repeats only on a machine of the kind it was recorded on, so each is
+recorded with its scope: the fields of :data:`pushctl.machine.SCOPES` for its kind of run
+(CPU, the code numpy, torch and MKL chose, library versions). The manifest may hold one
+record per scope; a test checks the record of this machine's scope and skips, naming what
+differs, where there is none.
+
 A change that is meant to move results (then ``make reproduce-tables`` makes ``results/``
-again) re-records them: ``python tests/shipped_digests.py --record`` (``make digests``).
+again) re-records them: ``python tests/shipped_digests.py --record`` (``make digests``)
+keeps this machine's records only. ``--add`` adds this machine's records to the others, for
+a code that has not changed, run on a machine of another kind.
 """
 
 from __future__ import annotations
@@ -95,12 +103,39 @@ def training_digest(out: Path) -> str:
     return digest.hexdigest()
 
 
-def record(scratch: Path) -> dict[str, object]:
-    manifest = {
-        "results": shipped_files(),
-        "evaluation": evaluation_digest(scratch / "evaluation"),
-        "training": training_digest(scratch / "training"),
-    }
+DIGESTS = {"evaluation": evaluation_digest, "training": training_digest}
+"""Each recomputed digest by its kind of run (a key of :data:`pushctl.machine.SCOPES`)."""
+
+
+def recorded_for_this_machine(kind: str) -> tuple[str | None, str]:
+    """The digest of ``kind`` recorded for this machine's scope, and ``""``; or ``None`` and
+    why none applies (each recorded scope's first differences from this machine's)."""
+    from pushctl.machine import reproducibility_scope, scope_differences, scope_of
+
+    here = scope_of(kind, reproducibility_scope())
+    records = json.loads(MANIFEST.read_text()).get(kind, [])
+    for entry in records:
+        if entry["scope"] == here:
+            return entry["digest"], ""
+    others = ["; ".join(scope_differences(entry["scope"], here)) for entry in records]
+    return None, f"the {kind} digest was recorded on other machines only ({' | '.join(others)})"
+
+
+def record(scratch: Path, add: bool) -> dict[str, object]:
+    """Recompute the digests on this machine and write the manifest: with ``add``, beside
+    the records of other scopes (the shipped files' digests must be unchanged); without,
+    replacing every record."""
+    from pushctl.machine import reproducibility_scope, scope_of
+
+    scope = reproducibility_scope()
+    old = json.loads(MANIFEST.read_text()) if add and MANIFEST.exists() else {}
+    manifest: dict[str, object] = {"results": shipped_files()}
+    if add and old.get("results") != manifest["results"]:
+        raise SystemExit("--add: the shipped files changed; record them anew with --record")
+    for kind, digest in DIGESTS.items():
+        mine = scope_of(kind, scope)
+        kept = [entry for entry in old.get(kind, []) if entry["scope"] != mine]
+        manifest[kind] = [*kept, {"scope": mine, "digest": digest(scratch / kind)}]
     MANIFEST.parent.mkdir(parents=True, exist_ok=True)
     MANIFEST.write_text(json.dumps(manifest, indent=1, sort_keys=True) + "\n")
     return manifest
@@ -109,7 +144,10 @@ def record(scratch: Path) -> dict[str, object]:
 if __name__ == "__main__":
     import tempfile
 
-    if sys.argv[1:] != ["--record"]:
-        sys.exit("usage: python tests/shipped_digests.py --record")
+    import pushctl
+
+    pushctl.reproducible()  # the CPU code the tests run (tests/conftest.py)
+    if sys.argv[1:] not in (["--record"], ["--add"]):
+        sys.exit("usage: python tests/shipped_digests.py --record | --add")
     with tempfile.TemporaryDirectory() as scratch:
-        print(json.dumps(record(Path(scratch)), indent=1))
+        print(json.dumps(record(Path(scratch), add=sys.argv[1] == "--add"), indent=1))

@@ -20,8 +20,10 @@ from pushctl.machine import (
     blas_kernels,
     code_to_pin,
     cpu_flags,
+    cpu_level,
     machine_description,
     numpy_simd,
+    scope_differences,
 )
 
 
@@ -133,3 +135,20 @@ def test_ray_workers_run_the_drivers_code(ray_local) -> None:
         return [blas_kernels(), numpy_simd()]
 
     assert ray.get(code.remote()) == [PINNED_KERNELS, numpy_simd()]
+
+
+def test_the_cpu_level_follows_the_flags() -> None:
+    v3 = frozenset({"avx2", "fma", "bmi1", "bmi2", "f16c", "movbe", "sse4_2"})
+    v4 = v3 | {"avx512f", "avx512bw", "avx512cd", "avx512dq", "avx512vl"}
+    assert cpu_level(v4) == "x86-64-v4"
+    assert cpu_level(v3 | {"avx512f"}) == "x86-64-v3"
+    assert cpu_level(v3 - {"fma"}) == "below x86-64-v3"
+
+
+def test_scope_differences_name_each_field_that_differs() -> None:
+    recorded = {"cpu_vendor": "GenuineIntel", "numpy": "2.4.6", "torch": "2.13.0+cpu"}
+    here = {"cpu_vendor": "AuthenticAMD", "numpy": "2.4.6", "torch": "2.13.0+cpu"}
+    assert scope_differences(recorded, here) == [
+        "cpu_vendor: AuthenticAMD here, GenuineIntel recorded"
+    ]
+    assert scope_differences(recorded, recorded) == []
