@@ -14,14 +14,19 @@ The stable Python API (docs/model.md):
 
 Importing pushctl changes nothing outside it and loads neither numpy nor the simulator:
 the names above load their modules on first use. It registers the environment with
-gymnasium when gymnasium is already imported (``import pushctl.rl`` registers it in any
-case, and ``gym.make("pushctl:pushctl/Push-v1")`` imports it).
+gymnasium in either order of the two imports: at once when gymnasium is already imported,
+else as soon as gymnasium is (a hook on ``sys.meta_path`` that runs once, so that
+``import pushctl`` does not load gymnasium, and with it numpy, before
+:func:`reproducible` can run).
 """
 
 from __future__ import annotations
 
 import importlib
+import importlib.abc
+import importlib.util
 import sys
+from types import ModuleType
 from typing import TYPE_CHECKING, Any
 
 from pushctl.machine import reproducible
@@ -65,8 +70,37 @@ def __dir__() -> list[str]:
     return sorted({*globals(), *_HOMES})
 
 
+_REGISTRATION = "pushctl.rl"
+"""The module whose import registers the environment's ids with gymnasium."""
+
+
+class _RegisterAfterGymnasium(importlib.abc.MetaPathFinder):
+    """Finds nothing itself: when ``gymnasium`` is first imported, it takes itself off
+    ``sys.meta_path``, lets the other finders find gymnasium, and has its loader import
+    :data:`_REGISTRATION` right after gymnasium's module has run."""
+
+    def find_spec(self, name: str, path: Any = None, target: Any = None) -> Any:
+        if name != "gymnasium":
+            return None
+        sys.meta_path.remove(self)
+        spec = importlib.util.find_spec(name)
+        loader = spec.loader if spec is not None else None
+        if loader is None or not hasattr(loader, "exec_module"):
+            return spec
+        run_gymnasium = loader.exec_module
+
+        def exec_module(module: ModuleType) -> None:
+            run_gymnasium(module)
+            importlib.import_module(_REGISTRATION)
+
+        loader.exec_module = exec_module  # type: ignore[method-assign]
+        return spec
+
+
 if "gymnasium" in sys.modules:  # registering loads nothing gymnasium has not loaded
-    importlib.import_module("pushctl.rl")
+    importlib.import_module(_REGISTRATION)
+elif not any(isinstance(finder, _RegisterAfterGymnasium) for finder in sys.meta_path):
+    sys.meta_path.insert(0, _RegisterAfterGymnasium())
 
 __all__ = [
     "ENV_ID",

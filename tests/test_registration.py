@@ -29,6 +29,15 @@ obs, _ = env.reset(seed=0)
 print(env.spec.id, obs.shape)
 """
 
+MAKE_WITH_PUSHCTL_FIRST = """
+import sys
+import pushctl
+assert "numpy" not in sys.modules and "gymnasium" not in sys.modules
+import gymnasium as gym
+env = gym.make("pushctl/Push-v1")
+print(env.spec.id)
+"""
+
 MAKE_WITH_MODULE_PREFIX = """
 import gymnasium as gym
 env = gym.make("pushctl:pushctl/Push-v0")
@@ -47,6 +56,10 @@ def _run(code: str) -> str:
 def test_import_pushctl_registers_push_env_without_loading_it() -> None:
     out = _run(MAKE_AFTER_IMPORT)
     assert out.split()[0] == "pushctl/Push-v0"
+
+
+def test_import_pushctl_before_gymnasium_registers_it_once_gymnasium_loads() -> None:
+    assert _run(MAKE_WITH_PUSHCTL_FIRST).strip() == "pushctl/Push-v1"
 
 
 def test_gymnasium_module_prefix_imports_pushctl() -> None:
