@@ -8,7 +8,7 @@ unknowns on, as in training). ``shut``, ``open`` and ``feedback`` push
 before the ``paper`` preset added its base law: with the gate ``shut`` (zero actions),
 ``open`` (gate threshold 0, uniform random actions) or the ``feedback`` law pushing through
 :func:`~pushctl.rl.policy.finish_with_policy` as the evaluation does. ``train`` pushes the
-``paper`` preset's own environment (``experiments/train_paper.toml``: the feedback law acting
+``paper`` preset's own environment (``pushctl/defaults/train_paper.toml``: the feedback law acting
 every step, a residual of uniform random actions added every 10 steps), which is what a
 ``paper`` run's collectors step. The pushes run once unprofiled first (numba's caches, and
 the rate without the profiler's overhead), then under cProfile with the resets left out;

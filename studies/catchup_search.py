@@ -1,7 +1,7 @@
-"""The search of the ``feedback`` law's catch-up phase (experiments/feedback_gains.toml)
+"""The search of the ``feedback`` law's catch-up phase (pushctl/defaults/feedback_gains.toml)
 on the tuning stream, over the ``sim`` and ``proxy`` plants together.
 
-The space (:data:`SPACE`), around the steady gains of ``experiments/feedback_gains.toml``:
+The space (:data:`SPACE`), around the steady gains of ``pushctl/defaults/feedback_gains.toml``:
 the phase's length ``catchup_time`` [s], its gains ``catchup_k`` [1/s] (``catchup_k_i`` is
 the steady k_i), one relaxed cap for both ``catchup_lateral_ratio`` and
 ``catchup_turn_ratio`` [-], the load every prong must carry for the caps to be relaxed,
@@ -276,7 +276,7 @@ def summary(paths: list[Path], per_case: int = PER_CASE) -> dict[str, dict[str, 
 
 
 def catchup_toml(name: str, found: dict[str, dict[str, float]], command: str) -> str:
-    """The text of experiments/feedback_gains.toml: candidate ``name``'s gains and a
+    """The text of pushctl/defaults/feedback_gains.toml: candidate ``name``'s gains and a
     ``[search]`` record of ``found`` (:func:`summary`): its figures and every candidate's
     objective beside the steady law's."""
     gains = all_candidates()[name]

@@ -5,7 +5,7 @@ the pushes that fail counted apart.
 
 All on the *tuning* stream (:func:`~pushctl.evaluation.tune_feedback.reset_pushes`, tuning
 seeds ``seed`` … ``seed + 6·per_case − 1``), never the evaluation's; the gains are
-``experiments/feedback_gains.toml``'s k and k_i whatever the setting, or the ``K`` and
+``pushctl/defaults/feedback_gains.toml``'s k and k_i whatever the setting, or the ``K`` and
 ``K_I`` given. ``python -m studies.failure_study ...`` prints:
 
 - ``[SEED] [PER_CASE] [K K_I]``: the bounds' table (:data:`SETTINGS`; about ten minutes at
@@ -223,7 +223,7 @@ def study(
 def gain_table(
     plant: str, seed: int, per_case: int, gains: list[tuple[float, float]]
 ) -> pd.DataFrame:
-    """PD-only and today's law (the defaults of ``experiments/feedback_gains.toml`` and
+    """PD-only and today's law (the defaults of ``pushctl/defaults/feedback_gains.toml`` and
     :class:`EnvConfig`) at each (k, k_i) of ``gains`` on ``plant``'s tuning pushes: per
     object × profile, the means of translation and angle error [%], force error [N] and
     contact-loss share."""

@@ -78,6 +78,7 @@ LAYERS = {
     "pushctl.machine": 0,
     "pushctl.kernel_cache": 0,
     "pushctl.version": 0,
+    "pushctl.defaults": 0,  # the shipped gains, ranges and presets (package data)
 }
 CHECKOUT_ONLY = ("benchmarks", "studies")
 """Top-level directories of the checkout that are not installed: the package never imports

@@ -11,7 +11,7 @@ trains on this 2-core machine (three seeds, one process each:
 :func:`~pushctl.distributed.seeds.core_plan`), so its time is the core time a seed needs
 and does not swing with the other core's load. The reference commit's ``pushctl/`` and
 ``experiments/`` are unpacked with ``git archive``; both trees read one preset file written
-from this tree's ``experiments/train_paper.toml``. Each tree first runs once untimed
+from this tree's ``pushctl/defaults/train_paper.toml``. Each tree first runs once untimed
 (numba's cache of a fresh tree), then ``repeats`` timed runs per tree alternate which tree
 goes first; a run is the whole command in a fresh process.
 

@@ -12,7 +12,7 @@ Table II, :class:`~pushctl.config.PusherConfig`)::
 
 The prongs must fit on the plate (k − 1 spacings ≤ width); whether they fit on an object's
 pushed face the planner checks, naming both. The mounting error of the plant unknowns is
-not a file key: it is drawn per scenario (``experiments/randomisation.toml``).
+not a file key: it is drawn per scenario (``pushctl/defaults/randomisation.toml``).
 """
 
 from __future__ import annotations

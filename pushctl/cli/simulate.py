@@ -99,7 +99,7 @@ def simulate(
     duration: Annotated[float, typer.Option(metavar=SECONDS, help="push duration")] = 20.0,
     gains: Annotated[
         Path | None,
-        typer.Option(help="PD gains file", show_default="experiments/pd_gains.toml"),
+        typer.Option(help="PD gains file", show_default="pushctl/defaults/pd_gains.toml"),
     ] = None,
     arm: Annotated[str, typer.Option(help="kinova-gen2-7dof, kinova-j2s6s200 or panda")] = (
         "kinova-gen2-7dof"

@@ -48,7 +48,7 @@ def push(
     plant: str = "sim",
 ) -> tuple[Trace, Plan]:
     """Run ``scenario`` with ``controller`` on ``plant``; the trace and the plan.
-    ``feedback`` pushes with the gains of ``experiments/feedback_gains.toml`` and today's
+    ``feedback`` pushes with the gains of ``pushctl/defaults/feedback_gains.toml`` and today's
     residual settings, ``rl`` with the policy at ``policy`` (default: the shipped one) and
     the settings it was trained with; both through :class:`~pushctl.rl.env.PushEnv`."""
     check_controller(controller)
@@ -258,7 +258,7 @@ def tuning_record(
         "per_case": per_case,
         "objects": list(objects),
         "profiles": list(profiles),
-        "plant": "sim ranges (experiments/randomisation.toml)",
+        "plant": "sim ranges (pushctl/defaults/randomisation.toml)",
         "duration": duration,
         "goals_redrawn": redrawn,
         "candidates_evaluated": len(candidates),

@@ -39,21 +39,20 @@ def tune_feedback_command(
         str, typer.Option(help="tuning pushes on sim, proxy or both (each per_case per cell)")
     ] = "both",
     out: Annotated[
-        Path | None,
-        typer.Option(help="gains file to write", show_default="experiments/feedback_gains.toml"),
-    ] = None,
+        Path,
+        typer.Option(help="gains file to write (the shipped defaults are never overwritten)"),
+    ] = Path("experiments/feedback_gains.toml"),
     force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
     seed: Annotated[int | None, renamed_option("--seed")] = None,
 ) -> None:
     """Search the feedback baseline's gains (k, k_i) on the tuning stream; write the file."""
     from pushctl.cli.tune_feedback_steps import run_search
     from pushctl.cli.warm import note_if_cold
-    from pushctl.control.feedback import DEFAULT_FEEDBACK_FILE
 
     first_scenario = take_renamed(ctx, "--first-scenario", first_scenario, "--seed", seed)
     try:
         check_output("--out", out, (".toml",))
-        refuse_existing_files("--out", (out if out is not None else DEFAULT_FEEDBACK_FILE,), force)
+        refuse_existing_files("--out", (out,), force)
         note_if_cold(error_console)
         target, text, table = run_search(
             first_scenario, per_case, duration, out, invocation(ctx), console, plant

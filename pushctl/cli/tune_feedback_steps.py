@@ -8,7 +8,7 @@ from pathlib import Path
 from rich.console import Console
 from rich.table import Table
 
-from pushctl.control.feedback import DEFAULT_FEEDBACK_FILE, FeedbackGains
+from pushctl.control.feedback import FeedbackGains
 from pushctl.errors import ConfigError
 from pushctl.evaluation.tune_feedback import (
     FeedbackCandidate,
@@ -32,7 +32,7 @@ def run_search(
     seed: int,
     per_case: int,
     duration: float,
-    out: Path | None,
+    out: Path,
     command: str,
     console: Console,
     plant: str = "both",
@@ -71,7 +71,7 @@ def run_search(
         "objects": list(OBJECT_NAMES),
         "profiles": list(PROFILE_NAMES),
         "plants": list(plants),
-        "plant_ranges": "experiments/randomisation.toml, with the plant unknowns",
+        "plant_ranges": "pushctl/defaults/randomisation.toml, with the plant unknowns",
         "duration": duration,
         "residual_path": config.residual_path,
         "action_scale_linear": config.action_scale_linear,
@@ -86,7 +86,7 @@ def run_search(
         "\nGains of the feedback baseline (docs/design.md §5). Regenerate with the command above."
     )
     text = feedback_toml(best, pd_only, candidates, search, header, base)
-    return (out if out is not None else DEFAULT_FEEDBACK_FILE), text, _table(candidates, pd_only)
+    return out, text, _table(candidates, pd_only)
 
 
 def _table(candidates: list[FeedbackCandidate], pd_only: FeedbackCandidate) -> Table:

@@ -41,21 +41,20 @@ def tune_pd_command(
     duration: Annotated[float, typer.Option(metavar=SECONDS, help="push duration")] = 20.0,
     max_rounds: Annotated[int, typer.Option(help="refinement sweeps after the grid")] = 6,
     out: Annotated[
-        Path | None,
-        typer.Option(help="gains file to write", show_default="experiments/pd_gains.toml"),
-    ] = None,
+        Path,
+        typer.Option(help="gains file to write (the shipped defaults are never overwritten)"),
+    ] = Path("experiments/pd_gains.toml"),
     force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
     seed: Annotated[int | None, renamed_option("--seed")] = None,
 ) -> None:
     """Search the PD gains on a tuning set disjoint from evaluation; write the gains file."""
     from pushctl.cli.simulate_steps import check_profile, tuning_record
     from pushctl.cli.warm import note_if_cold
-    from pushctl.control.gains import DEFAULT_GAINS_FILE
     from pushctl.evaluation.tune_pd import best_candidate, tune_pd, tuning_scenarios
     from pushctl.objects import resolve_object
 
     first_scenario = take_renamed(ctx, "--first-scenario", first_scenario, "--seed", seed)
-    target = out if out is not None else DEFAULT_GAINS_FILE
+    target = out
     try:
         check_output("--out", target, (".toml",))
         refuse_existing_files("--out", (target,), force)

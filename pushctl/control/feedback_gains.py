@@ -1,8 +1,8 @@
 """The ``feedback`` law's settings (:class:`FeedbackGains`) and their TOML file.
 
-``experiments/feedback_gains.toml`` holds the law: the steady PI law's gains (``pushctl
+``pushctl/defaults/feedback_gains.toml`` holds the law: the steady PI law's gains (``pushctl
 tune-feedback`` tunes them) and a catch-up phase (``catchup_*`` keys and the law's own gate,
-searched by ``python -m studies.catchup_search``); ``experiments/feedback_gains_v1.toml`` keeps
+searched by ``python -m studies.catchup_search``); ``pushctl/defaults/feedback_gains_v1.toml`` keeps
 the steady law alone, the one the earlier results used. For the first ``catchup_time`` seconds of a
 push the law runs at ``catchup_k``/``catchup_k_i`` with its caps relaxed to
 ``catchup_lateral_ratio``/``catchup_turn_ratio``, but only on steps where every prong carries
@@ -17,14 +17,15 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
+from pushctl.defaults import default_file
 from pushctl.errors import ConfigError
 from pushctl.ranges import check_range
 from pushctl.toml_files import check_keys, read_toml
 
-DEFAULT_FEEDBACK_FILE = Path(__file__).resolve().parents[2] / "experiments" / "feedback_gains.toml"
+DEFAULT_FEEDBACK_FILE = default_file("feedback_gains.toml")
 """The law every command uses: the steady gains and the catch-up phase."""
 
-STEADY_FEEDBACK_FILE = DEFAULT_FEEDBACK_FILE.with_name("feedback_gains_v1.toml")
+STEADY_FEEDBACK_FILE = default_file("feedback_gains_v1.toml")
 """The steady law without a catch-up phase (the earlier default), kept under its own name."""
 
 _NON_NEGATIVE = (

@@ -1,4 +1,5 @@
-"""Gains of the PD baseline (docs/design.md §5) and their TOML file, ``experiments/pd_gains.toml``.
+"""Gains of the PD baseline (docs/design.md §5) and their TOML file (shipped:
+``pushctl/defaults/pd_gains.toml``).
 
 The file is written by ``pushctl tune-pd`` and read by every command that runs the PD
 controller. Keys, all under ``[pd]``::
@@ -20,12 +21,13 @@ import math
 from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 
+from pushctl.defaults import default_file
 from pushctl.errors import ConfigError
 from pushctl.ranges import check_range
 from pushctl.toml_files import check_keys, read_toml
 
-DEFAULT_GAINS_FILE = Path(__file__).resolve().parents[2] / "experiments" / "pd_gains.toml"
-"""The tuned gains shipped with the project (a source checkout's ``experiments/``)."""
+DEFAULT_GAINS_FILE = default_file("pd_gains.toml")
+"""The tuned gains shipped with pushctl (package data, :mod:`pushctl.defaults`)."""
 
 
 @dataclass(frozen=True)
@@ -65,7 +67,7 @@ class PDGains:
 
 
 def load_gains(path: str | Path | None = None) -> PDGains:
-    """The ``[pd]`` table of a gains file (default: ``experiments/pd_gains.toml``).
+    """The ``[pd]`` table of a gains file (default: the shipped :data:`DEFAULT_GAINS_FILE`).
 
     Raises ConfigError for a missing, unreadable or corrupt file, an unknown or missing
     key, or a bad value; the message names the file.

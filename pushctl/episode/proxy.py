@@ -1,7 +1,7 @@
 """The reality proxy (``--plant proxy``, docs/design.md §7, §9): what the simulator adds to stand in
 for the paper's real robot. It is not the real robot, and no result on it is a real result.
 
-Besides the wider parameter ranges of ``experiments/randomisation.toml`` (drawn by
+Besides the wider parameter ranges of ``pushctl/defaults/randomisation.toml`` (drawn by
 :mod:`pushctl.episode.draw`), the proxy has, with :class:`ProxyEffects`' defaults:
 
 - one control step (10 ms) of actuation latency, and Coulomb + viscous joint friction

@@ -1,4 +1,5 @@
-"""The randomisation ranges of ``experiments/randomisation.toml`` (docs/design.md §7, §9).
+"""The randomisation ranges of a ranges file (docs/design.md §7, §9; shipped:
+``pushctl/defaults/randomisation.toml``).
 
 Tables ``[sim]`` and ``[proxy]`` hold :class:`~pushctl.episode.scenario.ParameterRanges`
 (``mu_ground``, ``mu_contact``, ``object_mass_scale``, ``pusher_mass_scale``, each
@@ -15,12 +16,14 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 
 from pushctl.config import PLANT_KINDS
+from pushctl.defaults import default_file
 from pushctl.episode.scenario import ParameterRanges, TargetRanges
 from pushctl.episode.unknowns import UnknownRanges
 from pushctl.errors import ConfigError
 from pushctl.toml_files import check_keys, read_toml
 
-DEFAULT_RANGES_FILE = Path(__file__).resolve().parents[2] / "experiments" / "randomisation.toml"
+DEFAULT_RANGES_FILE = default_file("randomisation.toml")
+"""The shipped ranges (package data, :mod:`pushctl.defaults`)."""
 
 PLANTS = PLANT_KINDS
 """The plant kinds (:data:`pushctl.config.PLANT_KINDS`)."""
@@ -64,7 +67,7 @@ class Randomisation:
 
 
 def load_ranges(path: str | Path | None = None) -> Randomisation:
-    """Read a ranges file (default ``experiments/randomisation.toml``); ConfigError naming
+    """Read a ranges file (default: the shipped :data:`DEFAULT_RANGES_FILE`); ConfigError naming
     the file for a missing, unreadable or corrupt file, a missing table or a bad range."""
     path = Path(path) if path is not None else DEFAULT_RANGES_FILE
     table = read_toml(path, "ranges file")

@@ -116,8 +116,8 @@ def evaluate(
     step) everyone's. Several policies (a sequence, see :func:`policy_seeds`) each push
     every trial and add their own ``rl`` rows; PD-only and feedback still run once. Without
     one, ``env_config`` (default :class:`EnvConfig`'s) sets the push. ``gains``: the PD
-    baseline's (default ``experiments/pd_gains.toml``).
-    ``feedback_gains``: the feedback law's (default ``experiments/feedback_gains.toml``,
+    baseline's (default ``pushctl/defaults/pd_gains.toml``).
+    ``feedback_gains``: the feedback law's (default ``pushctl/defaults/feedback_gains.toml``,
     read only when ``feedback`` runs); it pushes with today's default residual settings
     (:func:`~pushctl.evaluation.controllers.feedback_config`). ``workers``: 1 … 8 processes.
     """

@@ -69,7 +69,7 @@ class DDPGConfig:
       whose gradient vanishes where the tanh saturates, it pulls a saturated actor back;
       in the critic's units (scaled reward) [-].
     - ``demonstrator`` ["none"]: who acts in the warm-up episodes: ``none``, the OU noise
-      alone; ``feedback``, the ``feedback`` controller's law (experiments/feedback_gains.toml)
+      alone; ``feedback``, the ``feedback`` controller's law (pushctl/defaults/feedback_gains.toml)
       without noise, so the replay buffer starts with a good policy's transitions.
     - ``imitation_updates`` [0]: when the warm-up ends, gradient steps fitting the actor to
       the warm-up's actions (mean squared error, batches of ``batch_size``, the actor's

@@ -87,7 +87,7 @@ Arguments
     (``landing``) and the reward (``w_normal``,
     ``w_tangential``, ``w_torque``, ``w_pose``); ``EnvConfig.from_mapping`` reads the
     ``[env]`` table of a preset. ``gains``: the PD baseline's (default
-    ``experiments/pd_gains.toml``). Step ``info`` besides the reward terms:
+    ``pushctl/defaults/pd_gains.toml``). Step ``info`` besides the reward terms:
     ``residual_active`` (the gate), ``residual`` (3,) the world-frame twist applied
     [m/s, m/s, rad/s], ``pose_deviation`` [m] the gate compared with its threshold.
 
@@ -151,7 +151,7 @@ _EPISODE_FIELDS = (
 
 class PushEnv(EpisodeReadings, gym.Env[np.ndarray, np.ndarray]):
     """The residual-learning environment. ``config``: :class:`EnvConfig`; ``gains``: the PD
-    baseline's (default ``experiments/pd_gains.toml``).
+    baseline's (default ``pushctl/defaults/pd_gains.toml``).
 
     ``info`` of a step: ``reward_normal``, ``reward_tangential``, ``reward_torque`` (the
     three weighted terms of eq. 17) and ``reward_pose`` (the optional pose term, 0 unless

@@ -60,7 +60,7 @@ class EnvConfig:
         :class:`~pushctl.control.residual.ReferenceOffset`; ``inf``: unbounded).
         ``base_law``: what the residual is added to. ``none``: PD-only, as in the paper;
         ``feedback``: PD plus the ``feedback`` controller's law
-        (``experiments/feedback_gains.toml``, read when the environment is made): at every
+        (``pushctl/defaults/feedback_gains.toml``, read when the environment is made): at every
         step the gate is open the environment adds the law's action (from that step's
         observation) to the policy's held action before the clip, so the policy learns a
         residual on top of the law, and a zero action pushes as the ``feedback`` controller

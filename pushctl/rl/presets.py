@@ -1,5 +1,5 @@
-"""Training presets: ``experiments/train_<name>.toml`` (or any TOML file with the same
-tables), each holding ``[train]`` (:class:`TrainConfig`), ``[env]``
+"""Training presets: the shipped ``quick`` and ``paper`` (:mod:`pushctl.defaults`) or any TOML
+file with the same tables, each holding ``[train]`` (:class:`TrainConfig`), ``[env]``
 (:class:`~pushctl.rl.env_config.EnvConfig`) and ``[ddpg]``
 (:class:`~pushctl.rl.config.DDPGConfig`)."""
 
@@ -9,15 +9,16 @@ from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 from typing import Any
 
+from pushctl.defaults import default_file
 from pushctl.errors import ConfigError
 from pushctl.rl.config import DDPGConfig
 from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.validate import SELECTION_RULES
 from pushctl.toml_files import check_keys, read_toml
 
-EXPERIMENTS = Path(__file__).resolve().parents[2] / "experiments"
 PRESET_NAMES = ("quick", "paper")
-"""The presets shipped in ``experiments/`` (``train_quick.toml``, ``train_paper.toml``)."""
+"""The presets shipped with pushctl (package data, :mod:`pushctl.defaults`: ``train_quick.toml``,
+``train_paper.toml``)."""
 
 
 @dataclass(frozen=True)
@@ -95,10 +96,10 @@ class Preset:
 
 
 def preset_path(name_or_path: str) -> Path:
-    """``quick``/``paper`` → ``experiments/train_<name>.toml``; a path ending in .toml as
+    """``quick``/``paper`` → the shipped ``train_<name>.toml``; a path ending in .toml as
     is; anything else is a ConfigError naming the accepted values."""
     if name_or_path in PRESET_NAMES:
-        return EXPERIMENTS / f"train_{name_or_path}.toml"
+        return default_file(f"train_{name_or_path}.toml")
     if name_or_path.endswith(".toml"):
         return Path(name_or_path)
     raise ConfigError(

@@ -2,7 +2,7 @@
 overrides, the gains file with its search record, and one-line errors with no file written.
 
 Every run passes ``--gains`` and ``--out`` into ``tmp_path``: nothing here reads or writes
-``experiments/pd_gains.toml``.
+``pushctl/defaults/pd_gains.toml``.
 """
 
 import itertools

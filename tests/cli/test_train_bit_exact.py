@@ -17,7 +17,7 @@ from pathlib import Path
 
 import pytest
 
-from pushctl.rl.presets import EXPERIMENTS
+from pushctl.rl.presets import preset_path
 
 SHORTER = {  # [train] and [ddpg] keys of the paper preset replaced; everything else is the paper's
     "episodes": "6",
@@ -30,7 +30,7 @@ SHORTER = {  # [train] and [ddpg] keys of the paper preset replaced; everything 
 
 
 def _short_paper_preset() -> str:
-    text = (EXPERIMENTS / "train_paper.toml").read_text(encoding="utf-8")
+    text = preset_path("paper").read_text(encoding="utf-8")
     for key, value in SHORTER.items():
         text, count = re.subn(rf"(?m)^{key}\s*=.*$", f"{key} = {value}", text)
         assert count == 1, key

@@ -94,7 +94,7 @@ def test_unknowns_are_seeded_within_their_ranges_and_scale_the_same_draws() -> N
 
 
 def test_a_ranges_file_without_unknowns_has_none_and_a_bad_key_is_named(tmp_path: Path) -> None:
-    text = Path("experiments/randomisation.toml").read_text()
+    text = Path("pushctl/defaults/randomisation.toml").read_text()
     base = text.split("# Plant unknowns")[0]
     plain = tmp_path / "plain.toml"
     plain.write_text(base)

@@ -125,7 +125,7 @@ def test_policies_that_cannot_share_an_evaluation_are_refused(
 
 
 def _evaluate(out: Path, *args: str):
-    # rl only: the feedback gains file (experiments/feedback_gains.toml) is another issue's
+    # rl only: the feedback gains file (pushctl/defaults/feedback_gains.toml) is another issue's
     tiny = ["--object", "cube", "--profile", "chirp", "--trials", "2", "--out", str(out)]
     tiny += ["--controller", "rl"]
     return runner.invoke(app, ["evaluate", *tiny, *args])

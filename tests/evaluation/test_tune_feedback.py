@@ -50,11 +50,17 @@ def test_a_bad_output_is_one_line_and_nothing_runs(tmp_path: Path) -> None:
     assert not (tmp_path / "fresh.toml").exists()
 
 
-def test_an_existing_gains_file_is_refused_before_the_search(tmp_path: Path) -> None:
+def test_an_existing_gains_file_is_refused_before_the_search(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     out = tmp_path / "gains.toml"
     out.write_text("# hand-tuned, keep\n")
     result = runner.invoke(app, ["tune-feedback", "--per-case", "1", "--out", str(out)])
     assert result.exit_code == 2 and "--force" in result.output and str(out) in result.output
     assert out.read_text() == "# hand-tuned, keep\n"
-    default = runner.invoke(app, ["tune-feedback", "--per-case", "1"])  # the shipped gains
-    assert default.exit_code == 2 and "feedback_gains.toml" in default.output
+    # the default output is the working directory's experiments/, never the shipped defaults
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "experiments").mkdir()
+    (tmp_path / "experiments" / "feedback_gains.toml").write_text("# mine\n")
+    default = runner.invoke(app, ["tune-feedback", "--per-case", "1"])
+    assert default.exit_code == 2 and "experiments/feedback_gains.toml" in default.output

@@ -4,12 +4,15 @@ in what its name says only, and validates with the paired rule on 120 pushes."""
 from __future__ import annotations
 
 from dataclasses import replace
+from pathlib import Path
 
 import pytest
 
 from pushctl.rl.config import DDPGConfig
 from pushctl.rl.env_config import EnvConfig
-from pushctl.rl.presets import EXPERIMENTS, load_preset
+from pushctl.rl.presets import load_preset
+
+EXPERIMENTS = Path(__file__).resolve().parents[2] / "experiments"
 
 CRITIC = dict(twin_critics=True, n_step=3, critic_layer_norm=True, critic_warmup_updates=2000)
 VARIANTS = {
