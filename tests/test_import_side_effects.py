@@ -46,3 +46,15 @@ def test_importing_pushctl_sets_nothing_and_deletes_nothing(tmp_path: Path) -> N
     # what would have deleted the decoy is an explicit call
     assert copy / "contact" / "compiled" / "step.py" in drop_stale(copy)
     assert not decoy.exists()
+
+
+def test_importing_the_command_line_sets_nothing() -> None:
+    """``import pushctl.cli`` is as inert as ``import pushctl``: the pinning and the cache
+    sweep belong to the ``pushctl`` command (:func:`pushctl.cli.main`)."""
+    code = (
+        "import json, os, sys; before = dict(os.environ); import pushctl.cli; "
+        "print(json.dumps([dict(os.environ) == before, 'numpy' in sys.modules]))"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert json.loads(done.stdout) == [True, False]

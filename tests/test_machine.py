@@ -54,12 +54,22 @@ _VARIABLES = ("OPENBLAS_CORETYPE", "NPY_DISABLE_CPU_FEATURES", "NPY_ENABLE_CPU_F
 _PROBE = "from pushctl.machine import blas_kernels, numpy_simd; print(blas_kernels(), numpy_simd())"
 
 
+_COMMAND_FIRST = """
+import contextlib, io, sys
+sys.argv = ["pushctl", "--help"]
+from pushctl.cli import main
+with contextlib.redirect_stdout(io.StringIO()), contextlib.suppress(SystemExit):
+    main()
+"""
+"""The ``pushctl`` command's start (its help), before the probe."""
+
+
 def _code_in_a_fresh_process(first: str, **env: str) -> list[str]:
     """(OpenBLAS's kernels, numpy's highest target) in a fresh process that runs ``first``,
     with ``env`` for pushctl's variables."""
     clean = {k: v for k, v in os.environ.items() if k not in _VARIABLES}
     done = subprocess.run(
-        [sys.executable, "-c", f"{first}; {_PROBE}"],
+        [sys.executable, "-c", f"{first}\n{_PROBE}"],
         capture_output=True, text=True, env={**clean, **env}, timeout=300,
     )  # fmt: skip
     assert done.returncode == 0, done.stderr
@@ -95,7 +105,7 @@ def test_reproducible_first_runs_the_avx2_code_here_and_in_a_fresh_process() -> 
     pinned = "import pushctl; pushctl.reproducible()"
     assert _code_in_a_fresh_process(pinned) == [PINNED_KERNELS, "X86_V3"]
     # the pushctl command makes the call as it starts
-    assert _code_in_a_fresh_process("import pushctl.cli") == [PINNED_KERNELS, "X86_V3"]
+    assert _code_in_a_fresh_process(_COMMAND_FIRST) == [PINNED_KERNELS, "X86_V3"]
     # what the user asks for is kept
     chosen = _code_in_a_fresh_process(
         pinned, OPENBLAS_CORETYPE="Sandybridge", NPY_DISABLE_CPU_FEATURES="X86_V3"

@@ -1,5 +1,5 @@
 """``python -m pushctl.cli``: the ``pushctl`` command (as the console script)."""
 
-from pushctl.cli import app
+from pushctl.cli import main
 
-app(prog_name="pushctl")
+main()

@@ -40,7 +40,7 @@ def tune_feedback_command(
     ] = "both",
     out: Annotated[
         Path,
-        typer.Option(help="gains file to write (the shipped defaults are never overwritten)"),
+        typer.Option(help="gains file to write (never the shipped gains)"),
     ] = Path("experiments/feedback_gains.toml"),
     force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
     seed: Annotated[int | None, renamed_option("--seed")] = None,

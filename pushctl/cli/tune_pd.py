@@ -42,7 +42,7 @@ def tune_pd_command(
     max_rounds: Annotated[int, typer.Option(help="refinement sweeps after the grid")] = 6,
     out: Annotated[
         Path,
-        typer.Option(help="gains file to write (the shipped defaults are never overwritten)"),
+        typer.Option(help="gains file to write (never the shipped gains)"),
     ] = Path("experiments/pd_gains.toml"),
     force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
     seed: Annotated[int | None, renamed_option("--seed")] = None,
