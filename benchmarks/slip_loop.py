@@ -44,8 +44,8 @@ from pushctl.episode.metrics import compute_metrics
 from pushctl.errors import ConfigError
 from pushctl.output_guard import refuse_existing_files
 from pushctl.provenance import provenance_line, write_csv
-from pushctl.rl.env import PushEnv
-from pushctl.rl.env_config import EnvConfig
+from pushctl.task.env import PushEnv
+from pushctl.task.env_config import EnvConfig
 
 GATES = {"shut": 1.0, "open": 0.0}
 """Gate thresholds [m] of the two ways of pushing (1 m: never opens; 0: always open)."""

@@ -36,13 +36,13 @@ if TYPE_CHECKING:
     from pushctl.contact.world import World, WorldConfig
     from pushctl.engines import make_world
     from pushctl.errors import ConfigError, MLCPInputError, PushctlError, StateError
-    from pushctl.rl import ENV_ID
+    from pushctl.task import ENV_ID
     from pushctl.types import StepResult
 
 from pushctl.version import VERSION as __version__
 
 _HOMES = {
-    "ENV_ID": "pushctl.rl",
+    "ENV_ID": "pushctl.task",
     "ConfigError": "pushctl.errors",
     "MLCPInputError": "pushctl.errors",
     "MLCPResult": "pushctl.contact.mlcp",
@@ -70,7 +70,7 @@ def __dir__() -> list[str]:
     return sorted({*globals(), *_HOMES})
 
 
-_REGISTRATION = "pushctl.rl"
+_REGISTRATION = "pushctl.task"
 """The module whose import registers the environment's ids with gymnasium."""
 
 

@@ -61,7 +61,7 @@ from pushctl.evaluation.tune_feedback import tuning_env
 from pushctl.objects import OBJECT_NAMES
 from pushctl.planning import PROFILE_NAMES
 from pushctl.provenance import write_atomic
-from pushctl.rl.feedback_actor import FeedbackActor
+from pushctl.task.feedback_actor import FeedbackActor
 from pushctl.rl.policy import finish_with_policy
 
 SPACE = {

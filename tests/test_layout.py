@@ -54,7 +54,8 @@ LAYERS = {
     "pushctl.distributed.sweep_config": 7,
     "pushctl.evaluation": 6,
     "pushctl.realdata": 6,  # recorded pushes replayed and scored
-    "pushctl.rl": 5,
+    "pushctl.rl": 6,  # learners
+    "pushctl.task": 5,  # the push task: the environment a controller or learner pushes in
     "pushctl.episode": 4,
     "pushctl.control": 3,
     "pushctl.planning": 3,

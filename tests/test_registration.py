@@ -1,7 +1,7 @@
 """``import pushctl`` registers ``pushctl/Push-v1`` and ``pushctl/Push-v0``: the one line a new
 user writes first, and the version the shipped policies were trained on.
 
-Run in a fresh interpreter, since this test session has long since imported pushctl.rl.
+Run in a fresh interpreter, since this test session has long since imported pushctl.task.
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ MAKE_AFTER_IMPORT = """
 import sys
 import gymnasium as gym
 import pushctl
-assert "pushctl.rl.env" not in sys.modules, "registration loaded the environment module"
+assert "pushctl.task.env" not in sys.modules, "registration loaded the environment module"
 assert "torch" not in sys.modules, "registration imported torch"
 env = gym.make("pushctl/Push-v0")
 assert gym.spec(pushctl.ENV_ID).id == "pushctl/Push-v1"
@@ -67,21 +67,21 @@ def test_gymnasium_module_prefix_imports_pushctl() -> None:
 
 
 def test_registration_is_idempotent() -> None:
-    import pushctl.rl
+    import pushctl.task
 
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # a second register() would warn "Overriding environment"
-        importlib.reload(pushctl.rl)
-    assert gymnasium.spec("pushctl/Push-v0").entry_point == "pushctl.rl.versions:push_v0"
-    assert gymnasium.spec("pushctl/Push-v1").entry_point == "pushctl.rl.versions:push_v1"
+        importlib.reload(pushctl.task)
+    assert gymnasium.spec("pushctl/Push-v0").entry_point == "pushctl.task.versions:push_v0"
+    assert gymnasium.spec("pushctl/Push-v1").entry_point == "pushctl.task.versions:push_v1"
 
 
 def test_env_id_is_the_newest_version() -> None:
-    import pushctl.rl
+    import pushctl.task
 
-    versions = sorted(pushctl.rl.VERSIONS, key=lambda env_id: int(env_id.rsplit("-v", 1)[1]))
-    assert pushctl.rl.ENV_ID == versions[-1] == "pushctl/Push-v1"
-    assert "v1:" in pushctl.rl.__doc__ and "v0:" in pushctl.rl.__doc__  # the version history
+    versions = sorted(pushctl.task.VERSIONS, key=lambda env_id: int(env_id.rsplit("-v", 1)[1]))
+    assert pushctl.task.ENV_ID == versions[-1] == "pushctl/Push-v1"
+    assert "v1:" in pushctl.task.__doc__ and "v0:" in pushctl.task.__doc__  # the version history
 
 
 def test_push_v1_runs_the_shipped_policy() -> None:
@@ -100,7 +100,7 @@ def test_push_v1_runs_the_shipped_policy() -> None:
 
 
 def test_push_v1_takes_its_own_defaults() -> None:
-    from pushctl.rl.env_config import EnvConfig
+    from pushctl.task.env_config import EnvConfig
 
     if not hasattr(EnvConfig, "v1"):
         pytest.skip("EnvConfig.v1 (Push-v1's settings) is not in this tree")

@@ -91,8 +91,8 @@ def record_cold_problems(steps: int = 1500, seed: int = 0) -> list[tuple]:
     ``Push-v0`` steps of this tree: (D, b, lo, hi, findex, mu, warm_start) each, the step's
     first problem (:meth:`StepSolver.problem`) with the guess the step started from."""
     from pushctl.contact.step_solver import StepSolver
-    from pushctl.rl.env import PushEnv
-    from pushctl.rl.env_config import EnvConfig
+    from pushctl.task.env import PushEnv
+    from pushctl.task.env_config import EnvConfig
 
     recorded: list[tuple] = []
     solve = StepSolver.solve

@@ -19,8 +19,8 @@ except ImportError:
         from pushctl.bench import _pushing_world
 import pushctl
 from pushctl.contact.mlcp import solve_box_mlcp
-from pushctl.rl.env import PushEnv
-from pushctl.rl.env_config import EnvConfig
+from pushctl.task.env import PushEnv
+from pushctl.task.env_config import EnvConfig
 
 
 def median_us(samples):
@@ -87,7 +87,7 @@ def unknowns_push_us(mode):
     # mean time per push step [us] of three training pushes with the plant unknowns
     try:
         from pushctl.control.feedback import load_feedback_gains
-        from pushctl.rl.feedback_actor import FeedbackActor
+        from pushctl.task.feedback_actor import FeedbackActor
         from pushctl.rl.policy import finish_with_policy
 
         gate = {"shut": {"gate_threshold": 1.0}, "open": {"gate_threshold": 0.0}}.get(mode, {})

@@ -50,7 +50,7 @@ def push(
     """Run ``scenario`` with ``controller`` on ``plant``; the trace and the plan.
     ``feedback`` pushes with the gains of ``pushctl/defaults/feedback_gains.toml`` and today's
     residual settings, ``rl`` with the policy at ``policy`` (default: the shipped one) and
-    the settings it was trained with; both through :class:`~pushctl.rl.env.PushEnv`."""
+    the settings it was trained with; both through :class:`~pushctl.task.env.PushEnv`."""
     check_controller(controller)
     check_plant(plant)
     if controller == "pd":
@@ -62,9 +62,9 @@ def push(
     from pushctl.control.feedback import load_feedback_gains
     from pushctl.evaluation.controllers import FeedbackActor
     from pushctl.evaluation.evaluate import DEFAULT_POLICY, load_evaluation_policy
-    from pushctl.rl.env import PushEnv
-    from pushctl.rl.env_config import EnvConfig
     from pushctl.rl.policy import finish_with_policy
+    from pushctl.task.env import PushEnv
+    from pushctl.task.env_config import EnvConfig
 
     actor: Callable[[np.ndarray], np.ndarray]
     if controller == "rl":

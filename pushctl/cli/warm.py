@@ -51,8 +51,8 @@ def warm() -> None:
     and one short training episode. A second call finds them cached: a few seconds."""
     from pushctl.cli.simulate_steps import push, simulate_scenario
     from pushctl.control import load_gains
-    from pushctl.rl.env_config import EnvConfig
     from pushctl.rl.warm_up import compile_kernels
+    from pushctl.task.env_config import EnvConfig
 
     gains = load_gains()
     unchanged = {"mu_ground": None, "mu_contact": None, "object_mass": None}

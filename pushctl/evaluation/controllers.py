@@ -15,8 +15,8 @@ from __future__ import annotations
 from dataclasses import replace
 
 from pushctl.control.feedback_gains import FeedbackGains
-from pushctl.rl.env_config import EnvConfig
-from pushctl.rl.feedback_actor import FeedbackActor
+from pushctl.task.env_config import EnvConfig
+from pushctl.task.feedback_actor import FeedbackActor
 
 __all__ = ["CONTROLLERS", "FeedbackActor", "feedback_config"]
 

@@ -39,11 +39,11 @@ from pushctl.evaluation.trials import (
 )
 from pushctl.provenance import write_csv
 from pushctl.rl.collect import portable, tensors
-from pushctl.rl.env import PushEnv
-from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.networks import ActorPolicy
 from pushctl.rl.policy import TrainedPolicy, load_policy
-from pushctl.rl.spaces import ACTION_ENTRIES, observation_entries
+from pushctl.task.env import PushEnv
+from pushctl.task.env_config import EnvConfig
+from pushctl.task.spaces import ACTION_ENTRIES, observation_entries
 
 DEFAULT_POLICY = Path(__file__).resolve().parents[2] / "results" / "training" / "policy.pt"
 """The shipped policy (``results/training/policy.pt`` of the checkout)."""

@@ -34,9 +34,9 @@ from pushctl.errors import ConfigError
 from pushctl.evaluation.controllers import CONTROLLERS, FeedbackActor
 from pushctl.objects import OBJECT_NAMES, resolve_object
 from pushctl.planning import PROFILE_NAMES
-from pushctl.rl.env import PushEnv
 from pushctl.rl.networks import ActorPolicy
 from pushctl.rl.policy import finish_with_policy, pd_only_episode
+from pushctl.task.env import PushEnv
 
 SEEDS_PER_EVALUATION = 100_000
 """Scenario seeds reserved for one evaluation seed: S × this + trial."""

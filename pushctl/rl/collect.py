@@ -23,13 +23,13 @@ from pushctl.control.gains import PDGains
 from pushctl.episode.metrics import compute_metrics, force_component_errors
 from pushctl.episode.trace import Trace
 from pushctl.errors import ConfigError, StateError
-from pushctl.rl.env import PushEnv
-from pushctl.rl.env_config import EnvConfig
-from pushctl.rl.feedback_actor import FeedbackActor
 from pushctl.rl.networks import ActorPolicy
 from pushctl.rl.noise import OrnsteinUhlenbeckNoise
 from pushctl.rl.policy import pd_only_episode
-from pushctl.rl.vector_env import PushVectorEnv
+from pushctl.task.env import PushEnv
+from pushctl.task.env_config import EnvConfig
+from pushctl.task.feedback_actor import FeedbackActor
+from pushctl.task.vector_env import PushVectorEnv
 
 CURVE_METRICS = (
     "force_n_error",
@@ -62,7 +62,7 @@ class Behaviour:
     demonstrator: FeedbackGains | None = None
     privileged: bool = False
     """Record each decision's privileged rows (``priv``, ``next_priv``) for an asymmetric
-    critic (:meth:`~pushctl.rl.env_readings.EpisodeReadings.privileged_state`)."""
+    critic (:meth:`~pushctl.task.env_readings.EpisodeReadings.privileged_state`)."""
 
 
 @dataclass(frozen=True)

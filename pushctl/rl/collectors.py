@@ -15,10 +15,10 @@ import torch
 
 from pushctl.control.gains import PDGains
 from pushctl.rl.collect import Behaviour, EpisodeRecord, collect_episodes, tensors
-from pushctl.rl.env import PushEnv
 from pushctl.rl.presets import Preset
 from pushctl.rl.validate import Metrics, ValidationPushes
-from pushctl.rl.vector_env import PushVectorEnv
+from pushctl.task.env import PushEnv
+from pushctl.task.vector_env import PushVectorEnv
 
 
 class CollectorWorker:

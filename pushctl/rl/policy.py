@@ -22,10 +22,10 @@ from pushctl.episode.trace import Trace
 from pushctl.errors import ConfigError, StateError
 from pushctl.provenance import one_line
 from pushctl.rl.checkpoint import load_checked, nonfinite_entry, save_checked
-from pushctl.rl.env import PushEnv
-from pushctl.rl.env_config import EnvConfig
-from pushctl.rl.feedback_actor import FeedbackActor
 from pushctl.rl.networks import ActorPolicy
+from pushctl.task.env import PushEnv
+from pushctl.task.env_config import EnvConfig
+from pushctl.task.feedback_actor import FeedbackActor
 
 POLICY_FORMAT = 1
 
@@ -96,7 +96,7 @@ def evaluation_env(policy: TrainedPolicy, gains: PDGains, plant: str = "sim") ->
 
 
 def run_policy(env: PushEnv, actor: ActorPolicy, options: dict[str, Any]) -> Trace:
-    """Reset ``env`` with ``options`` (see :data:`pushctl.rl.env.RESET_OPTIONS`), push with
+    """Reset ``env`` with ``options`` (see :data:`pushctl.task.env.RESET_OPTIONS`), push with
     the deterministic ``actor`` (no exploration), and return the trace."""
     env.reset(options=options)
     finish_with_policy(env, actor)

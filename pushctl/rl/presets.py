@@ -1,6 +1,6 @@
 """Training presets: the shipped ``quick`` and ``paper`` (:mod:`pushctl.defaults`) or any TOML
 file with the same tables, each holding ``[train]`` (:class:`TrainConfig`), ``[env]``
-(:class:`~pushctl.rl.env_config.EnvConfig`) and ``[ddpg]``
+(:class:`~pushctl.task.env_config.EnvConfig`) and ``[ddpg]``
 (:class:`~pushctl.rl.config.DDPGConfig`)."""
 
 from __future__ import annotations
@@ -12,8 +12,8 @@ from typing import Any
 from pushctl.defaults import default_file
 from pushctl.errors import ConfigError
 from pushctl.rl.config import DDPGConfig
-from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.validate import SELECTION_RULES
+from pushctl.task.env_config import EnvConfig
 from pushctl.toml_files import check_keys, read_toml
 
 PRESET_NAMES = ("quick", "paper")

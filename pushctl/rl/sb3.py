@@ -33,12 +33,12 @@ import torch
 from pushctl.control.gains import PDGains, load_gains
 from pushctl.errors import ConfigError
 from pushctl.provenance import write_csv
-from pushctl.rl.env import PushEnv
 from pushctl.rl.networks import Actor, ActorPolicy, configure_torch
 from pushctl.rl.policy import write_policy
 from pushctl.rl.presets import Preset
-from pushctl.rl.spaces import observation_entries, scales
 from pushctl.rl.validate import Validator, validation_metrics
+from pushctl.task.env import PushEnv
+from pushctl.task.spaces import observation_entries, scales
 
 MODEL = "sb3_sac.zip"
 """The SB3 model in the run directory."""

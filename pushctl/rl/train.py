@@ -43,8 +43,8 @@ from pushctl.rl.ddpg import DDPGAgent, configure_torch
 from pushctl.rl.networks import ActorPolicy
 from pushctl.rl.policy import save_atomic, write_policy
 from pushctl.rl.presets import Preset
-from pushctl.rl.spaces import observation_entries, scales
 from pushctl.rl.validate import Metrics, Validator
+from pushctl.task.spaces import observation_entries, scales
 
 CHECKPOINT = "checkpoint.pt"
 CURVE = "curve.csv"

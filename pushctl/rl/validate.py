@@ -29,10 +29,10 @@ from scipy import stats
 from pushctl.control.gains import PDGains
 from pushctl.episode.metrics import compute_metrics, push_failed
 from pushctl.episode.trace import Trace
-from pushctl.rl.env import PushEnv
-from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.networks import ActorPolicy
 from pushctl.rl.policy import finish_with_policy, pd_only_episode, run_policy
+from pushctl.task.env import PushEnv
+from pushctl.task.env_config import EnvConfig
 
 VALIDATION_STREAM = "tuning"
 

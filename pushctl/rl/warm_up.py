@@ -19,10 +19,10 @@ import torch
 
 from pushctl.control.gains import PDGains
 from pushctl.rl.collect import Behaviour, EpisodeRecord, collect_episodes, portable
-from pushctl.rl.env import PushEnv
-from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.networks import Actor, ActorPolicy, initialise
-from pushctl.rl.vector_env import PushVectorEnv
+from pushctl.task.env import PushEnv
+from pushctl.task.env_config import EnvConfig
+from pushctl.task.vector_env import PushVectorEnv
 
 WARM_UP_DURATION = 1.0
 """Seconds pushed [s]: long enough for the gate to open and a prong to slip (the cold MLCP

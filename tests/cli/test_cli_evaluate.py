@@ -13,9 +13,9 @@ from pushctl.cli import app
 from pushctl.control.feedback import load_feedback_gains
 from pushctl.rl.config import DDPGConfig
 from pushctl.rl.ddpg import DDPGAgent
-from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.policy import write_policy
-from pushctl.rl.spaces import observation_entries, scales
+from pushctl.task.env_config import EnvConfig
+from pushctl.task.spaces import observation_entries, scales
 
 runner = CliRunner()
 MADE_BY = "# made by: a test run"

@@ -20,8 +20,8 @@ from pushctl.contact.compiled.pivoting import _solve_labels, pivot_solve
 from pushctl.contact.mlcp import _box_problem, _fixed_point
 from pushctl.contact.mlcp_checks import validated_arrays
 from pushctl.proxqp_build import PORTABLE_MODULE, proxqp, proxsuite
-from pushctl.rl.env import PushEnv
-from pushctl.rl.env_config import EnvConfig
+from pushctl.task.env import PushEnv
+from pushctl.task.env_config import EnvConfig
 
 
 @pytest.mark.parametrize("singular", [False, True])

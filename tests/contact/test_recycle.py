@@ -6,8 +6,8 @@ import pytest
 import pushctl
 from benchmarks.suite import _pushing_world
 from pushctl.contact.recycle import ArrayRecycler
-from pushctl.rl.env import PushEnv
-from pushctl.rl.env_config import EnvConfig
+from pushctl.task.env import PushEnv
+from pushctl.task.env_config import EnvConfig
 
 
 def test_a_set_comes_back_the_step_after_next_when_nothing_holds_it():

@@ -15,8 +15,8 @@ import pushctl.contact.mlcp as mlcp_module
 import pushctl.contact.step_solver as step_solver_module
 from pushctl.contact.step_solver import StepSolver
 from pushctl.contact.world_config import MAX_SLIP_ITERATIONS
-from pushctl.rl.env import PushEnv
-from pushctl.rl.env_config import EnvConfig
+from pushctl.task.env import PushEnv
+from pushctl.task.env_config import EnvConfig
 
 
 def slipping_pushes(slip_iterations: int) -> tuple[str, object]:

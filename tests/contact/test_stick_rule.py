@@ -12,8 +12,8 @@ import pytest
 from pushctl.contact.compiled.assembly import refine_slip
 from pushctl.contact.world import STICK_FRACTION, World, WorldConfig
 from pushctl.errors import ConfigError
-from pushctl.rl.env import PushEnv
-from pushctl.rl.env_config import EnvConfig
+from pushctl.task.env import PushEnv
+from pushctl.task.env_config import EnvConfig
 
 H, LIMIT = 0.01, 2.0  # [s], [N]: the point's bound is H * LIMIT [N·s]
 

@@ -230,8 +230,8 @@ def test_a_mounting_yaw_leaves_pd_only_turned_by_it() -> None:
 
 
 def test_the_env_reports_the_drawn_unknowns_at_reset() -> None:
-    from pushctl.rl.env import PushEnv
-    from pushctl.rl.env_config import EnvConfig
+    from pushctl.task.env import PushEnv
+    from pushctl.task.env_config import EnvConfig
 
     env = PushEnv(EnvConfig(duration=2.0))
     _, info = env.reset(options={"object": "cube", "profile": "constant", "scenario_seed": 4})

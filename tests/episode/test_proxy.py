@@ -32,9 +32,9 @@ from pushctl.episode.proxy import (
 from pushctl.episode.scenario import STREAMS
 from pushctl.episode.unknowns import NO_UNKNOWNS
 from pushctl.errors import ConfigError
-from pushctl.rl.env import PushEnv
-from pushctl.rl.env_config import EnvConfig
-from pushctl.rl.spaces import index
+from pushctl.task.env import PushEnv
+from pushctl.task.env_config import EnvConfig
+from pushctl.task.spaces import index
 from pushctl.types import PlanarPose
 
 GAINS = PDGains(kp=0, kv=100, kx_linear=50, kx_angular=50)

@@ -30,10 +30,10 @@ from pushctl.evaluation.evaluate import (
 from pushctl.evaluation.trials import SEEDS_PER_EVALUATION, TrialSpec, step_quantities
 from pushctl.rl.config import DDPGConfig
 from pushctl.rl.ddpg import DDPGAgent
-from pushctl.rl.env import PushEnv
-from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.policy import write_policy
-from pushctl.rl.spaces import observation_entries, scales
+from pushctl.task.env import PushEnv
+from pushctl.task.env_config import EnvConfig
+from pushctl.task.spaces import observation_entries, scales
 
 DURATION = 2.0
 """Push duration of the test policies [s]: 200 steps, a fraction of a second per push."""

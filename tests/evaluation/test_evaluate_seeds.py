@@ -21,9 +21,9 @@ from pushctl.evaluation.evaluate import evaluate, load_evaluation_policy
 from pushctl.evaluation.trials import TrialSpec
 from pushctl.rl.config import DDPGConfig
 from pushctl.rl.ddpg import DDPGAgent
-from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.policy import write_policy
-from pushctl.rl.spaces import observation_entries, scales
+from pushctl.task.env_config import EnvConfig
+from pushctl.task.spaces import observation_entries, scales
 
 runner = CliRunner()
 METRICS = list(EpisodeMetrics.__dataclass_fields__)

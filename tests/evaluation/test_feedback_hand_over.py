@@ -15,9 +15,9 @@ from pushctl.control.gains import load_gains
 from pushctl.errors import ConfigError, StateError
 from pushctl.evaluation.controllers import feedback_config
 from pushctl.evaluation.trials import CONTROLLERS, Job, run_trial
-from pushctl.rl.env import PushEnv
-from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.policy import load_policy
+from pushctl.task.env import PushEnv
+from pushctl.task.env_config import EnvConfig
 
 POLICY = Path(__file__).resolve().parents[2] / "results" / "training" / "seed-2" / "policy.pt"
 

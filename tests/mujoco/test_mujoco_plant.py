@@ -11,8 +11,8 @@ from pushctl.control.pd import PDController
 from pushctl.errors import ConfigError
 from pushctl.evaluation.trials import TrialSpec
 from pushctl.mujoco import MujocoWorld
-from pushctl.rl.env import PushEnv
-from pushctl.rl.env_config import EnvConfig
+from pushctl.task.env import PushEnv
+from pushctl.task.env_config import EnvConfig
 
 runner = CliRunner()
 

@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 
 from pushctl.rl.config import DDPGConfig
-from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.presets import load_preset
+from pushctl.task.env_config import EnvConfig
 
 EXPERIMENTS = Path(__file__).resolve().parents[2] / "experiments"
 

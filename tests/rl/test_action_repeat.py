@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 
 from pushctl.errors import ConfigError
-from pushctl.rl.env import PushEnv
-from pushctl.rl.env_config import LEGACY_VALUES, EnvConfig
 from pushctl.rl.policy import finish_with_policy
-from pushctl.rl.spaces import index
+from pushctl.task.env import PushEnv
+from pushctl.task.env_config import LEGACY_VALUES, EnvConfig
+from pushctl.task.spaces import index
 
 SHORT = EnvConfig(duration=1.0, gate_threshold=0.0, landing="believed")  # 100 steps, gate open
 OPTIONS = {"object": "cube", "profile": "chirp", "scenario_seed": 5}

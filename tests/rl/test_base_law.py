@@ -14,9 +14,9 @@ import pytest
 from pushctl.control.feedback import load_feedback_gains
 from pushctl.errors import ConfigError
 from pushctl.evaluation.controllers import FeedbackActor, feedback_config
-from pushctl.rl.env import PushEnv
-from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.policy import finish_with_policy
+from pushctl.task.env import PushEnv
+from pushctl.task.env_config import EnvConfig
 
 ZERO = np.zeros(3)
 

@@ -23,12 +23,12 @@ from pushctl.rl.collect import (
     pd_only_metrics,
     portable,
 )
-from pushctl.rl.env import PushEnv
-from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.networks import Actor, ActorPolicy, initialise
 from pushctl.rl.policy import pd_only_episode
-from pushctl.rl.spaces import observation_entries, scales
-from pushctl.rl.vector_env import PushVectorEnv
+from pushctl.task.env import PushEnv
+from pushctl.task.env_config import EnvConfig
+from pushctl.task.spaces import observation_entries, scales
+from pushctl.task.vector_env import PushVectorEnv
 
 SHORT = EnvConfig(
     duration=0.4, objects=("cube", "wedge"), profiles=("constant",), gate_threshold=0.0

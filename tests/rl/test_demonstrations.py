@@ -15,12 +15,12 @@ from pushctl.errors import ConfigError
 from pushctl.rl.collect import Behaviour, collect_episode, episode_rngs
 from pushctl.rl.config import DDPGConfig
 from pushctl.rl.ddpg import DDPGAgent
-from pushctl.rl.env import PushEnv
-from pushctl.rl.env_config import EnvConfig
-from pushctl.rl.feedback_actor import FeedbackActor
 from pushctl.rl.policy import finish_with_policy
 from pushctl.rl.presets import load_preset
 from pushctl.rl.train import Trainer
+from pushctl.task.env import PushEnv
+from pushctl.task.env_config import EnvConfig
+from pushctl.task.feedback_actor import FeedbackActor
 
 TINY = """
 [train]

@@ -13,9 +13,9 @@ import pytest
 
 from pushctl.control.feedback import load_feedback_gains
 from pushctl.evaluation.controllers import FeedbackActor, feedback_config
-from pushctl.rl.env import PushEnv
-from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.policy import finish_with_policy
+from pushctl.task.env import PushEnv
+from pushctl.task.env_config import EnvConfig
 
 
 def _feedback_env(plant: str) -> PushEnv:

@@ -11,10 +11,10 @@ import pytest
 
 from pushctl.episode.landed import spot_offset
 from pushctl.errors import ConfigError
-from pushctl.rl.env import PushEnv
-from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.policy import pd_only_episode
-from pushctl.rl.spaces import index, observation_entries
+from pushctl.task.env import PushEnv
+from pushctl.task.env_config import EnvConfig
+from pushctl.task.spaces import index, observation_entries
 
 OPTIONS = {"object": "wedge", "profile": "chirp", "scenario_seed": 20007}
 

@@ -12,8 +12,8 @@ import torch
 from pushctl.errors import ConfigError
 from pushctl.rl.config import DDPGConfig
 from pushctl.rl.ddpg import DDPGAgent
-from pushctl.rl.env_config import LEGACY_VALUES, EnvConfig
 from pushctl.rl.policy import load_policy, write_policy
+from pushctl.task.env_config import LEGACY_VALUES, EnvConfig
 
 SHIPPED = Path(__file__).resolve().parents[2] / "results" / "training" / "policy.pt"
 

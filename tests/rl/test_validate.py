@@ -8,9 +8,9 @@ import torch
 
 from pushctl.control.gains import load_gains
 from pushctl.episode.ranges import PLANTS
-from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.networks import Actor, ActorPolicy, initialise
 from pushctl.rl.validate import ValidationPushes, Validator, validation_env, validation_metrics
+from pushctl.task.env_config import EnvConfig
 
 
 @pytest.mark.parametrize("plant", PLANTS)

@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
-from pushctl.rl.env import PushEnv
+from pushctl.task.env import PushEnv
 from studies.failure_study import SETTINGS, study
 
 

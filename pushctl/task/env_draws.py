@@ -12,7 +12,7 @@ from pushctl.episode.draw import draw_planned_scenario
 from pushctl.episode.scenario import Scenario
 from pushctl.errors import ConfigError
 from pushctl.planning import Plan
-from pushctl.rl.env_config import EnvConfig
+from pushctl.task.env_config import EnvConfig
 
 RESET_OPTIONS = ("object", "profile", "scenario_seed", "scenario")
 """Keys of ``reset(options=…)`` that fix a draw: the object, the profile, and the integer seed

@@ -1,4 +1,4 @@
-"""The entry points of the registered push environments (:data:`pushctl.rl.VERSIONS`): each
+"""The entry points of the registered push environments (:data:`pushctl.task.VERSIONS`): each
 version's defaults for the settings a ``config`` leaves out. A ``config`` given to
 ``gymnasium.make`` is used as it is, so a policy's saved settings run on any id."""
 
@@ -7,9 +7,9 @@ from __future__ import annotations
 from typing import Any
 
 from pushctl.control.gains import PDGains
-from pushctl.rl.env import PushEnv
-from pushctl.rl.env_config import EnvConfig
-from pushctl.rl.vector_env import PushVectorEnv
+from pushctl.task.env import PushEnv
+from pushctl.task.env_config import EnvConfig
+from pushctl.task.vector_env import PushVectorEnv
 
 
 def push_v0(config: EnvConfig | None = None, gains: PDGains | None = None) -> PushEnv:

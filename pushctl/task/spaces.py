@@ -1,6 +1,6 @@
 """The push environment's observation and action, as tables of index, name, meaning, unit and
 scale. The environment builds its vectors in this order and the tables of docs/learning.md
-are made from here (:func:`markdown_table`; tests/rl/test_env.py checks the copies), so the
+are made from here (:func:`markdown_table`; tests/task/test_env.py checks the copies), so the
 documentation cannot drift from the code.
 
 Frames: "plan frame" is the planned object frame at the current step (x along the push into

@@ -2,9 +2,9 @@
 
 The manual of the environment, in the layout of Gymnasium's own ``pusher_v5.py``. Numbers that
 live in code are named, not copied: the observation and action tables are generated from
-:mod:`pushctl.rl.spaces` (``python -m pushctl.rl.spaces`` prints them as Markdown; in Python
+:mod:`pushctl.task.spaces` (``python -m pushctl.task.spaces`` prints them as Markdown; in Python
 ``markdown_table(observation_entries(k))`` and ``markdown_table(ACTION_ENTRIES)``), and every
-default is a field of :class:`~pushctl.rl.env_config.EnvConfig`, whose docstring gives its unit
+default is a field of :class:`~pushctl.task.env_config.EnvConfig`, whose docstring gives its unit
 and its reason. Rules behind it: docs/design.md §5–§7; a narrative with measurements:
 docs/learning.md and docs/residual-and-feedback.md.
 
@@ -21,7 +21,7 @@ Description
     (evaluation only).
 
 Action space
-    ``Box(-1, 1, (3,), float32)``: rows :data:`pushctl.rl.spaces.ACTION_ENTRIES`
+    ``Box(-1, 1, (3,), float32)``: rows :data:`pushctl.task.spaces.ACTION_ENTRIES`
     (``residual_x``, ``residual_y`` in the plan frame, ``residual_wz``), multiplied by
     ``EnvConfig.action_scale_linear`` [m/s] and ``action_scale_angular`` [rad/s], rotated from
     the plan frame (x along the push) to the world. Actions outside [−1, 1] are clipped; a
@@ -29,7 +29,7 @@ Action space
 
 Observation space
     ``Box(-inf, inf, (d,), float32)`` with the rows of
-    :func:`pushctl.rl.spaces.observation_entries` for the pusher's prong count, in that order:
+    :func:`pushctl.task.spaces.observation_entries` for the pusher's prong count, in that order:
     index, name, meaning, unit and the ``scale`` the learner divides by. In short: the planned
     (nominal) prong forces of the next step, the measured prong forces of the last step, the
     pusher's planar velocity, the object's pose error to the plan (plan frame), with
@@ -93,7 +93,7 @@ Arguments
 
 Version history
     One id, ``Push-v0``, so far; behaviour changes are recorded here and in the saved settings
-    of every policy (:data:`~pushctl.rl.env_config.LEGACY_VALUES` loads an older policy with
+    of every policy (:data:`~pushctl.task.env_config.LEGACY_VALUES` loads an older policy with
     the settings it was trained with).
 
     - ``Push-v0``: the environment, eq. 17 with ``w_pose``, the gate, the ``velocity`` path.
@@ -111,7 +111,7 @@ Version history
       residual is added to the feedback law's action): saved policies load with ``none``.
     - ``landing`` (``measured``, the default: the reset re-lands the prongs on the plan's
       spot of the object as measured): saved policies load with ``believed``.
-    - ``Push-v1`` (``EnvConfig.v1()``, :data:`~pushctl.rl.env_config.PUSH_V1`): the policy
+    - ``Push-v1`` (``EnvConfig.v1()``, :data:`~pushctl.task.env_config.PUSH_V1`): the policy
       acts inside the gate's dead band (``policy_gated`` False; the gate switches the law
       only), with the whole envelope on the feedback law, and observes the context rows
       (``observe_context``). ``EnvConfig()``'s defaults stay ``Push-v0``'s, to the bit;
@@ -135,11 +135,11 @@ from pushctl.episode.proxy import ProxyEffects, effects_for
 from pushctl.episode.ranges import plant_engine
 from pushctl.episode.runner import Episode
 from pushctl.errors import ConfigError, StateError
-from pushctl.rl.env_config import EnvConfig
-from pushctl.rl.env_draws import default_draws, draw_reset
-from pushctl.rl.env_readings import EpisodeReadings, action_floats
-from pushctl.rl.feedback_actor import FeedbackActor
-from pushctl.rl.spaces import ACTION_ENTRIES, clipped_action, observation_entries
+from pushctl.task.env_config import EnvConfig
+from pushctl.task.env_draws import default_draws, draw_reset
+from pushctl.task.env_readings import EpisodeReadings, action_floats
+from pushctl.task.feedback_actor import FeedbackActor
+from pushctl.task.spaces import ACTION_ENTRIES, clipped_action, observation_entries
 from pushctl.types import StepResult
 
 _EPISODE_FIELDS = (

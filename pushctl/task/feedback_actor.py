@@ -10,11 +10,11 @@ from typing import Any, Protocol
 import numpy as np
 
 from pushctl.control.feedback import FeedbackGains, FeedbackLaw
-from pushctl.rl.spaces import clipped_action, index, observation_entries
+from pushctl.task.spaces import clipped_action, index, observation_entries
 
 
 class PushSource(Protocol):
-    """What the actor reads of a :class:`~pushctl.rl.env.PushEnv` (not imported: the
+    """What the actor reads of a :class:`~pushctl.task.env.PushEnv` (not imported: the
     environment builds this actor as its ``base_law``): the plan, the settings, the
     episode (its step index), and for :meth:`FeedbackActor.act` the observation's pose
     error and force estimate."""
@@ -34,7 +34,7 @@ class PushSource(Protocol):
 
 class FeedbackActor:
     """The feedback law of the push ``env`` was just reset to, as an actor: observation
-    (float32, :mod:`pushctl.rl.spaces`) → action (3,) in [−1, 1] (the law's twist over the
+    (float32, :mod:`pushctl.task.spaces`) → action (3,) in [−1, 1] (the law's twist over the
     environment's action scale, clipped). Called only while the gate is open, so the
     integral covers the steps the law acted on."""
 

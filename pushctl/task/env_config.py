@@ -26,7 +26,7 @@ them, aimed at the believed pose, or put back on the plan's spot of the object a
 
 @dataclass(frozen=True)
 class EnvConfig:
-    """Settings of :class:`pushctl.rl.env.PushEnv`.
+    """Settings of :class:`pushctl.task.env.PushEnv`.
 
     Episodes
         ``objects``, ``profiles``: what a reset chooses from (uniformly). ``plant``: the
@@ -48,7 +48,7 @@ class EnvConfig:
         observation's pose error and the gate read the 30 Hz camera (docs/design.md §7), as a
         real arm must; False reads the exact pose (how policies were trained before).
         ``observe_offset``: on the ``reference`` path, the observation carries the offset
-        built so far (:mod:`pushctl.rl.spaces`); the policy's own integrator state, without
+        built so far (:mod:`pushctl.task.spaces`); the policy's own integrator state, without
         which the pose error alone cannot tell an offset still to build from one built.
         ``action_repeat``: environment steps one action is held for (the policy decides
         every ``action_repeat`` × ``dt``; a step() returns their summed reward). One 10 ms
@@ -77,7 +77,7 @@ class EnvConfig:
         only (with ``policy_gated``).
         ``observe_context``: the observation also carries the pose error's rate (through a
         0.1 s lag), the plan's speed now (which the law's caps scale with) and the base law's
-        output (:mod:`pushctl.rl.spaces`), what a residual needs to tell where the law is
+        output (:mod:`pushctl.task.spaces`), what a residual needs to tell where the law is
         capped and how fast the error closes.
         ``landing``: where the environment's pushes start. ``believed``: where the approach
         landed the prongs, aimed at the object's believed pose (PD-only's start, always);

@@ -1,7 +1,7 @@
 """``gymnasium.make_vec("pushctl/Push-v0", num_envs=N)``: N pushes stepped together.
 
 :class:`PushVectorEnv` is a native :class:`gymnasium.vector.VectorEnv` (the registration's
-``vector_entry_point``) holding N :class:`~pushctl.rl.env.PushEnv` in one process. A step
+``vector_entry_point``) holding N :class:`~pushctl.task.env.PushEnv` in one process. A step
 takes the actions of all N as one (N, 3) array and returns the N observations, rewards and
 flags as arrays, so the caller runs one batched policy forward per step for all N (the
 training collectors do, :mod:`pushctl.rl.collect`).
@@ -34,8 +34,8 @@ from gymnasium.vector.utils import batch_space
 
 from pushctl.control.gains import PDGains, load_gains
 from pushctl.errors import ConfigError
-from pushctl.rl.env import PushEnv
-from pushctl.rl.env_config import EnvConfig
+from pushctl.task.env import PushEnv
+from pushctl.task.env_config import EnvConfig
 
 AUTORESET_MODES = (AutoresetMode.NEXT_STEP, AutoresetMode.DISABLED)
 
@@ -106,7 +106,7 @@ class PushVectorEnv(gym.vector.VectorEnv):
         """Reset the sub-environments (all, or those of ``options["reset_mask"]``, (N,)
         bool). ``seed``: an int s seeds sub-environment i with s + i (as ``SyncVectorEnv``);
         a sequence gives each its own (None: no reseeding). The other ``options`` go to
-        every sub-environment's reset (:data:`pushctl.rl.env.RESET_OPTIONS`)."""
+        every sub-environment's reset (:data:`pushctl.task.env.RESET_OPTIONS`)."""
         options = dict(options or {})
         mask = np.asarray(options.pop("reset_mask", np.ones(self.num_envs, dtype=bool)))
         if mask.shape != (self.num_envs,) or mask.dtype != np.bool_:

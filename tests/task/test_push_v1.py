@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 
 from pushctl.control.feedback import STEADY_FEEDBACK_FILE, load_feedback_gains
-from pushctl.rl.env import PushEnv
-from pushctl.rl.env_config import EnvConfig
-from pushctl.rl.env_readings import PRIVILEGED_SCALES
 from pushctl.rl.policy import finish_with_policy
-from pushctl.rl.spaces import CONTEXT_ENTRIES, index, markdown_table, observation_entries
+from pushctl.task.env import PushEnv
+from pushctl.task.env_config import EnvConfig
+from pushctl.task.env_readings import PRIVILEGED_SCALES
+from pushctl.task.spaces import CONTEXT_ENTRIES, index, markdown_table, observation_entries
 
 ZERO = np.zeros(3)
 OPTIONS = {"object": "cube", "profile": "constant", "scenario_seed": 1}
@@ -42,7 +42,7 @@ def test_a_zero_residual_on_push_v1_is_the_law_to_the_bit():
 def test_the_policy_acts_inside_the_dead_band_only_when_ungated(monkeypatch):
     # the steady law leaves the gate to the environment (the shipped law gates itself)
     steady = load_feedback_gains(STEADY_FEEDBACK_FILE)
-    monkeypatch.setattr("pushctl.rl.env.load_feedback_gains", lambda: steady)
+    monkeypatch.setattr("pushctl.task.env.load_feedback_gains", lambda: steady)
     shut = dict(gate_threshold=1.0)  # a 1 m gate: never open, the law never acts
     gated = _reset(EnvConfig.v1(policy_gated=True, **shut))
     free = _reset(EnvConfig.v1(**shut))

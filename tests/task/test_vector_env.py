@@ -8,11 +8,11 @@ import gymnasium
 import numpy as np
 import pytest
 
-import pushctl.rl
+import pushctl.task
 from pushctl.errors import ConfigError, StateError
-from pushctl.rl.env import PushEnv
-from pushctl.rl.env_config import EnvConfig
-from pushctl.rl.vector_env import PushVectorEnv
+from pushctl.task.env import PushEnv
+from pushctl.task.env_config import EnvConfig
+from pushctl.task.vector_env import PushVectorEnv
 
 # 40 push steps; the gate always open, so every action acts and prongs slip
 SHORT = EnvConfig(duration=0.4, objects=("cube", "wedge"), profiles=("constant",))
@@ -23,7 +23,7 @@ N = 8
 
 
 def test_make_vec_returns_the_native_vector_env() -> None:
-    envs = gymnasium.make_vec(pushctl.rl.ENV_ID, num_envs=3, config=SHORT)
+    envs = gymnasium.make_vec(pushctl.task.ENV_ID, num_envs=3, config=SHORT)
     assert isinstance(envs, PushVectorEnv)
     assert isinstance(envs, gymnasium.vector.VectorEnv)
     assert envs.num_envs == 3
@@ -35,7 +35,7 @@ def test_make_vec_returns_the_native_vector_env() -> None:
 
 
 def test_eight_envs_equal_eight_single_envs_over_an_episode_and_its_auto_reset() -> None:
-    vector = gymnasium.make_vec(pushctl.rl.ENV_ID, num_envs=N, config=SHORT_OPEN)
+    vector = gymnasium.make_vec(pushctl.task.ENV_ID, num_envs=N, config=SHORT_OPEN)
     singles = [PushEnv(SHORT_OPEN) for _ in range(N)]
     rng = np.random.default_rng(0)
     obs, _ = vector.reset(seed=100)

@@ -12,15 +12,15 @@ import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env
 
-import pushctl.rl
+import pushctl.task
 from pushctl.episode.runner import Episode
 from pushctl.episode.trace import prong_torques
 from pushctl.episode.unknowns import NO_UNKNOWNS
 from pushctl.errors import ConfigError, StateError
-from pushctl.rl.env import PushEnv
-from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.policy import finish_with_policy
-from pushctl.rl.spaces import ACTION_ENTRIES, index, markdown_table, observation_entries
+from pushctl.task.env import PushEnv
+from pushctl.task.env_config import EnvConfig
+from pushctl.task.spaces import ACTION_ENTRIES, index, markdown_table, observation_entries
 
 LEARNING_PAGE = Path(__file__).resolve().parents[2] / "docs" / "learning.md"
 SHORT = EnvConfig(
@@ -47,7 +47,7 @@ def test_gymnasium_env_checker_passes(env: PushEnv) -> None:
 
 
 def test_the_registered_id_makes_the_environment() -> None:
-    made = gymnasium.make(pushctl.rl.ENV_ID, config=SHORT)
+    made = gymnasium.make(pushctl.task.ENV_ID, config=SHORT)
     assert isinstance(made.unwrapped, PushEnv)
     obs, _ = made.reset(seed=1)
     assert made.observation_space.contains(obs)

@@ -1,8 +1,8 @@
 """What the push environment reads off its episode: the observation, the pose error in the
 plan frame and the gate's deviation, eq. 17's reward terms, an action's world twist, and
 what a privileged critic may see (the plant unknowns). A mixin of
-:class:`~pushctl.rl.env.PushEnv`, which owns the episode and its reset; the rows are
-:mod:`pushctl.rl.spaces`'."""
+:class:`~pushctl.task.env.PushEnv`, which owns the episode and its reset; the rows are
+:mod:`pushctl.task.spaces`'."""
 
 from __future__ import annotations
 
@@ -46,7 +46,7 @@ object's mass [kg], and the exact pose error (e_x, e_y [m], e_θ [rad])."""
 
 
 class EpisodeReadings:
-    """The readings of :class:`~pushctl.rl.env.PushEnv` (see the module docstring). State it
+    """The readings of :class:`~pushctl.task.env.PushEnv` (see the module docstring). State it
     reads, set by the environment: ``episode``, ``config``, ``_last`` (the last step's
     result), ``_plan_rows``, ``_plan_forces``, ``_true_forces``, ``_true_torques``,
     ``_measured``, ``_exact_pose``, ``_action_scales``, ``_law_owns_gate``; state it
@@ -70,7 +70,7 @@ class EpisodeReadings:
     _error_rate: list[float]
 
     def observation(self) -> np.ndarray:
-        """The observation (float32, :mod:`pushctl.rl.spaces`) of the current state: what
+        """The observation (float32, :mod:`pushctl.task.spaces`) of the current state: what
         reset() or the last step() returned."""
         episode, last = self.episode, self._last
         assert episode is not None
