@@ -39,8 +39,8 @@ TOP_LEVEL = {
     "engines.py",  # make_world: our contact world or MuJoCo's, above both engines
 }
 
-# The layer of each subpackage or top-level module (an entry for a module inside a package
-# sets that module's own layer: the distributed package spans two). A module may import only
+# The layer of each subpackage or top-level module: one per package, never one for a module
+# inside a package (test_every_layer_is_a_whole_package). A module may import only
 # modules of its own layer or lower. cli → evaluation / rl → episode → control / planning →
 # contact / mujoco → arm / objects, with the shared basics below all; ``pushctl`` itself (the
 # public API, which re-exports from below) above all. A new subpackage or top-level module
@@ -49,9 +49,7 @@ LAYERS = {
     "pushctl": 10,  # only the package's own __init__: its API re-exports from every layer
     "pushctl.cli": 9,
     "pushctl.report": 8,  # tables and figures from the evaluation's results
-    "pushctl.distributed.seeds": 7,  # several training runs on Ray
-    "pushctl.distributed.sweep": 7,
-    "pushctl.distributed.sweep_config": 7,
+    "pushctl.runs": 7,  # several training runs: seeds, sweeps
     "pushctl.evaluation": 6,
     "pushctl.realdata": 6,  # recorded pushes replayed and scored
     "pushctl.rl": 6,  # learners
@@ -199,9 +197,39 @@ def test_imports_flow_one_way_through_the_layers() -> None:
     assert upward == []
 
 
+def test_every_layer_is_a_whole_package() -> None:
+    """No exceptions: an entry names a subpackage or a top-level module, so that a package's
+    modules share its layer."""
+    modules = _modules()
+    for name in LAYERS:
+        if name == "pushctl":
+            continue
+        assert name.count(".") == 1, f"{name}: a layer for a module inside a package"
+        assert name in modules, f"{name}: no such subpackage or module"
+
+
+def _package(module: str) -> str:
+    """The subpackage or top-level module ``module`` belongs to (``pushctl`` for the root)."""
+    return ".".join(module.split(".")[:2])
+
+
+def test_no_import_cycle_between_packages() -> None:
+    """A package importing another that imports it back is a loop even when no module
+    does: the packages' graph has no cycle (the root, which re-exports, left out)."""
+    packages: dict[str, set[str]] = {}
+    for module, targets in import_graph().items():
+        if module == "pushctl":
+            continue
+        edges = packages.setdefault(_package(module), set())
+        edges |= {_package(t) for t in targets if t != "pushctl"} - {_package(module)}
+    for edges in packages.values():
+        edges &= set(packages)
+    assert find_cycle(packages) is None
+
+
 def test_the_layers_are_read() -> None:
     assert layer("pushctl") == 10 and layer("pushctl.cli.plan") == 9
-    assert layer("pushctl.distributed.seeds") == 7 and layer("pushctl.distributed.engine") == 0
+    assert layer("pushctl.runs.seeds") == 7 and layer("pushctl.distributed.engine") == 0
     assert layer("pushctl.nowhere") is None  # a new top-level module needs its entry
 
 

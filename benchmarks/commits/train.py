@@ -8,7 +8,7 @@ Run as ``python -m benchmarks.compare_commits train --against REV [--repeats 3] 
 episodes, the DDPG updates, the PD-only curve pushes and the validations. It runs in one
 process pinned to one core (``workers`` 0), as each seed of ``make reproduce-tables``
 trains on this 2-core machine (three seeds, one process each:
-:func:`~pushctl.distributed.seeds.core_plan`), so its time is the core time a seed needs
+:func:`~pushctl.runs.seeds.core_plan`), so its time is the core time a seed needs
 and does not swing with the other core's load. The reference commit's ``pushctl/`` and
 ``experiments/`` are unpacked with ``git archive``; both trees read one preset file written
 from this tree's ``pushctl/defaults/train_paper.toml``. Each tree first runs once untimed

@@ -133,12 +133,12 @@ class Budget:
 
 def budgets(setup: Setup, records: list[StepRecord]) -> list[Budget]:
     """Each stage's wall time beside its budget: training per seed (its own wall time,
-    :data:`~pushctl.distributed.seeds.TIMING`; the seeds train side by side, which the basis
+    :data:`~pushctl.runs.seeds.TIMING`; the seeds train side by side, which the basis
     says, as the budget is for one run alone), the evaluation (3 min per 1200 episodes,
     scaled to the episodes it ran), the report, and the whole run (30 min with one training
     seed, 60 min with three). A run whose ``train`` step resumed has its whole-run time for
     this invocation only: the basis says so."""
-    from pushctl.distributed.seeds import TIMING, read_timing  # Ray only when reporting
+    from pushctl.runs.seeds import TIMING, read_timing  # Ray only when reporting
 
     took = {record.name: record.seconds for record in records}
     rows = []

@@ -109,7 +109,7 @@ def _policy(setup: Setup, seed: int) -> Path:
 
 
 def seed_run(setup: Setup, seed: int) -> Path:
-    """A training seed's run directory (:mod:`pushctl.distributed.seeds`' layout)."""
+    """A training seed's run directory (:mod:`pushctl.runs.seeds`' layout)."""
     return setup.run / f"seed-{seed}"
 
 

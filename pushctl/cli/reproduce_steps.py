@@ -43,7 +43,7 @@ def choose_setup(quick: bool, force: bool, seeds: str | None, preset: str | None
     if force:
         setup = replace(setup, force=True)
     if seeds is not None:
-        from pushctl.distributed.seeds import parse_seeds
+        from pushctl.runs.seeds import parse_seeds
 
         setup = replace(setup, seeds=parse_seeds(seeds))
     return setup

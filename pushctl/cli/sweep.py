@@ -1,6 +1,6 @@
 """``pushctl sweep CONFIG.toml``: a grid or random search over preset keys × seeds on Ray,
 scored on the validation set (tuning stream); writes the runs, ``trials.csv``,
-``summary.csv`` and ``sweep.png`` (:mod:`pushctl.distributed.sweep`)."""
+``summary.csv`` and ``sweep.png`` (:mod:`pushctl.runs.sweep`)."""
 
 from __future__ import annotations
 
@@ -33,11 +33,11 @@ def sweep(
     run's policy on the validation set, and write trials.csv, summary.csv and sweep.png."""
     from pushctl.cli.common import console, fail, fail_write, interrupted, invocation
     from pushctl.cli.train_seeds import run_jobs_with_progress
-    from pushctl.distributed.sweep import gather, score_policy, sweep_jobs
-    from pushctl.distributed.sweep_config import read_sweep
     from pushctl.errors import ConfigError, PushctlError
     from pushctl.output_guard import hold, occupied
     from pushctl.provenance import provenance_line
+    from pushctl.runs.sweep import gather, score_policy, sweep_jobs
+    from pushctl.runs.sweep_config import read_sweep
 
     directory = out if out is not None else Path("runs") / f"sweep-{config.stem}"
     try:
@@ -67,9 +67,9 @@ def sweep(
 def write_sweep(directory: Path, result, made_by: str) -> list[Path]:
     """``trials.csv`` and ``summary.csv`` under ``made_by`` and ``sweep.png``, each
     atomically; the figure is in place before the tables appear."""
-    from pushctl.distributed.sweep import FIGURE_FILE, SUMMARY_FILE, TRIALS_FILE
     from pushctl.provenance import write_atomic, write_csv
     from pushctl.report.sweep_figure import sweep_figure
+    from pushctl.runs.sweep import FIGURE_FILE, SUMMARY_FILE, TRIALS_FILE
 
     directory.mkdir(parents=True, exist_ok=True)
     figure = sweep_figure(result.trials, result.sweep.keys, grid=result.sweep.search == "grid")

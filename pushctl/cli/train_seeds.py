@@ -1,5 +1,5 @@
 """``pushctl train --seeds``: checks the options and every seed's run directory, runs the
-seeds as Ray tasks (:mod:`pushctl.distributed.seeds`) and shows their progress with rich."""
+seeds as Ray tasks (:mod:`pushctl.runs.seeds`) and shows their progress with rich."""
 
 from __future__ import annotations
 
@@ -14,7 +14,13 @@ from rich.table import Table
 from pushctl.cli.warm import note_if_cold
 from pushctl.control.gains import load_gains
 from pushctl.distributed.engine import session
-from pushctl.distributed.seeds import (
+from pushctl.errors import ConfigError
+from pushctl.output_guard import hold, is_ours, occupied
+from pushctl.provenance import provenance_line
+from pushctl.rl.presets import load_preset
+from pushctl.rl.train import CHECKPOINT, CURVE, LAST_POLICY, POLICY, VALIDATION, Trainer
+from pushctl.rl.warm_up import compile_kernels
+from pushctl.runs.seeds import (
     TIMING,
     JobResult,
     SeedStatus,
@@ -23,12 +29,6 @@ from pushctl.distributed.seeds import (
     run_jobs,
     seed_dir,
 )
-from pushctl.errors import ConfigError
-from pushctl.output_guard import hold, is_ours, occupied
-from pushctl.provenance import provenance_line
-from pushctl.rl.presets import load_preset
-from pushctl.rl.train import CHECKPOINT, CURVE, LAST_POLICY, POLICY, VALIDATION, Trainer
-from pushctl.rl.warm_up import compile_kernels
 
 LOG_EVERY = 25
 """Episodes between a seed's plain progress lines when the output is not a terminal."""
@@ -112,7 +112,7 @@ def run_jobs_with_progress(
     console: Console,
     finish: Callable[[Trainer], Any] | None = None,
 ) -> list[tuple[JobResult, Any]]:
-    """:func:`~pushctl.distributed.seeds.run_jobs` with one progress bar per job, after
+    """:func:`~pushctl.runs.seeds.run_jobs` with one progress bar per job, after
     numba's kernels are compiled in this process (:mod:`pushctl.rl.warm_up`)."""
     columns = (
         TextColumn("[bold]{task.fields[label]}"),

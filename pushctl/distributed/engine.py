@@ -9,6 +9,10 @@ session opened inside another (a test's, a command's) reuses it and leaves it ru
 A :class:`WorkerPool` is ``n`` Ray actors, each holding one object built from a factory
 (an evaluation context, a training collector), so that per-process set-up (environments,
 JIT-compiled kernels, the actor network) is paid once per worker, as with a process pool.
+:func:`run_tasks` runs long calls (a training seed each) as Ray tasks that Ray retries
+after their worker died, with their progress posted on a board the caller polls.
+
+This module is pushctl's only importer of Ray.
 """
 
 from __future__ import annotations
@@ -16,6 +20,7 @@ from __future__ import annotations
 import os
 import signal
 import socket
+import textwrap
 import threading
 from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import Future
@@ -26,7 +31,7 @@ from typing import Any
 import ray
 
 from pushctl.distributed import reaper
-from pushctl.errors import ConfigError
+from pushctl.errors import ConfigError, PushctlError
 
 ADDRESS_VARIABLE = "RAY_ADDRESS"
 RETRIES = 3
@@ -46,6 +51,8 @@ they run at the priority of the command that started them: ``nice pushctl train`
 runs it all niced (docs/ray.md, *Ray on a laptop*)."""
 _watcher: Any = None
 """The watcher of the local Ray instance this process started (:mod:`.reaper`), if any."""
+POLL = 0.5
+"""Seconds between progress reports of :func:`run_tasks` to its caller."""
 AHEAD = 4
 """Items per worker that :meth:`WorkerPool.ordered` lets run, or wait finished, beyond the
 first result not yet yielded."""
@@ -254,3 +261,60 @@ class WorkerPool:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+Post = Callable[[str, Any], None]
+"""A task's progress report: ``post(key, status)``, ``status`` plain data (a tuple)."""
+
+
+@ray.remote(num_cpus=1, max_retries=RETRIES, retry_exceptions=False)
+def _task(fn: Callable[..., Any], args: tuple[Any, ...], board: Any) -> Any:
+    post: Post = lambda key, status: board.post.remote(key, status)  # noqa: E731
+    return fn(*args, post)
+
+
+def run_tasks(
+    fn: Callable[..., Any],
+    calls: list[tuple[str, tuple[Any, ...]]],
+    cpus: float,
+    on_progress: Callable[[dict[str, Any]], None] | None = None,
+) -> list[Any]:
+    """``fn(*args, post)`` for each ``(name, args)`` of ``calls``, each a Ray task asking
+    for ``cpus`` and rerun from the start (up to :data:`RETRIES` times) if its worker
+    dies, so ``fn`` must resume its own work; every :data:`POLL` s ``on_progress`` gets
+    what the tasks last posted, by key. Call inside a :func:`session`. Results in the calls'
+    order. A task that fails raises its error: a PushctlError keeps its one line, prefixed
+    by the call's name; a task Ray gave up on becomes one line saying how to continue; any
+    other error (a bug) is raised as it is. On any way out, unfinished tasks are cancelled."""
+    board = new_board()
+    task = _task.options(num_cpus=cpus)
+    refs = {task.remote(fn, args, board): name for name, args in calls}
+    waiting = list(refs)
+    try:
+        while waiting:
+            ready, waiting = ray.wait(waiting, num_returns=len(waiting), timeout=POLL)
+            for ref in ready:
+                _raise_failure(ref, refs[ref])
+            if on_progress is not None:
+                on_progress(ray.get(board.read.remote()))
+    finally:
+        for ref in waiting:
+            ray.cancel(ref, force=True)
+    return [ray.get(ref) for ref in refs]
+
+
+def _raise_failure(ref: Any, name: str) -> None:
+    """Nothing if the task of ``ref`` succeeded; else its error, as :func:`run_tasks` says."""
+    try:
+        ray.get(ref)
+    except ray.exceptions.RayTaskError as exc:
+        cause = exc.cause
+        if isinstance(cause, PushctlError):
+            raise type(cause)(f"{name}: {cause}") from None
+        raise
+    except ray.exceptions.RayError as exc:
+        reason = textwrap.shorten(str(exc), 160, placeholder=" …")  # whole words
+        raise PushctlError(
+            f"{name}: Ray gave up on its task ({type(exc).__name__}: {reason}); "
+            "rerun with --resume to continue from its last checkpoint"
+        ) from None

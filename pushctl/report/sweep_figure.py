@@ -20,7 +20,7 @@ LOG_SPAN = 10.0
 
 
 def sweep_figure(trials: pd.DataFrame, keys: list[str], grid: bool = True) -> Figure:
-    """``trials``: :class:`~pushctl.distributed.sweep.SweepResult`'s rows (columns
+    """``trials``: :class:`~pushctl.runs.sweep.SweepResult`'s rows (columns
     ``score`` and each of ``keys``); ``grid``: the search was a grid."""
     figure = Figure(figsize=(4.2 * len(keys), 3.6), layout="constrained")
     axes = figure.subplots(1, len(keys), squeeze=False)[0]

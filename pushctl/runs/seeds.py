@@ -20,28 +20,22 @@ from __future__ import annotations
 
 import json
 import re
-import textwrap
 import time
 from collections.abc import Callable
 from dataclasses import astuple, dataclass
 from pathlib import Path
 from typing import Any
 
-import ray
 
 from pushctl.control.gains import PDGains
-from pushctl.distributed.engine import cluster_cpus, new_board, session
-from pushctl.errors import ConfigError, PushctlError
+from pushctl.distributed.engine import cluster_cpus, run_tasks, session
+from pushctl.errors import ConfigError
 from pushctl.provenance import write_atomic
 from pushctl.rl.presets import Preset
 from pushctl.rl.train import CHECKPOINT, POLICY, Progress, Trainer
 
 SEED_DIR = "seed-{seed}"
 """A seed's run directory inside the runs' directory."""
-RETRIES = 3
-"""Times Ray reruns a task whose worker process died (each rerun resumes its checkpoint)."""
-POLL = 0.5
-"""Seconds between progress reports to the caller."""
 MAX_SEEDS = 1000
 TIMING = "timing.json"
 """A seed's training wall time, beside its run's files: ``seconds`` summed over every
@@ -229,13 +223,14 @@ def read_timing(path: Path) -> dict[str, Any] | None:
     return timing
 
 
-@ray.remote(num_cpus=1, max_retries=RETRIES, retry_exceptions=False)
-def _task(
-    job: TrainJob, board: Any, finish: Callable[[Trainer], Any] | None, collectors: int
+def _job_task(
+    job: TrainJob,
+    finish: Callable[[Trainer], Any] | None,
+    collectors: int,
+    post: Callable[[str, Any], None],
 ) -> tuple[JobResult, Any]:
     # plain tuples on the board: its process then needs none of this module's imports
-    post = lambda key, status: board.post.remote(key, astuple(status))  # noqa: E731
-    return run_job(job, post, finish, collectors)
+    return run_job(job, lambda key, status: post(key, astuple(status)), finish, collectors)
 
 
 def run_jobs(
@@ -244,47 +239,19 @@ def run_jobs(
     on_progress: Callable[[dict[str, SeedStatus]], None] | None = None,
     finish: Callable[[Trainer], Any] | None = None,
 ) -> list[tuple[JobResult, Any]]:
-    """Run every job as a Ray task (see :func:`run_job`), the cores shared as
-    :func:`core_plan` says for the jobs not yet finished, calling ``on_progress`` with
-    every job's last status (by :attr:`TrainJob.name`) every :data:`POLL` s; results in the
+    """Run every job as a Ray task (see :func:`run_job`; retried from its checkpoint if
+    its worker dies), the cores shared as :func:`core_plan` says for the jobs not yet
+    finished, calling ``on_progress`` with every job's last status (by
+    :attr:`TrainJob.name`) every :data:`~pushctl.distributed.engine.POLL` s; results in the
     jobs' order. A job that fails raises its error (a PushctlError keeps its one line,
     prefixed by the job's name)."""
     with session(address):
-        board = new_board()
         workers = min(job.preset.train.workers for job in jobs) if jobs else 0
         plan = core_plan(cluster_cpus(), sum(unfinished(job) for job in jobs), workers)
-        task = _task.options(num_cpus=plan.cpus)
-        refs = {task.remote(job, board, finish, plan.collectors): job.name for job in jobs}
-        waiting = list(refs)
-        try:
-            while waiting:
-                ready, waiting = ray.wait(waiting, num_returns=len(waiting), timeout=POLL)
-                for ref in ready:
-                    _raise_failure(ref, refs[ref])
-                if on_progress is not None:
-                    posted = ray.get(board.read.remote())
-                    on_progress({key: SeedStatus(*value) for key, value in posted.items()})
-        finally:
-            for ref in waiting:
-                ray.cancel(ref, force=True)
-        return [ray.get(ref) for ref in refs]
-
-
-def _raise_failure(ref: Any, name: str) -> None:
-    """Nothing if the task of ``ref`` succeeded; else its error: a PushctlError keeps its
-    one line (prefixed by the job's name), a task Ray gave up on (its worker died more than
-    :data:`RETRIES` times, its node was lost) becomes one line saying how to continue, and
-    any other error (a bug) is raised as it is."""
-    try:
-        ray.get(ref)
-    except ray.exceptions.RayTaskError as exc:
-        cause = exc.cause
-        if isinstance(cause, PushctlError):
-            raise type(cause)(f"{name}: {cause}") from None
-        raise
-    except ray.exceptions.RayError as exc:
-        reason = textwrap.shorten(str(exc), 160, placeholder=" …")  # whole words
-        raise PushctlError(
-            f"{name}: Ray gave up on its task ({type(exc).__name__}: {reason}); "
-            "rerun with --resume to continue from its last checkpoint"
-        ) from None
+        calls = [(job.name, (job, finish, plan.collectors)) for job in jobs]
+        show = None
+        if on_progress is not None:
+            show = lambda posted: on_progress(  # noqa: E731
+                {key: SeedStatus(*value) for key, value in posted.items()}
+            )
+        return run_tasks(_job_task, calls, plan.cpus, show)

@@ -19,7 +19,10 @@ from typer.testing import CliRunner
 
 from pushctl.cli import app
 from pushctl.control.gains import load_gains
-from pushctl.distributed.seeds import (
+from pushctl.errors import ConfigError
+from pushctl.rl.presets import load_preset
+from pushctl.rl.train import CHECKPOINT, CURVE, POLICY, Trainer, read_checkpoint
+from pushctl.runs.seeds import (
     TIMING,
     CorePlan,
     SeedStatus,
@@ -29,9 +32,6 @@ from pushctl.distributed.seeds import (
     run_job,
     unfinished,
 )
-from pushctl.errors import ConfigError
-from pushctl.rl.presets import load_preset
-from pushctl.rl.train import CHECKPOINT, CURVE, POLICY, Trainer, read_checkpoint
 
 runner = CliRunner()
 

@@ -29,7 +29,7 @@ from typing import Any
 
 import numpy as np
 
-from pushctl.distributed.seeds import parse_seeds
+from pushctl.runs.seeds import parse_seeds
 from pushctl.errors import ConfigError
 from pushctl.rl.presets import PRESET_NAMES, Preset, load_preset
 from pushctl.toml_files import check_keys, read_toml

@@ -1,6 +1,6 @@
 """``pushctl sweep``'s core: every configuration of a sweep
-(:class:`~pushctl.distributed.sweep_config.Sweep`) × every seed trained as a Ray task
-(:mod:`pushctl.distributed.seeds`), then scored on the validation set.
+(:class:`~pushctl.runs.sweep_config.Sweep`) × every seed trained as a Ray task
+(:mod:`pushctl.runs.seeds`), then scored on the validation set.
 
 Scoring (tuning stream, never the evaluation stream): each run's ``policy.pt`` (the actor
 the run kept on its own validation set, tuning seeds 0 … n − 1) is scored against PD-only
@@ -24,8 +24,8 @@ import pandas as pd
 import torch
 
 from pushctl.control.gains import load_gains
-from pushctl.distributed.seeds import JobResult, TrainJob
-from pushctl.distributed.sweep_config import Sweep
+from pushctl.runs.seeds import JobResult, TrainJob
+from pushctl.runs.sweep_config import Sweep
 from pushctl.rl.train import POLICY, Trainer
 from pushctl.rl.validate import ValidationScore, Validator
 

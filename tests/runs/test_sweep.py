@@ -14,11 +14,11 @@ from typer.testing import CliRunner
 
 from pushctl.cli import app
 from pushctl.control.gains import load_gains
-from pushctl.distributed.sweep import FIGURE_FILE, SUMMARY_FILE, TRIALS_FILE
-from pushctl.distributed.sweep_config import Range, read_sweep
 from pushctl.errors import ConfigError
 from pushctl.rl.presets import load_preset
 from pushctl.rl.validate import Validator
+from pushctl.runs.sweep import FIGURE_FILE, SUMMARY_FILE, TRIALS_FILE
+from pushctl.runs.sweep_config import Range, read_sweep
 
 runner = CliRunner()
 
