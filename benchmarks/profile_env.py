@@ -32,11 +32,11 @@ from dataclasses import replace
 import numpy as np
 
 from pushctl.control.feedback import load_feedback_gains
+from pushctl.rl.policy import finish_with_policy
+from pushctl.rl.presets import load_preset
 from pushctl.task.env import PushEnv
 from pushctl.task.env_config import EnvConfig
 from pushctl.task.feedback_actor import FeedbackActor
-from pushctl.rl.policy import finish_with_policy
-from pushctl.rl.presets import load_preset
 
 MODES = ("shut", "open", "feedback", "train")
 

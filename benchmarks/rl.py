@@ -16,9 +16,9 @@ from benchmarks.engines import pinned_to_one_core
 from pushctl.control.gains import load_gains
 from pushctl.rl.collect import Behaviour, collect_episodes, episode_rngs, portable
 from pushctl.rl.ddpg import DDPGAgent, configure_torch
+from pushctl.rl.presets import load_preset
 from pushctl.task.env import PushEnv
 from pushctl.task.env_config import EnvConfig
-from pushctl.rl.presets import load_preset
 from pushctl.task.spaces import observation_entries, scales
 from pushctl.task.vector_env import PushVectorEnv
 

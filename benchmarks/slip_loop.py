@@ -42,8 +42,8 @@ from benchmarks.engines import pinned_to_one_core
 from pushctl.contact.world import MAX_SLIP_ITERATIONS
 from pushctl.episode.metrics import compute_metrics
 from pushctl.errors import ConfigError
-from pushctl.output_guard import refuse_existing_files
-from pushctl.provenance import provenance_line, write_csv
+from pushctl.files.output_guard import refuse_existing_files
+from pushctl.files.provenance import provenance_line, write_csv
 from pushctl.task.env import PushEnv
 from pushctl.task.env_config import EnvConfig
 

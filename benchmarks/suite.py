@@ -38,8 +38,8 @@ from benchmarks.rl import rl_rows
 from pushctl import native
 from pushctl.contact.world import World
 from pushctl.errors import ConfigError
-from pushctl.output_guard import refuse_existing_files
-from pushctl.provenance import provenance_line, recorded_argv, write_atomic, write_csv
+from pushctl.files.output_guard import refuse_existing_files
+from pushctl.files.provenance import provenance_line, recorded_argv, write_atomic, write_csv
 
 
 def _median_us(func, repeats: int) -> float:

@@ -58,11 +58,11 @@ from pushctl.episode.metrics import compute_metrics
 from pushctl.errors import PushctlError
 from pushctl.evaluation.controllers import feedback_config
 from pushctl.evaluation.tune_feedback import tuning_env
+from pushctl.files.provenance import write_atomic
 from pushctl.objects import OBJECT_NAMES
 from pushctl.planning import PROFILE_NAMES
-from pushctl.provenance import write_atomic
-from pushctl.task.feedback_actor import FeedbackActor
 from pushctl.rl.policy import finish_with_policy
+from pushctl.task.feedback_actor import FeedbackActor
 
 SPACE = {
     "catchup_time": (2.0, 3.0, 5.0),

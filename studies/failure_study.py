@@ -46,8 +46,8 @@ from pushctl.evaluation.controllers import FeedbackActor
 from pushctl.evaluation.tune_feedback import BELIEVED, reset_pushes, tuning_env
 from pushctl.objects import OBJECT_NAMES
 from pushctl.planning import PROFILE_NAMES
-from pushctl.task.env import PushEnv
 from pushctl.rl.policy import finish_with_policy
+from pushctl.task.env import PushEnv
 
 
 @dataclass(frozen=True)

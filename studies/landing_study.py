@@ -35,9 +35,9 @@ from pushctl.episode.trace import Trace
 from pushctl.evaluation.tune_feedback import BELIEVED, reset_pushes, tuning_env
 from pushctl.objects import OBJECT_NAMES
 from pushctl.planning import PROFILE_NAMES
+from pushctl.rl.policy import pd_only_episode
 from pushctl.task.env import PushEnv
 from pushctl.task.env_config import EnvConfig
-from pushctl.rl.policy import pd_only_episode
 from studies.failure_study import finish_copy
 
 NEAR_SPOT = 0.5e-3

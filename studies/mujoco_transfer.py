@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from pushctl.provenance import write_atomic
+from pushctl.files.provenance import write_atomic
 from pushctl.report.tables import summarise
 from studies.mujoco_validation import replace_block
 

@@ -30,7 +30,7 @@ from pushctl.episode.metrics import compute_metrics
 from pushctl.episode.runner import Episode
 from pushctl.episode.scenario import Scenario
 from pushctl.episode.trace import Trace
-from pushctl.provenance import write_atomic
+from pushctl.files.provenance import write_atomic
 from pushctl.types import PlanarPose
 
 MU_GROUND = 0.3

@@ -2,7 +2,7 @@
 
 Run as ``python -m studies.pd_sweep [--plant sim|proxy|nominal] [--seeds 8]
 [--stream training] [--out results/pd_sweep_sim.csv] [--force]``; like every writing command
-it refuses an existing output file unless ``--force`` (:mod:`pushctl.output_guard`).
+it refuses an existing output file unless ``--force`` (:mod:`pushctl.files.output_guard`).
 Scenario i of every object × profile is seed i of the stream
 (:func:`pushctl.episode.draw.draw_scenario`); the CSV records the command, and per row the
 seed, goal, plant parameters and metrics. The summary printed per object × profile is the
@@ -83,7 +83,7 @@ def summary(frame: pd.DataFrame) -> pd.DataFrame:
 
 def sweep_command(args: argparse.Namespace) -> str:
     """The sweep's provenance command: every argument's effective value except ``--out``,
-    which changes no byte (the rule of ``pushctl.provenance.NOT_RECORDED``)."""
+    which changes no byte (the rule of ``pushctl.files.provenance.NOT_RECORDED``)."""
     return (
         f"python -m studies.pd_sweep --plant {args.plant} --seeds {args.seeds} "
         f"--stream {args.stream}"
@@ -92,8 +92,8 @@ def sweep_command(args: argparse.Namespace) -> str:
 
 def main(argv: list[str] | None = None) -> int:
     from pushctl.errors import ConfigError
-    from pushctl.output_guard import refuse_existing_files
-    from pushctl.provenance import provenance_line, write_csv
+    from pushctl.files.output_guard import refuse_existing_files
+    from pushctl.files.provenance import provenance_line, write_csv
 
     parser = argparse.ArgumentParser(
         prog="python -m studies.pd_sweep", description=__doc__.splitlines()[0]

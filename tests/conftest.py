@@ -9,7 +9,7 @@ import os
 from hypothesis import settings  # (it does not load numpy)
 
 import pushctl
-from pushctl.kernel_cache import drop_stale
+from pushctl.machine.kernel_cache import drop_stale
 
 pushctl.reproducible()  # before the test modules load numpy: the recorded digests' CPU code
 drop_stale()  # before any kernel loads: a kernel's cache does not follow edits of its callees

@@ -1,6 +1,6 @@
 """``import pushctl`` changes nothing outside the package: no environment variable is set and
 no file is deleted (not even a stale kernel cache: the ``pushctl`` command and the test
-suite drop those explicitly, :func:`pushctl.kernel_cache.drop_stale`)."""
+suite drop those explicitly, :func:`pushctl.machine.kernel_cache.drop_stale`)."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import sys
 from pathlib import Path
 
 import pushctl
-from pushctl.kernel_cache import drop_stale
+from pushctl.machine.kernel_cache import drop_stale
 
 PROBE = """
 import json, os, sys

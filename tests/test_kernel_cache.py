@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from pushctl.kernel_cache import PACKAGE, drop_stale, kernel_files
+from pushctl.machine.kernel_cache import PACKAGE, drop_stale, kernel_files
 
 
 def _package(root: Path) -> Path:

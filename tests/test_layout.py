@@ -22,22 +22,16 @@ MAX_LINES = 400
 
 TOP_LEVEL = {
     "__init__.py",
-    "types.py",
-    "errors.py",
-    "config.py",
-    # the shared helpers: argument checks, provenance lines and atomic writes, the refusal
-    # to overwrite results, reading TOML files
-    "checks.py",
-    "provenance.py",
-    "output_guard.py",
-    "toml_files.py",
+    "types.py",  # shared value types
+    "errors.py",  # typed errors
+    "config.py",  # frozen settings shared by the layers
+    "checks.py",  # argument checks
     "ranges.py",  # the sane range of every physical value a user gives
-    "proxqp_build.py",  # ProxQP from its portable build, for planning and contact alike
-    "machine.py",  # the kind of machine a run's last bits belong to (its manifest says)
-    "kernel_cache.py",  # numba's cached kernels dropped when a file they compile in changed
     "version.py",  # the version every provenance line names
     "engines.py",  # make_world: our contact world or MuJoCo's, above both engines
 }
+"""At most eight modules at the top; the rest is grouped by concept in subpackages (files,
+the machine, the defaults, ...)."""
 
 # The layer of each subpackage or top-level module: one per package, never one for a module
 # inside a package (test_every_layer_is_a_whole_package). A module may import only
@@ -69,13 +63,9 @@ LAYERS = {
     "pushctl.errors": 0,
     "pushctl.config": 0,
     "pushctl.checks": 0,
-    "pushctl.provenance": 0,
-    "pushctl.output_guard": 0,
-    "pushctl.toml_files": 0,
     "pushctl.ranges": 0,
-    "pushctl.proxqp_build": 0,
-    "pushctl.machine": 0,
-    "pushctl.kernel_cache": 0,
+    "pushctl.machine": 0,  # the machine: CPU code, kernel cache, ProxQP's build
+    "pushctl.files": 0,  # atomic writes, provenance, output locks, TOML
     "pushctl.version": 0,
     "pushctl.defaults": 0,  # the shipped gains, ranges and presets (package data)
 }

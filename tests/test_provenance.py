@@ -2,7 +2,7 @@
 
 import sys
 
-from pushctl.provenance import provenance_line, recorded_argv
+from pushctl.files.provenance import provenance_line, recorded_argv
 
 
 def test_recorded_argv_drops_where_files_go_and_force_with_their_values():

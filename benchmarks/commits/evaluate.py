@@ -35,7 +35,7 @@ from benchmarks.commits import trees
 from benchmarks.commits.step import unpack
 from benchmarks.commits.trees import run_in_tree, show_and_write, side_by_side_parser
 from pushctl.errors import ConfigError
-from pushctl.output_guard import refuse_existing_files
+from pushctl.files.output_guard import refuse_existing_files
 
 SEEDS = (0, 1, 2)
 """The shipped training seeds whose policies are evaluated, as ``make reproduce-tables`` does."""

@@ -55,8 +55,8 @@ from rich.table import Table
 import pushctl
 from pushctl import native
 from pushctl.errors import ConfigError
-from pushctl.output_guard import refuse_existing_files
-from pushctl.provenance import git_commit, provenance_line, write_csv
+from pushctl.files.output_guard import refuse_existing_files
+from pushctl.files.provenance import git_commit, provenance_line, write_csv
 
 ROOT = Path(__file__).resolve().parents[2]
 """This checkout's root (its ``benchmarks`` package)."""

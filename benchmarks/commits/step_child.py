@@ -87,8 +87,8 @@ def unknowns_push_us(mode):
     # mean time per push step [us] of three training pushes with the plant unknowns
     try:
         from pushctl.control.feedback import load_feedback_gains
-        from pushctl.task.feedback_actor import FeedbackActor
         from pushctl.rl.policy import finish_with_policy
+        from pushctl.task.feedback_actor import FeedbackActor
 
         gate = {"shut": {"gate_threshold": 1.0}, "open": {"gate_threshold": 0.0}}.get(mode, {})
         config = EnvConfig(action_repeat=10, observe_offset=True, duration=6.0, **gate)

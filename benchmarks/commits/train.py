@@ -37,7 +37,7 @@ from benchmarks.commits import trees
 from benchmarks.commits.step import unpack
 from benchmarks.commits.trees import run_in_tree, show_and_write, side_by_side_parser
 from pushctl.errors import ConfigError
-from pushctl.output_guard import refuse_existing_files
+from pushctl.files.output_guard import refuse_existing_files
 
 OVERRIDES = {
     "episodes": "40",

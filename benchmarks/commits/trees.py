@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from pushctl.provenance import git_commit, provenance_line, write_csv
+from pushctl.files.provenance import git_commit, provenance_line, write_csv
 
 
 def side_by_side_parser(what: str, doc: str | None, repeats: int) -> argparse.ArgumentParser:

@@ -22,7 +22,7 @@ from pathlib import Path
 
 from pushctl.config import PusherConfig
 from pushctl.errors import ConfigError
-from pushctl.toml_files import read_toml
+from pushctl.files.toml import read_toml
 
 KEYS = ("n_prongs", "prong_spacing", "width", "height", "thickness", "mass")
 """The keys of a pusher file."""

@@ -28,8 +28,8 @@ def main() -> None:
     """The ``pushctl`` command: pin numpy's CPU code before anything loads numpy (the same
     bytes on every x86-64 machine), drop the kernel caches whose sources changed (numba's
     cache does not follow calls across files), then run the command line."""
-    from pushctl.kernel_cache import drop_stale
     from pushctl.machine import reproducible
+    from pushctl.machine.kernel_cache import drop_stale
 
     reproducible()
     drop_stale()

@@ -73,7 +73,7 @@ app = typer.Typer(
 def _main(ctx: typer.Context) -> None:
     """pushctl: multi-point object pushing experiments."""
     from pushctl.cli.common import handle_termination
-    from pushctl.output_guard import release
+    from pushctl.files.output_guard import release
 
     handle_termination()  # SIGTERM stops a command as Ctrl-C does, with exit code 143
     ctx.call_on_close(release)  # the outputs a command locked, however it ends

@@ -81,7 +81,7 @@ def fail_write(error: OSError | PushctlError, path: Path | None = None) -> NoRet
     the error names) and the system's reason."""
     if isinstance(error, PushctlError):
         fail(error)
-    from pushctl.provenance import write_failure
+    from pushctl.files.provenance import write_failure
 
     target = path if path is not None else error.filename
     where = f" {target}" if target is not None else ""
@@ -146,7 +146,7 @@ def fail_ray(error: Exception) -> NoReturn:
     bug, to be reported with its traceback)."""
     if not type(error).__module__.startswith("ray"):
         raise error
-    from pushctl.provenance import one_line
+    from pushctl.files.provenance import one_line
 
     reason = one_line(str(error).split("\n", 1)[0], 120) or type(error).__name__
     error_console.print(
@@ -187,7 +187,7 @@ def check_output(option: str, path: Path | None, suffixes: tuple[str, ...]) -> N
 
 
 def write_text(path: Path, text: str) -> None:
-    from pushctl.provenance import write_atomic
+    from pushctl.files.provenance import write_atomic
 
     def write(tmp: Path) -> None:
         tmp.write_text(text)
@@ -205,7 +205,7 @@ def write_outputs(
     """The figure, then the CSV (under its provenance line), each written atomically; the
     CSV's temporary file is renamed only once the figure is in place, so a failure leaves
     either both new files or no new CSV."""
-    from pushctl.provenance import provenance_line, write_atomic, write_csv
+    from pushctl.files.provenance import provenance_line, write_atomic, write_csv
 
     def save_figure() -> None:
         if plot is not None and figure is not None:
@@ -224,11 +224,11 @@ def write_outputs(
 
 def invocation(context: typer.Context) -> str:
     """The running command with every option's effective value (defaults included, unset
-    options and :data:`~pushctl.provenance.NOT_RECORDED` left out), for provenance lines:
+    options and :data:`~pushctl.files.provenance.NOT_RECORDED` left out), for provenance lines:
     ``pushctl simulate --object cube …``."""
     import shlex
 
-    from pushctl.provenance import NOT_RECORDED
+    from pushctl.files.provenance import NOT_RECORDED
 
     parts = ["pushctl", context.info_name or ""]
     for param in context.command.params:

@@ -24,7 +24,7 @@ from pushctl.cli.common import (
     take_renamed,
 )
 from pushctl.errors import PushctlError
-from pushctl.output_guard import refuse_occupied_dir
+from pushctl.files.output_guard import refuse_occupied_dir
 
 app = typer.Typer()
 
@@ -90,7 +90,7 @@ def evaluate(
     )
     from pushctl.cli.warm import note_if_cold
     from pushctl.evaluation.evaluate import STEPS_FILE, TRIALS_FILE, write_evaluation
-    from pushctl.provenance import provenance_line
+    from pushctl.files.provenance import provenance_line
 
     scenario_block = take_renamed(ctx, "--scenario-block", scenario_block, "--seed", seed)
     try:

@@ -29,7 +29,7 @@ from pushctl.cli.common import (
     parse_pose,
 )
 from pushctl.errors import PushctlError
-from pushctl.output_guard import refuse_existing_files
+from pushctl.files.output_guard import refuse_existing_files
 
 if TYPE_CHECKING:
     from pushctl.planning import Plan
@@ -70,10 +70,10 @@ def plan(
     from pushctl.arm import ArmConfig, load_arm
     from pushctl.arm.pusher_file import resolve_pusher
     from pushctl.config import PusherConfig
+    from pushctl.files.provenance import provenance_line, write_csv
     from pushctl.objects import resolve_object
     from pushctl.planning import ForceSettings, make_plan
     from pushctl.planning.profiles import make_profile
-    from pushctl.provenance import provenance_line, write_csv
 
     try:
         check_output("--out", out, (".csv",))
@@ -111,7 +111,7 @@ def plan(
             write_csv(out, result.to_frame(), provenance_line(invocation(ctx)))
             console.print(f"wrote {out}")
         if plot is not None and figure is not None:
-            from pushctl.provenance import write_atomic
+            from pushctl.files.provenance import write_atomic
 
             write_atomic(plot, lambda tmp: figure.savefig(tmp, format=plot.suffix[1:], dpi=150))
             console.print(f"wrote {plot}")

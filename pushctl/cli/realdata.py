@@ -10,7 +10,7 @@ import typer
 
 from pushctl.cli.common import FORCE_HELP, Command, Group, console, fail, fail_write, invocation
 from pushctl.errors import ConfigError, PushctlError
-from pushctl.output_guard import refuse_existing_files, refuse_occupied_dir
+from pushctl.files.output_guard import refuse_existing_files, refuse_occupied_dir
 
 app = typer.Typer(
     cls=Group, no_args_is_help=True, help="Recorded pushes: fit, score, leave one shape out, logs."
@@ -47,7 +47,7 @@ def fit(
     force: ForceOption = False,
 ) -> None:
     """Fit μ_c, μ_g and the pressure prior's rim weight per surface on a seeded 20 % split."""
-    from pushctl.provenance import provenance_line
+    from pushctl.files.provenance import provenance_line
     from pushctl.realdata.protocol import run_fit
     from pushctl.realdata.replay import ReplaySettings
 
@@ -81,7 +81,7 @@ def score(
     force: ForceOption = False,
 ) -> None:
     """Replay every push; write predictions.csv, summary.csv and figures into OUT."""
-    from pushctl.provenance import provenance_line, write_atomic, write_csv
+    from pushctl.files.provenance import provenance_line, write_atomic, write_csv
     from pushctl.realdata import figures
     from pushctl.realdata.fit import read_friction
     from pushctl.realdata.protocol import run_score
@@ -125,7 +125,7 @@ def loso(
     force: ForceOption = False,
 ) -> None:
     """Leave one shape out: per shape, fit on the others' calibration pushes, score it."""
-    from pushctl.provenance import provenance_line, write_csv
+    from pushctl.files.provenance import provenance_line, write_csv
     from pushctl.realdata.loso import run_loso
     from pushctl.realdata.replay import ReplaySettings
 
@@ -166,8 +166,8 @@ def logs(
     force: ForceOption = False,
 ) -> None:
     """Replay each two-finger segment from its logged start; errors against the repeats."""
+    from pushctl.files.provenance import provenance_line, write_atomic, write_csv
     from pushctl.kinematic import PressurePrior
-    from pushctl.provenance import provenance_line, write_atomic, write_csv
     from pushctl.realdata.figures import logs_figure
     from pushctl.realdata.protocol import run_logs
 
@@ -192,7 +192,7 @@ def logs(
 
 
 def _png_writer(fig):
-    """A writer for :func:`~pushctl.provenance.write_atomic` saving ``fig`` as PNG."""
+    """A writer for :func:`~pushctl.files.provenance.write_atomic` saving ``fig`` as PNG."""
 
     def write(tmp: Path) -> None:
         fig.savefig(tmp, format="png", dpi=120)
@@ -236,7 +236,7 @@ def _prepare_dir(out: Path, force: bool) -> None:
 
 
 def _write_text(path: Path, text: str) -> None:
-    from pushctl.provenance import write_atomic
+    from pushctl.files.provenance import write_atomic
 
     try:
         write_atomic(path, lambda tmp: tmp.write_text(text))

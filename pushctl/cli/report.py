@@ -17,7 +17,7 @@ from pushctl.cli.common import (
     invocation,
 )
 from pushctl.errors import PushctlError
-from pushctl.output_guard import refuse_existing_files
+from pushctl.files.output_guard import refuse_existing_files
 
 app = typer.Typer()
 

@@ -20,7 +20,7 @@ from matplotlib.figure import Figure
 from rich.table import Table
 
 from pushctl.errors import ConfigError
-from pushctl.provenance import provenance_line, write_atomic, write_csv
+from pushctl.files.provenance import provenance_line, write_atomic, write_csv
 from pushctl.report.figures import (
     force_error_figure,
     tracking_figure,

@@ -25,8 +25,8 @@ from pushctl.cli.reproduce_plan import (
     run_line,
     seed_run,
 )
+from pushctl.files.provenance import git_commit, write_atomic
 from pushctl.machine import machine_description, usable_cores
-from pushctl.provenance import git_commit, write_atomic
 from pushctl.version import VERSION
 
 TRAINING_BUDGET = 20 * 60.0

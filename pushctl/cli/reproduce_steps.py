@@ -32,7 +32,7 @@ from pushctl.cli.reproduce_plan import (
     steps,
 )
 from pushctl.evaluation.columns import STEPS_FILE
-from pushctl.provenance import write_atomic
+from pushctl.files.provenance import write_atomic
 
 
 def choose_setup(quick: bool, force: bool, seeds: str | None, preset: str | None) -> Setup:

@@ -30,7 +30,7 @@ from pushctl.cli.common import (
     write_outputs,
 )
 from pushctl.errors import PushctlError
-from pushctl.output_guard import refuse_existing_files
+from pushctl.files.output_guard import refuse_existing_files
 
 app = typer.Typer()
 

@@ -24,10 +24,10 @@ from pushctl.episode.trace import Trace
 from pushctl.episode.unknowns import PlantUnknowns
 from pushctl.errors import ConfigError
 from pushctl.evaluation.tune_pd import BOUNDS, GRID, Candidate
+from pushctl.files.provenance import provenance_line
 from pushctl.objects import resolve_object
 from pushctl.planning import Plan
 from pushctl.planning.profiles import PROFILE_NAMES
-from pushctl.provenance import provenance_line
 from pushctl.types import PlanarPose
 
 CONTROLLERS = ("pd", "feedback", "rl")

@@ -34,8 +34,8 @@ def sweep(
     from pushctl.cli.common import console, fail, fail_write, interrupted, invocation
     from pushctl.cli.train_seeds import run_jobs_with_progress
     from pushctl.errors import ConfigError, PushctlError
-    from pushctl.output_guard import hold, occupied
-    from pushctl.provenance import provenance_line
+    from pushctl.files.output_guard import hold, occupied
+    from pushctl.files.provenance import provenance_line
     from pushctl.runs.sweep import gather, score_policy, sweep_jobs
     from pushctl.runs.sweep_config import read_sweep
 
@@ -67,7 +67,7 @@ def sweep(
 def write_sweep(directory: Path, result, made_by: str) -> list[Path]:
     """``trials.csv`` and ``summary.csv`` under ``made_by`` and ``sweep.png``, each
     atomically; the figure is in place before the tables appear."""
-    from pushctl.provenance import write_atomic, write_csv
+    from pushctl.files.provenance import write_atomic, write_csv
     from pushctl.report.sweep_figure import sweep_figure
     from pushctl.runs.sweep import FIGURE_FILE, SUMMARY_FILE, TRIALS_FILE
 

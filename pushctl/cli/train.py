@@ -90,7 +90,7 @@ def train(
         summary_table,
     )
     from pushctl.cli.warm import note_if_cold
-    from pushctl.provenance import provenance_line
+    from pushctl.files.provenance import provenance_line
     from pushctl.rl.train import CURVE, POLICY
 
     try:
@@ -165,7 +165,7 @@ def _train_seeds(ctx, preset, episodes, seed, out, resume, force, seeds, address
 def _train_sac(ctx, preset, episodes, seed, out, resume, force, seeds) -> None:
     """``pushctl train --algo sb3-sac``: :func:`pushctl.rl.sb3.train_sac` (one seed, no
     resume)."""
-    from pushctl.provenance import provenance_line
+    from pushctl.files.provenance import provenance_line
     from pushctl.rl.presets import load_preset
     from pushctl.rl.sb3 import MODEL, train_sac
 

@@ -15,8 +15,8 @@ from pushctl.cli.warm import note_if_cold
 from pushctl.control.gains import load_gains
 from pushctl.distributed.engine import session
 from pushctl.errors import ConfigError
-from pushctl.output_guard import hold, is_ours, occupied
-from pushctl.provenance import provenance_line
+from pushctl.files.output_guard import hold, is_ours, occupied
+from pushctl.files.provenance import provenance_line
 from pushctl.rl.presets import load_preset
 from pushctl.rl.train import CHECKPOINT, CURVE, LAST_POLICY, POLICY, VALIDATION, Trainer
 from pushctl.rl.warm_up import compile_kernels

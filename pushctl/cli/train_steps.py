@@ -18,7 +18,7 @@ from rich.progress import (
 from rich.table import Table
 
 from pushctl.errors import ConfigError
-from pushctl.output_guard import hold, occupied
+from pushctl.files.output_guard import hold, occupied
 from pushctl.rl.presets import load_preset
 from pushctl.rl.train import CHECKPOINT, CURVE, LAST_POLICY, POLICY, VALIDATION, Trainer
 from pushctl.rl.train import Progress as TrainProgress

@@ -19,9 +19,9 @@ from pushctl.evaluation.tune_feedback import (
     tune_feedback,
     tuning_env,
 )
+from pushctl.files.provenance import provenance_line
 from pushctl.objects import OBJECT_NAMES
 from pushctl.planning import PROFILE_NAMES
-from pushctl.provenance import provenance_line
 
 TUNING_PLANTS = {"sim": ("sim",), "proxy": ("proxy",), "both": ("sim", "proxy")}
 """``--plant``: the plants whose tuning pushes the search scores (the same scenario seeds

@@ -51,7 +51,7 @@ from pushctl.contact.compiled.assembly import active_set_step
 from pushctl.contact.compiled.pivoting import cold_pivot
 from pushctl.contact.mlcp_checks import validated_arrays, warm_vector
 from pushctl.errors import MLCPInputError
-from pushctl.proxqp_build import proxqp
+from pushctl.machine.proxqp_build import proxqp
 
 DEFAULT_TOL = 1e-9
 """Natural-map residual accepted by default, relative to max(1, ‖b‖∞)."""
@@ -317,7 +317,7 @@ def _fixed_point(
 _QPS: dict[int, proxqp.dense.QP] = {}
 """One ProxQP problem per size, reused. It was the in-process fix for ProxSuite's vectorised
 builds, whose answers move with where a fresh problem's workspace lands; with the portable
-build (:mod:`pushctl.proxqp_build`) placement no longer matters, and the reuse stays because
+build (:mod:`pushctl.machine.proxqp_build`) placement no longer matters, and the reuse stays because
 its answers are the ones the shipped results were made with and it saves an allocation."""
 
 

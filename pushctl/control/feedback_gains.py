@@ -19,8 +19,8 @@ from typing import Any
 
 from pushctl.defaults import default_file
 from pushctl.errors import ConfigError
+from pushctl.files.toml import check_keys, read_toml
 from pushctl.ranges import check_range
-from pushctl.toml_files import check_keys, read_toml
 
 DEFAULT_FEEDBACK_FILE = default_file("feedback_gains.toml")
 """The law every command uses: the steady gains and the catch-up phase."""

@@ -23,8 +23,8 @@ from pathlib import Path
 
 from pushctl.defaults import default_file
 from pushctl.errors import ConfigError
+from pushctl.files.toml import check_keys, read_toml
 from pushctl.ranges import check_range
-from pushctl.toml_files import check_keys, read_toml
 
 DEFAULT_GAINS_FILE = default_file("pd_gains.toml")
 """The tuned gains shipped with pushctl (package data, :mod:`pushctl.defaults`)."""

@@ -20,7 +20,7 @@ from pushctl.defaults import default_file
 from pushctl.episode.scenario import ParameterRanges, TargetRanges
 from pushctl.episode.unknowns import UnknownRanges
 from pushctl.errors import ConfigError
-from pushctl.toml_files import check_keys, read_toml
+from pushctl.files.toml import check_keys, read_toml
 
 DEFAULT_RANGES_FILE = default_file("randomisation.toml")
 """The shipped ranges (package data, :mod:`pushctl.defaults`)."""

@@ -37,7 +37,7 @@ from pushctl.evaluation.trials import (
     TrialSpec,
     run_trial,
 )
-from pushctl.provenance import write_csv
+from pushctl.files.provenance import write_csv
 from pushctl.rl.collect import portable, tensors
 from pushctl.rl.networks import ActorPolicy
 from pushctl.rl.policy import TrainedPolicy, load_policy

@@ -61,7 +61,7 @@ def compile_commands(prefix: Path, objects: Path, output: Path, compiler: str):
     """The compiler's command lines: one per source (run side by side), then the link."""
     include = prefix / "include"
     # No -march: the baseline x86-64 instruction set (SSE2), as ProxSuite's portable
-    # bindings, whose answers pushctl's must equal to the bit (pushctl/proxqp_build.py).
+    # bindings, whose answers pushctl's must equal to the bit (pushctl/machine/proxqp_build.py).
     flags = ["-O2", "-std=c++17", "-fPIC", *(f"-D{define}" for define in DEFINES)]
     flags += [f"-I{include}", f"-I{include / 'eigen3'}"]
     compiles = [

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-import pushctl.proxqp_build  # noqa: F401  # before qpsolvers, which imports proxsuite
+import pushctl.machine.proxqp_build  # noqa: F401  # before qpsolvers, which imports proxsuite
 from pushctl.errors import ConfigError
 
 # Barycentric points and weights (fractions of the triangle's area) of the 7-point
@@ -124,7 +124,7 @@ def support_loads(
     if centre is not None:
         rhs[1:] = np.asarray(centre, dtype=float) / scale
     n = len(points)
-    import qpsolvers  # here: after pushctl.proxqp_build loaded ProxSuite's portable build
+    import qpsolvers  # here: after pushctl.machine.proxqp_build loaded ProxSuite's portable build
 
     solution = qpsolvers.solve_problem(
         qpsolvers.Problem(P=np.eye(n), q=np.zeros(n), A=equilibrium, b=rhs, lb=np.zeros(n)),

@@ -19,8 +19,8 @@ from pathlib import Path
 from typing import Any
 
 from pushctl.errors import ConfigError
+from pushctl.files.toml import read_toml
 from pushctl.objects.spec import DEFAULT_PUSHER_MASS, ObjectSpec, object_from_footprint
-from pushctl.toml_files import read_toml
 
 _KEYS = (
     "name",

@@ -34,11 +34,11 @@ from scipy.optimize import minimize_scalar
 
 from pushctl import native
 from pushctl.errors import ConfigError
+from pushctl.machine.proxqp_build import proxqp
 from pushctl.objects import ObjectSpec
 from pushctl.planning.ground import sliding_friction
 from pushctl.planning.infeasible import explain
 from pushctl.planning.trajectory import Trajectory
-from pushctl.proxqp_build import proxqp
 
 # Weight of the worst residual [N] against the prong-share term [-] in the offset search.
 _RESIDUAL_WEIGHT = 1e3

@@ -27,7 +27,7 @@ import pandas as pd
 from pushctl.config import PLANT_KINDS
 from pushctl.errors import ConfigError
 from pushctl.evaluation.columns import STEP_COLUMNS
-from pushctl.provenance import csv_digest_problem
+from pushctl.files.provenance import csv_digest_problem
 from pushctl.report.completeness import check_complete
 
 TRIALS = Path("evaluation") / "trials.csv"

@@ -24,7 +24,7 @@ import numpy as np
 import torch
 
 from pushctl.errors import ConfigError, DamagedFileError
-from pushctl.provenance import one_line, write_atomic
+from pushctl.files.provenance import one_line, write_atomic
 
 CHECKPOINT_FORMAT = 1
 """Bumped when a checkpoint's layout changes; an older one is refused, not misread."""

@@ -9,8 +9,8 @@ from dataclasses import asdict, dataclass, fields
 from typing import Any
 
 from pushctl.errors import ConfigError
+from pushctl.files.toml import check_keys
 from pushctl.ranges import check_range
-from pushctl.toml_files import check_keys
 
 _POSITIVE_FLOATS = ("actor_lr", "critic_lr", "updates_per_step", "ou_dt", "reward_scale")
 _NON_NEGATIVE_FLOATS = (

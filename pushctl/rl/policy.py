@@ -20,7 +20,7 @@ from pushctl.control.gains import PDGains
 from pushctl.episode.runner import Episode
 from pushctl.episode.trace import Trace
 from pushctl.errors import ConfigError, StateError
-from pushctl.provenance import one_line
+from pushctl.files.provenance import one_line
 from pushctl.rl.checkpoint import load_checked, nonfinite_entry, save_checked
 from pushctl.rl.networks import ActorPolicy
 from pushctl.task.env import PushEnv

@@ -11,10 +11,10 @@ from typing import Any
 
 from pushctl.defaults import default_file
 from pushctl.errors import ConfigError
+from pushctl.files.toml import check_keys, read_toml
 from pushctl.rl.config import DDPGConfig
 from pushctl.rl.validate import SELECTION_RULES
 from pushctl.task.env_config import EnvConfig
-from pushctl.toml_files import check_keys, read_toml
 
 PRESET_NAMES = ("quick", "paper")
 """The presets shipped with pushctl (package data, :mod:`pushctl.defaults`: ``train_quick.toml``,

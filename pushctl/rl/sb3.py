@@ -32,7 +32,7 @@ import torch
 
 from pushctl.control.gains import PDGains, load_gains
 from pushctl.errors import ConfigError
-from pushctl.provenance import write_csv
+from pushctl.files.provenance import write_csv
 from pushctl.rl.networks import Actor, ActorPolicy, configure_torch
 from pushctl.rl.policy import write_policy
 from pushctl.rl.presets import Preset

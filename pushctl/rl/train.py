@@ -34,7 +34,7 @@ import pandas as pd
 from pushctl.control.feedback import load_feedback_gains
 from pushctl.control.gains import PDGains, load_gains
 from pushctl.errors import ConfigError
-from pushctl.provenance import write_csv
+from pushctl.files.provenance import write_csv
 from pushctl.rl.checkpoint import CHECKPOINT_FORMAT, read_checkpoint
 from pushctl.rl.collect import Behaviour, EpisodeRecord, curve_row, portable
 from pushctl.rl.collectors import Collector

@@ -30,7 +30,7 @@ from typing import Any
 from pushctl.control.gains import PDGains
 from pushctl.distributed.engine import cluster_cpus, run_tasks, session
 from pushctl.errors import ConfigError
-from pushctl.provenance import write_atomic
+from pushctl.files.provenance import write_atomic
 from pushctl.rl.presets import Preset
 from pushctl.rl.train import CHECKPOINT, POLICY, Progress, Trainer
 

@@ -32,7 +32,7 @@ import numpy as np
 from pushctl.runs.seeds import parse_seeds
 from pushctl.errors import ConfigError
 from pushctl.rl.presets import PRESET_NAMES, Preset, load_preset
-from pushctl.toml_files import check_keys, read_toml
+from pushctl.files.toml import check_keys, read_toml
 
 SEARCHES = ("grid", "random")
 SECTIONS = ("train", "env", "ddpg")

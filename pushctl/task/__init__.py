@@ -1,8 +1,8 @@
 """The push task: the gymnasium environment a controller or a learner pushes in (single and
 vector), its configuration, observation and action spaces, draws and registered versions.
 
-Importing this package (``import pushctl`` does, once gymnasium is imported) registers the environment's versions; the
-newest is :data:`ENV_ID`::
+Importing this package (``import pushctl`` does, once gymnasium is imported) registers the
+environment's versions; the newest is :data:`ENV_ID`::
 
     import gymnasium, pushctl
     env = gymnasium.make("pushctl/Push-v1")

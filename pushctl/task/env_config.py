@@ -12,9 +12,9 @@ from pushctl.control.residual import check_residual_path
 from pushctl.episode.ranges import PLANTS
 from pushctl.episode.scenario import STREAMS
 from pushctl.errors import ConfigError
+from pushctl.files.toml import check_keys
 from pushctl.objects import OBJECT_NAMES
 from pushctl.planning import PROFILE_NAMES
-from pushctl.toml_files import check_keys
 
 BASE_LAWS = ("none", "feedback")
 """What a residual is added to (``EnvConfig.base_law``): PD-only, or PD plus the feedback law."""

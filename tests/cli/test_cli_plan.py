@@ -115,12 +115,12 @@ def test_plot_and_csv_are_written_together(tmp_path):
 
 
 def test_unwritable_output_is_one_line_exit_2(tmp_path, monkeypatch):
-    import pushctl.provenance
+    import pushctl.files.provenance
 
     def refuse(path, write):
         raise PermissionError(13, "Permission denied", str(path))
 
-    monkeypatch.setattr(pushctl.provenance, "write_atomic", refuse)
+    monkeypatch.setattr(pushctl.files.provenance, "write_atomic", refuse)
     result, out = _plan(tmp_path, "--goal", "0.6,0,10")
     assert result.exit_code == 2
     assert result.output.strip().splitlines()[-1].startswith("error: cannot write")

@@ -144,7 +144,7 @@ def test_out_that_is_a_file_is_refused(tmp_path):
 def test_a_failed_write_renames_no_file(tmp_path):
     """write_chain: each file is renamed only after every later one was written, so a
     failure while writing the last leaves the earlier files untouched."""
-    from pushctl.provenance import write_atomic
+    from pushctl.files.provenance import write_atomic
 
     first, second = tmp_path / "a.txt", tmp_path / "b.txt"
     first.write_text("old")

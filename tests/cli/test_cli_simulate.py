@@ -16,7 +16,7 @@ from typer.testing import CliRunner
 from pushctl.cli import app
 from pushctl.control.gains import PDGains, gains_toml, load_gains
 from pushctl.evaluation.tune_pd import GRID
-from pushctl.toml_files import tomllib
+from pushctl.files.toml import tomllib
 
 runner = CliRunner()
 

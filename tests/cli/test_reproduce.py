@@ -125,7 +125,7 @@ def test_a_failing_step_stops_the_run_and_the_manifest_names_it(
 def test_results_written_by_a_run_do_not_make_the_commit_dirty(tmp_path: Path) -> None:
     import subprocess
 
-    from pushctl.provenance import git_commit
+    from pushctl.files.provenance import git_commit
 
     def git(*args: str) -> None:
         subprocess.run(["git", *args], cwd=tmp_path, check=True, capture_output=True)

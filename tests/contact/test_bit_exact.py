@@ -19,7 +19,7 @@ from pushctl.contact.active_set import evaluate, labels_at, solve_labels
 from pushctl.contact.compiled.pivoting import _solve_labels, pivot_solve
 from pushctl.contact.mlcp import _box_problem, _fixed_point
 from pushctl.contact.mlcp_checks import validated_arrays
-from pushctl.proxqp_build import PORTABLE_MODULE, proxqp, proxsuite
+from pushctl.machine.proxqp_build import PORTABLE_MODULE, proxqp, proxsuite
 from pushctl.task.env import PushEnv
 from pushctl.task.env_config import EnvConfig
 
@@ -120,7 +120,7 @@ def test_proxsuite_imported_before_pushctl_is_refused_saying_what_to_do() -> Non
     assert "ImportError: proxsuite was imported with its proxsuite.proxsuite_pywrap_" in (
         done.stderr
     )
-    assert "import pushctl.proxqp_build before proxsuite" in done.stderr
+    assert "import pushctl.machine.proxqp_build before proxsuite" in done.stderr
 
 
 def _slipping_push(steps: int) -> tuple[str, int]:

@@ -116,7 +116,7 @@ def test_a_ranges_file_without_unknowns_has_none_and_a_bad_key_is_named(tmp_path
 # forces of these 2 s pushes, computed by the code before plant unknowns existed on the same
 # scenarios: a plant with every range zero must give the same bits. (Recorded with the
 # deterministic cold MLCP path, which picks one valid solution of some non-unique problems;
-# ProxQP from its portable build, pushctl.proxqp_build; and the step's kernels as loops,
+# ProxQP from its portable build, pushctl.machine.proxqp_build; and the step's kernels as loops,
 # pushctl.contact.small_algebra, not BLAS and LAPACK.) Through BLAS, OpenBLAS's kernels,
 # which it picks by CPU, rounded the step's sums differently on a machine with AVX-512 and on one
 # with its Haswell kernels (an AMD EPYC): pushctl kept a set for each. Recorded on the AMD

@@ -4,7 +4,7 @@ seed-0 policy writes, for every trial it runs, the row of the shipped
 moves any last bit of a push fails here, and then ``results/`` must be made again
 (docs/reproducibility.md). The shipped rows repeat on a machine of the evaluation digest's
 recorded scope (numpy's AVX2 code, which pushctl pins on x86-64, and the libraries'
-versions: pushctl/machine.py): elsewhere the test is skipped, saying what differs."""
+versions: pushctl/machine/__init__.py): elsewhere the test is skipped, saying what differs."""
 
 from __future__ import annotations
 

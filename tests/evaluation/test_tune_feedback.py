@@ -11,7 +11,7 @@ from typer.testing import CliRunner
 from pushctl.cli import app
 from pushctl.control.feedback import load_feedback_gains
 from pushctl.evaluation.tune_feedback import GRID
-from pushctl.toml_files import read_toml
+from pushctl.files.toml import read_toml
 
 runner = CliRunner()
 

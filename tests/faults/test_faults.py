@@ -25,7 +25,7 @@ from typer.testing import CliRunner
 
 from pushctl.cli import app
 from pushctl.errors import ConfigError
-from pushctl.output_guard import LOCK_NAME
+from pushctl.files.output_guard import LOCK_NAME
 from pushctl.rl import train as train_module
 from pushctl.rl.checkpoint import content_digest, load_checked
 from pushctl.rl.presets import load_preset
@@ -278,7 +278,7 @@ def test_a_results_file_that_does_not_match_its_digest_is_refused(tmp_path, dama
     import pandas as pd
     from synthetic_results import write_results
 
-    from pushctl.provenance import write_csv
+    from pushctl.files.provenance import write_csv
 
     root = write_results(tmp_path / "results")
     trials = root / "evaluation" / "trials.csv"

@@ -11,7 +11,7 @@ from fault_helpers import lock_held_elsewhere, one_error_line
 from typer.testing import CliRunner
 
 from pushctl.cli import app
-from pushctl.output_guard import LOCK_NAME
+from pushctl.files.output_guard import LOCK_NAME
 
 ROOT = Path(__file__).resolve().parents[2]
 runner = CliRunner()

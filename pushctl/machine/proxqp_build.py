@@ -14,7 +14,7 @@ in two runs of one command. The portable build is the same library on every x86-
 ProxSuite has no switch for its choice: its ``__init__`` asks its ``instructionset``
 module. While proxsuite is first imported here, that module is a stand-in that reports
 neither AVX2 nor AVX-512 (it is removed again at once). Import ProxQP from this module
-(``from pushctl.proxqp_build import proxqp``), never from ``proxsuite`` directly, and import
+(``from pushctl.machine.proxqp_build import proxqp``), never from ``proxsuite`` directly, and import
 this module before anything that imports proxsuite (qpsolvers does: pushctl.objects.mass
 imports this module first).
 """
@@ -47,7 +47,7 @@ def _import_portable() -> types.ModuleType:
     if name != PORTABLE_MODULE:
         raise ImportError(
             f"proxsuite was imported with its {name} bindings before pushctl's; import "
-            "pushctl.proxqp_build before proxsuite or qpsolvers (it loads "
+            "pushctl.machine.proxqp_build before proxsuite or qpsolvers (it loads "
             f"{PORTABLE_MODULE}, whose answers do not depend on memory layout)"
         )
     return proxsuite

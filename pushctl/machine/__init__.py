@@ -1,5 +1,7 @@
 """What kind of machine a run ran on, for its manifest, and one choice of CPU code for every
-x86-64 machine: the last bits of a push depend on it.
+x86-64 machine: the last bits of a push depend on it. Its modules hold the rest of what
+belongs to the machine: numba's kernel cache (:mod:`.kernel_cache`) and ProxQP's portable
+build (:mod:`.proxqp_build`).
 
 numpy picks code by CPU when it loads, and the choices round differently. Its OpenBLAS runs
 its ``SkylakeX`` kernels with AVX-512 and its ``Haswell`` ones without, and its own loops

@@ -23,7 +23,7 @@ import pandas as pd
 from pushctl.errors import WriteError
 from pushctl.version import VERSION
 
-PACKAGE = Path(__file__).resolve().parent
+PACKAGE = Path(__file__).resolve().parents[1]
 """The package's directory: where :func:`git_commit` looks for the source tree."""
 
 
@@ -98,7 +98,7 @@ def write_atomic(path: Path, write: Callable[[Path], object]) -> None:
     (``torch.save`` names its zip archive's records after it) writes the same bytes in every
     run, where a temporary name holding the process id made two runs' ``.pt`` files differ.
     A process killed while writing leaves that directory behind; the next command holding
-    the output swept it (:func:`pushctl.output_guard.sweep_temporaries`)."""
+    the output swept it (:func:`pushctl.files.output_guard.sweep_temporaries`)."""
     path = Path(path)
     folder = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     tmp = folder / path.name

@@ -27,7 +27,7 @@ import hashlib
 import os
 from pathlib import Path
 
-PACKAGE = Path(__file__).resolve().parent
+PACKAGE = Path(__file__).resolve().parents[1]
 
 
 def kernel_files(package: Path = PACKAGE) -> dict[Path, tuple[Path, ...]]:

@@ -8,8 +8,9 @@ A command refuses, with one line naming ``--force``, to write
   ``python -m studies.pd_sweep``),
 
 unless the user passed ``--force``. The checks run before any work, so a refused command
-costs nothing; the files are then written atomically (:func:`pushctl.provenance.write_atomic`),
-so a file this run wrote is replaced only by a file the same run wrote.
+costs nothing; the files are then written atomically
+(:func:`pushctl.files.provenance.write_atomic`), so a file this run wrote is replaced only
+by a file the same run wrote.
 
 One command at a time: before its check, a command takes an exclusive lock on its output
 (:func:`hold`; a directory's ``.pushctl.lock``, a file's ``.NAME.lock`` beside it, both
@@ -35,7 +36,7 @@ from pushctl.errors import ConfigError
 LOCK_NAME = ".pushctl.lock"
 """The lock file of an output directory."""
 _TEMPORARY = re.compile(r"^\..+\.(\d+)\.tmp$")
-"""A temporary folder of :func:`pushctl.provenance.write_atomic`: ``.NAME.PID.tmp``."""
+"""A temporary folder of :func:`pushctl.files.provenance.write_atomic`: ``.NAME.PID.tmp``."""
 _held: dict[Path, int] = {}
 """Lock file → open descriptor, for the locks this process holds."""
 _created: set[Path] = set()
