@@ -88,7 +88,7 @@ def compare(against: str, repeats: int) -> pd.DataFrame:
     with tempfile.TemporaryDirectory(prefix="pushctl-bench-train-") as scratch:
         scratch_dir = Path(scratch)
         preset = scratch_dir / "bench_paper.toml"
-        paper = (this_tree / "experiments" / "train_paper.toml").read_text()
+        paper = (this_tree / "pushctl" / "defaults" / "train_paper.toml").read_text()
         preset.write_text(bench_preset(paper))
         trees = {"this": this_tree, "reference": unpack(against, scratch_dir)}
         times: dict[str, list[tuple[float, float]]] = {"this": [], "reference": []}

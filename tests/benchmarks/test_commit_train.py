@@ -11,7 +11,7 @@ from benchmarks.commits.train import OVERRIDES, bench_preset, command, main
 from pushctl.errors import ConfigError
 from pushctl.rl.presets import load_preset
 
-PAPER = Path(__file__).resolve().parents[2] / "experiments" / "train_paper.toml"
+PAPER = Path(__file__).resolve().parents[2] / "pushctl" / "defaults" / "train_paper.toml"
 
 
 def test_the_timed_preset_is_the_paper_preset_shortened(tmp_path: Path) -> None:
