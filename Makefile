@@ -4,7 +4,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: install test lint bench reproduce-tables pd-sweep digests clean
+.PHONY: install test lint bench bench-learners reproduce-tables pd-sweep digests clean
 
 NATIVE := pushctl/native/lib/libpushctl_native.so
 WARM   := $(VENV)/.kernels-compiled
@@ -45,6 +45,12 @@ lint: install
 # another commit are opt-in: python -m benchmarks.compare_commits step --against REV.
 bench: install
 	$(PY) -m benchmarks.suite --out results/bench.csv --page docs/performance.md --force
+
+# Our DDPG and TD3 beside stable-baselines3's TD3 and SAC on Pendulum-v1 and
+# InvertedPendulum-v5, one budget per task, seeds 0-2 (benchmarks/learners.py; about an
+# hour of one core): docs/learner-check.csv and the figures of docs/learner-check.md.
+bench-learners: install
+	$(PY) -m benchmarks.learners --out docs/learner-check.csv --force
 
 # Train (experiments/train_paper_v1.toml, seeds 0-4 on Ray; about 71 min here), evaluate
 # (50 trials x 2 objects x 3 profiles x every controller x the plants sim, proxy and
