@@ -35,7 +35,7 @@ from pushctl.control.feedback import load_feedback_gains
 from pushctl.control.gains import PDGains, load_gains
 from pushctl.errors import ConfigError
 from pushctl.provenance import write_csv
-from pushctl.rl.checkpoint import CHECKPOINT_FORMAT, read_checkpoint
+from pushctl.rl.checkpoint import CHECKPOINT_FORMAT, content_digest, load_checked, read_checkpoint
 from pushctl.rl.collect import Behaviour, EpisodeRecord, curve_row, portable
 from pushctl.rl.collectors import Collector
 from pushctl.rl.critic_side import critic_warmup_due, n_step_rows, warm_critic
@@ -164,7 +164,6 @@ class Trainer:
         self.save()
         last = self.agent.actor_state()
         env, made_by = self.preset.env, self.made_by
-        write_policy(self.out / LAST_POLICY, last, env, made_by)
         if not self.preset.train.validate_every:
             chosen = last
         elif self.best_actor is not None:
@@ -178,18 +177,36 @@ class Trainer:
             else:
                 env = replace(env, base_law="none")
         write_policy(self.out / POLICY, chosen, env, made_by)
+        # the last actor last: :meth:`finished` reads it as the mark of a written end
+        write_policy(self.out / LAST_POLICY, last, self.preset.env, self.made_by)
 
     # ------------------------------------------------------------------ checkpoints
 
     def finished(self, episodes: int) -> bool:
-        """Whether ``episodes`` are done and the run's end is written: both policies and,
-        when the preset validates, the last actor's score. A run killed after its last
-        checkpoint has the episodes but not its end; :meth:`run` then writes just that."""
+        """Whether ``episodes`` are done and the run's end is written: both policies of
+        this checkpoint's actor and, when the preset validates, the last actor's score. A
+        run killed after its last checkpoint has the episodes but not its end (no policies,
+        or an earlier target's); :meth:`run` then writes just that."""
         if self.next_episode < episodes:
             return False
-        shipped = (self.out / POLICY).is_file() and (self.out / LAST_POLICY).is_file()
+        shipped = (self.out / POLICY).is_file() and self._last_policy_current()
         return shipped and (
             not self.preset.train.validate_every or self.next_episode in self._validated
+        )
+
+    def _last_policy_current(self) -> bool:
+        """Whether ``policy_last.pt`` holds this checkpoint's actor and provenance line:
+        written last (:meth:`run`), it marks both policies as this run's end."""
+        path = self.out / LAST_POLICY
+        if not path.is_file():
+            return False
+        try:
+            state = load_checked(path, "policy file")
+        except ConfigError:
+            return False  # damaged: written again
+        saved = content_digest(state.get("actor"))
+        return saved == content_digest(self.agent.actor_state()) and (
+            state.get("made_by") == self.made_by
         )
 
     def state_dict(self) -> dict[str, Any]:

@@ -171,6 +171,28 @@ def test_killed_after_the_last_checkpoint_ships_its_policy(
     assert "nothing to do" in again.output  # now it is finished
 
 
+def test_an_extended_run_killed_after_its_last_checkpoint_replaces_its_policies(
+    preset_file, reference, tmp_path, monkeypatch
+):
+    out = tmp_path / "run"
+    Trainer.start(load_preset(str(preset_file)), 0, out).run(2)
+    short = {name: (out / name).read_bytes() for name in (POLICY, LAST_POLICY)}
+
+    def die(*args, **kwargs):
+        raise Killed
+
+    monkeypatch.setattr(train_module, "write_policy", die)
+    with pytest.raises(Killed):  # extended to 4, killed after its checkpoint at 4
+        Trainer.resume(out).run(EPISODES)
+    monkeypatch.undo()
+    assert {name: (out / name).read_bytes() for name in short} == short  # the 2-episode ones
+    assert not Trainer.resume(out).finished(EPISODES)
+    result = runner.invoke(app, ["train", "--resume", "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    assert "nothing to do" not in result.output
+    assert results(out) == reference
+
+
 def test_a_second_writer_is_refused_while_the_first_holds_the_directory(tmp_path):
     out = tmp_path / "evaluation"
     out.mkdir()
