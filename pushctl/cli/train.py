@@ -34,7 +34,10 @@ def train(
     ] = None,
     episodes: Annotated[
         int | None,
-        typer.Option(help="episodes in all, counting resumed ones", show_default="the preset's"),
+        typer.Option(
+            help="episodes in all, counting resumed ones",
+            show_default="the preset's; on --resume, the run's own",
+        ),
     ] = None,
     seed: Annotated[
         int | None,
@@ -96,7 +99,7 @@ def train(
     try:
         trainer = prepare_trainer(preset, seed, out, resume, force)
         trainer.collectors = workers  # no result depends on it (pushctl.rl.train)
-        total = episodes if episodes is not None else trainer.preset.train.episodes
+        total = trainer.target(episodes)  # a resumed run: its own target unless asked
         if total < 1:
             raise PushctlError(f"--episodes must be an integer >= 1, got {total}")
     except PushctlError as error:
@@ -109,7 +112,7 @@ def train(
         note_if_cold(error_console)
         run_with_progress(trainer, total, made_by, console)
     except KeyboardInterrupt:
-        interrupted(resume_advice(trainer.out))
+        interrupted(resume_advice(trainer.out, total))
     except (OSError, PushctlError) as error:
         fail_write(error)
     console.print(summary_table(trainer))
@@ -120,13 +123,19 @@ def train(
         fail(error)
 
 
-def resume_advice(directory: Path) -> str:
+def resume_advice(directory: Path, episodes: int) -> str:
     """What an interrupted run kept and how to continue it: ``--resume`` from its last
-    checkpoint, or, stopped before its first one, the same command again (nothing kept)."""
+    checkpoint to the ``episodes`` it was asked for, or, stopped before its first one, the
+    same command again (nothing kept)."""
+    import shlex
+
     from pushctl.rl.train import CHECKPOINT
 
     if (directory / CHECKPOINT).is_file():
-        return f"`pushctl train --resume --out {directory}` continues from the last checkpoint"
+        return (
+            f"`pushctl train --resume --episodes {episodes} --out {shlex.quote(str(directory))}` "
+            "continues from the last checkpoint"
+        )
     return (
         f"stopped before the first checkpoint, nothing kept in {directory}; run the same "
         "command again to start over"

@@ -88,6 +88,9 @@ class Trainer:
         self.validation: list[dict[str, Any]] = []
         self.best_actor: dict[str, Any] | None = None
         self.made_by = ""
+        self.episodes: int | None = None
+        """The run's target, the episodes asked for (kept in the checkpoint): a bare resume
+        continues to it (None: a checkpoint written before it was kept; the preset's)."""
         self.collectors = preset.train.workers
         """Collector processes this session (no result depends on it; see TrainConfig)."""
         self._validator: Validator | None = None
@@ -109,6 +112,8 @@ class Trainer:
             trainer.pending_updates = int(state["pending_updates"])
             trainer.rows = [dict(row) for row in state["rows"]]
             trainer.made_by = str(state["made_by"])
+            stored = state.get("episodes")
+            trainer.episodes = None if stored is None else int(stored)
             trainer.validation = [dict(row) for row in state["validation"]]
             trainer.best_actor = state["best_actor"]
         except ConfigError as exc:
@@ -133,6 +138,7 @@ class Trainer:
             self.made_by = f"{self.made_by}; resumed: {command}"
         else:
             self.made_by = made_by or self.made_by
+        self.episodes = episodes
         self.out.mkdir(parents=True, exist_ok=True)
         configure_torch(self.preset.ddpg.torch_threads)
         clock = _Rates(self.agent)
@@ -182,6 +188,13 @@ class Trainer:
 
     # ------------------------------------------------------------------ checkpoints
 
+    def target(self, episodes: int | None = None) -> int:
+        """The episodes to train to: ``episodes`` if given, else the run's own target
+        (:attr:`episodes`, kept in the checkpoint), else the preset's."""
+        if episodes is not None:
+            return episodes
+        return self.episodes if self.episodes is not None else self.preset.train.episodes
+
     def finished(self, episodes: int) -> bool:
         """Whether ``episodes`` are done and the run's end is written: both policies of
         this checkpoint's actor and, when the preset validates, the last actor's score. A
@@ -218,6 +231,7 @@ class Trainer:
             "pending_updates": self.pending_updates,
             "rows": self.rows,
             "made_by": self.made_by,
+            "episodes": self.episodes,
             "validation": self.validation,
             "best_actor": self.best_actor,
             "agent": self.agent.state_dict(),

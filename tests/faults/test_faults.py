@@ -12,6 +12,7 @@ from __future__ import annotations
 import errno
 import os
 import random
+import shlex
 import signal
 import subprocess
 import sys
@@ -191,6 +192,42 @@ def test_an_extended_run_killed_after_its_last_checkpoint_replaces_its_policies(
     assert result.exit_code == 0, result.output
     assert "nothing to do" not in result.output
     assert results(out) == reference
+
+
+def test_a_bare_resume_keeps_the_runs_own_episodes(preset_file, tmp_path):
+    out = tmp_path / "run"
+    train = ["train", "--preset", str(preset_file), "--out", str(out)]
+    first = runner.invoke(app, [*train, "--episodes", "2"])
+    assert first.exit_code == 0, first.output
+    policy = (out / POLICY).read_bytes()
+    again = runner.invoke(app, ["train", "--resume", "--out", str(out)])
+    assert again.exit_code == 0, again.output
+    assert "already has 2 episodes; nothing to do" in " ".join(again.output.split())
+    assert (out / POLICY).read_bytes() == policy
+
+
+def test_the_resume_hint_trains_to_the_episodes_asked_for(preset_file, tmp_path, monkeypatch):
+    out = tmp_path / "run"
+    real_run = Trainer.run
+
+    def interrupted_after_the_checkpoint(self, episodes, on_episode=None, made_by=""):
+        def stop(progress):
+            on_episode(progress)
+            if progress.episodes_done == 3:  # after the checkpoint at 2
+                raise KeyboardInterrupt
+
+        real_run(self, episodes, on_episode=stop, made_by=made_by)
+
+    monkeypatch.setattr(Trainer, "run", interrupted_after_the_checkpoint)
+    train = ["train", "--preset", str(preset_file), "--episodes", "3", "--out", str(out)]
+    stopped = runner.invoke(app, train)
+    assert stopped.exit_code == 130, stopped.output
+    monkeypatch.undo()
+    hint = stopped.stderr.split("`")[1]
+    assert hint.startswith("pushctl train --resume") and "--episodes 3" in hint
+    resumed = runner.invoke(app, shlex.split(hint)[1:])
+    assert resumed.exit_code == 0, resumed.output
+    assert Trainer.resume(out).next_episode == 3  # not the preset's 4
 
 
 def test_a_second_writer_is_refused_while_the_first_holds_the_directory(tmp_path):
