@@ -5,6 +5,8 @@ for, with the earlier good file intact."""
 from __future__ import annotations
 
 import errno
+import subprocess
+import sys
 from pathlib import Path
 
 from fault_helpers import lock_held_elsewhere, one_error_line
@@ -56,3 +58,34 @@ def test_a_read_only_target_names_the_file_and_keeps_the_old_one(tmp_path, monke
                           "Permission denied")  # fmt: skip
     assert ".tmp" not in line
     assert {p.name: p.read_bytes() for p in out.iterdir() if p.suffix == ".csv"} == kept
+
+
+def test_a_second_report_into_a_directory_not_made_yet_is_refused(tmp_path, monkeypatch):
+    from synthetic_results import write_results
+
+    from pushctl.cli import report_steps
+
+    root = write_results(tmp_path / "results")
+    out = tmp_path / "new" / "report"
+    command = ["report", "--in", str(root), "--out", str(out)]
+    make_report, second = report_steps.make_report, []
+
+    def while_another_reports(*args, **kwargs):  # the first holds --out: a second starts
+        second.append(subprocess.run([sys.executable, "-m", "pushctl.cli", *command],
+                                     capture_output=True, text=True, timeout=120))  # fmt: skip
+        return make_report(*args, **kwargs)
+
+    monkeypatch.setattr(report_steps, "make_report", while_another_reports)
+    first = runner.invoke(app, command)
+    assert first.exit_code == 0, first.output
+    assert second[0].returncode == 2, second[0].stderr
+    lines = second[0].stderr.strip().splitlines()
+    assert len(lines) == 1 and "in use by another pushctl command" in lines[0], lines
+    assert not [p for p in out.iterdir() if p.name.endswith(".lock")]
+
+
+def test_a_refused_report_leaves_no_directory_behind(tmp_path):
+    out = tmp_path / "new" / "report"
+    result = runner.invoke(app, ["report", "--in", str(tmp_path / "none"), "--out", str(out)])
+    one_error_line(result, "no such directory")
+    assert not (tmp_path / "new").exists()
