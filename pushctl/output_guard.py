@@ -162,10 +162,19 @@ def _acquire(option: str, path: Path, lock: Path) -> int:
         except FileNotFoundError:
             same = False
         if same:
-            os.ftruncate(descriptor, 0)
-            os.write(descriptor, f"{os.getpid()}\n".encode())
+            _write_holder(descriptor)
             return descriptor
         os.close(descriptor)
+
+
+def _write_holder(descriptor: int) -> None:
+    """Write this process's id into its lock file, for the message of a refused command; on
+    a full disk the lock holds without it (the command's own writes then say why)."""
+    try:
+        os.ftruncate(descriptor, 0)
+        os.write(descriptor, f"{os.getpid()}\n".encode())
+    except OSError:
+        pass
 
 
 def _read_holder(descriptor: int) -> str:

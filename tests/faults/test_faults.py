@@ -281,6 +281,47 @@ def test_a_full_disk_while_writing_a_csv_names_the_file(tmp_path, monkeypatch):
     assert not out.exists() or not list(out.iterdir())
 
 
+def fill_the_disk(monkeypatch) -> None:
+    """From now on no space is left: writing a lock file's process id, a file's bytes or a
+    torch file fails as on a full disk."""
+    real_write = os.write
+
+    def write(descriptor, data):
+        try:
+            target = os.readlink(f"/proc/self/fd/{descriptor}")
+        except OSError:
+            target = ""
+        if target.endswith(".lock"):
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+        return real_write(descriptor, data)
+
+    def no_space(*args, **kwargs):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(os, "write", write)
+    monkeypatch.setattr(Path, "write_bytes", no_space)
+    monkeypatch.setattr(torch, "save", no_space)
+
+
+@pytest.mark.skipif(not Path("/proc/self/fd").is_dir(), reason="reads /proc")
+@pytest.mark.parametrize("command", ["plan", "train", "report"])
+def test_a_full_disk_is_one_line_naming_the_file(command, preset_file, tmp_path, monkeypatch):
+    from synthetic_results import write_results
+
+    out = tmp_path / "out"
+    results_dir = write_results(tmp_path / "results")
+    args, target = {
+        "plan": (["plan", "--object", "cube", "--goal", "0.6,0,0", "--out", str(out / "p.csv")],
+                 out / "p.csv"),
+        "train": (["train", "--preset", str(preset_file), "--episodes", "2", "--out", str(out)],
+                  out / CHECKPOINT),
+        "report": (["report", "--in", str(results_dir), "--out", str(out)], out / "table3.csv"),
+    }[command]  # fmt: skip
+    out.mkdir()
+    fill_the_disk(monkeypatch)
+    one_error_line(runner.invoke(app, args), f"cannot write {target}", "No space left on device")
+
+
 @pytest.mark.parametrize("which", [CHECKPOINT, POLICY])
 def test_flipped_bytes_and_edited_weights_are_refused(preset_file, reference, tmp_path, which):
     out = tmp_path / "run"
