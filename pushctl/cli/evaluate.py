@@ -76,6 +76,13 @@ def evaluate(
     workers: Annotated[int, typer.Option(help="processes running trials, 1-8")] = 1,
     out: Annotated[Path, typer.Option(help="output directory")] = Path("runs/evaluation"),
     force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
+    trust_undigested: Annotated[
+        bool,
+        typer.Option(
+            "--trust-undigested",
+            help="run a policy file without its digest (an edit to it goes unseen)",
+        ),
+    ] = False,
     seed: Annotated[int | None, renamed_option("--seed")] = None,
 ) -> None:
     """Paired trials, PD-only, feedback and RL-assisted on the same held-out targets and
@@ -106,6 +113,7 @@ def evaluate(
             out,
             pusher,
             stream,
+            trust_undigested,
         )
         refuse_occupied_dir("--out", out, force)
         first = spec.scenario_seed(0)

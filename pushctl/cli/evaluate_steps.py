@@ -91,6 +91,7 @@ def prepare(
     out: Path,
     pusher: Path | None = None,
     stream: str = "evaluation",
+    trust_undigested: bool = False,
 ) -> tuple[TrialSpec, TrainedPolicy | list[TrainedPolicy] | None, Path | list[Path]]:
     """The trial spec, the policy (None when RL does not run: PD-only and feedback need no
     file) and its path, from the options; ConfigError (one line) for anything that cannot run
@@ -117,11 +118,15 @@ def prepare(
     check_workers(workers)
     check_out(out)
     if isinstance(policy, list) and len(policy) > 1:
-        return spec, *_prepare_several(spec, policy)
+        return spec, *_prepare_several(spec, policy, trust_undigested)
     if isinstance(policy, list):
         policy = policy[0] if policy else None
     policy_path = policy if policy is not None else DEFAULT_POLICY
-    loaded = load_evaluation_policy(policy_path) if "rl" in spec.controllers else None
+    loaded = (
+        load_evaluation_policy(policy_path, trust_undigested=trust_undigested)
+        if "rl" in spec.controllers
+        else None
+    )
     if "feedback" in spec.controllers:
         load_feedback_gains()  # a missing or bad gains file fails here, before any trial
     if policy_path.is_absolute() and policy_path.is_relative_to(Path.cwd()):
@@ -130,7 +135,7 @@ def prepare(
 
 
 def _prepare_several(
-    spec: TrialSpec, paths: list[Path]
+    spec: TrialSpec, paths: list[Path], trust_undigested: bool
 ) -> tuple[list[TrainedPolicy] | None, list[Path]]:
     """Several ``--policy`` files: each loaded and checked (a file named twice, seeds or
     settings that cannot share an evaluation: ConfigError), paths as the provenance shows
@@ -142,7 +147,7 @@ def _prepare_several(
         load_feedback_gains()
     if "rl" not in spec.controllers:
         return None, shown
-    loaded = [load_evaluation_policy(path) for path in paths]
+    loaded = [load_evaluation_policy(p, trust_undigested=trust_undigested) for p in paths]
     policy_seeds(loaded)
     return loaded, shown
 

@@ -49,6 +49,13 @@ def train(
     ] = None,
     resume: Annotated[bool, typer.Option("--resume", help="continue the run in --out")] = False,
     force: Annotated[bool, typer.Option("--force", help="start over in an occupied --out")] = False,
+    trust_undigested: Annotated[
+        bool,
+        typer.Option(
+            "--trust-undigested",
+            help="resume from a checkpoint without its digest (an edit to it goes unseen)",
+        ),
+    ] = False,
     seeds: Annotated[
         str | None,
         typer.Option(
@@ -97,7 +104,7 @@ def train(
     from pushctl.rl.train import CURVE, POLICY
 
     try:
-        trainer = prepare_trainer(preset, seed, out, resume, force)
+        trainer = prepare_trainer(preset, seed, out, resume, force, trust_undigested)
         trainer.collectors = workers  # no result depends on it (pushctl.rl.train)
         total = trainer.target(episodes)  # a resumed run: its own target unless asked
         if total < 1:

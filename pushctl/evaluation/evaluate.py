@@ -79,10 +79,10 @@ class Evaluation:
     redrawn: int
 
 
-def load_evaluation_policy(path: str | Path) -> TrainedPolicy:
+def load_evaluation_policy(path: str | Path, *, trust_undigested: bool = False) -> TrainedPolicy:
     """:func:`~pushctl.rl.policy.load_policy`, then ConfigError (one line) unless the actor
     fits the environment: its observation and action sizes."""
-    policy = load_policy(path)
+    policy = load_policy(path, trust_undigested=trust_undigested)
     actor = policy.actor.actor
     n_obs = len(
         observation_entries(

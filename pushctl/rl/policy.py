@@ -63,13 +63,14 @@ def write_policy(path: Path, actor_state: dict[str, Any], env: EnvConfig, made_b
     save_atomic(path, state)
 
 
-def load_policy(path: str | Path) -> TrainedPolicy:
+def load_policy(path: str | Path, *, trust_undigested: bool = False) -> TrainedPolicy:
     """Read ``policy.pt``; ConfigError (one line) if it is missing, damaged (its checksums
-    or digest: :mod:`pushctl.rl.checkpoint`), not a policy, or holds non-finite weights."""
+    or digest: :mod:`pushctl.rl.checkpoint`; without one, unless ``trust_undigested``), not
+    a policy, or holds non-finite weights."""
     path = Path(path)
     if not path.is_file():
         raise ConfigError(f"no policy file at {path}: train one with `pushctl train`")
-    state = load_checked(path, "policy file")
+    state = load_checked(path, "policy file", trust_undigested=trust_undigested)
     try:
         if state.get("format") != POLICY_FORMAT:
             raise ValueError(f"format {state.get('format')!r}, this pushctl reads {POLICY_FORMAT}")

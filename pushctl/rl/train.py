@@ -100,10 +100,12 @@ class Trainer:
         return cls(preset, seed, out, gains if gains is not None else load_gains())
 
     @classmethod
-    def resume(cls, out: Path, gains: PDGains | None = None) -> Trainer:
+    def resume(
+        cls, out: Path, gains: PDGains | None = None, *, trust_undigested: bool = False
+    ) -> Trainer:
         """The run stopped in ``out``; ConfigError (one line) if there is no checkpoint or it
-        is corrupt or of another format."""
-        state = read_checkpoint(out / CHECKPOINT)
+        is corrupt, of another format, or without its digest (unless ``trust_undigested``)."""
+        state = read_checkpoint(out / CHECKPOINT, trust_undigested=trust_undigested)
         try:
             preset = Preset.from_dict(state["preset"])
             trainer = cls(preset, int(state["seed"]), out, gains or load_gains())

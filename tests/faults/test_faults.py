@@ -351,6 +351,39 @@ def test_flipped_bytes_and_edited_weights_are_refused(preset_file, reference, tm
     one_error_line(runner.invoke(app, command), str(path))
 
 
+@pytest.mark.parametrize("which", [CHECKPOINT, POLICY, "trials.csv"])
+def test_a_file_whose_digest_was_removed_is_refused_unless_trusted(preset_file, tmp_path, which):
+    """Its digest removed and its content edited: refused in one line naming the file and
+    --trust-undigested; with that option the command runs."""
+    from synthetic_results import write_results
+
+    if which == "trials.csv":
+        root = write_results(tmp_path / "results")
+        path = root / "evaluation" / "trials.csv"
+        lines = [line for line in path.read_text().splitlines(True) if "sha256" not in line]
+        lines[3] = lines[3].replace("0.", "9.", 1)
+        path.write_text("".join(lines))
+        command = ["report", "--in", str(root), "--out", str(tmp_path / "report")]
+    else:
+        out = tmp_path / "run"
+        Trainer.start(load_preset(str(preset_file)), 0, out).run(2)
+        path = out / which
+        state = torch.load(path, weights_only=True)
+        del state["digest"]
+        tensors = state["agent"]["actor"] if which == CHECKPOINT else state["actor"]["actor"]
+        first = next(iter(tensors))
+        tensors[first] = tensors[first] * 1.5
+        torch.save(state, path)
+        command = (["train", "--resume", "--episodes", "3", "--out", str(out)]
+                   if which == CHECKPOINT else
+                   ["evaluate", "--controller", "rl", "--trials", "1", "--object", "cube",
+                    "--profile", "chirp", "--plant", "sim", "--policy", str(path),
+                    "--out", str(tmp_path / "eval")])  # fmt: skip
+    one_error_line(runner.invoke(app, command), str(path), "--trust-undigested")
+    trusted = runner.invoke(app, [*command, "--trust-undigested"])
+    assert trusted.exit_code == 0, trusted.output
+
+
 def _write(path: Path, data: bytes) -> Path:
     path.write_bytes(data)
     return path
