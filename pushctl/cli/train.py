@@ -181,6 +181,7 @@ def _train_seeds(ctx, preset, episodes, seed, out, resume, force, seeds, address
 def _train_sac(ctx, preset, episodes, seed, out, resume, force, seeds) -> None:
     """``pushctl train --algo sb3-sac``: :func:`pushctl.rl.sb3.train_sac` (one seed, no
     resume)."""
+    from pushctl.output_guard import hold, occupied
     from pushctl.provenance import provenance_line
     from pushctl.rl.presets import load_preset
     from pushctl.rl.sb3 import MODEL, train_sac
@@ -195,10 +196,11 @@ def _train_sac(ctx, preset, episodes, seed, out, resume, force, seeds) -> None:
         name, chosen_seed = preset or "quick", seed or 0
         chosen = load_preset(name)
         directory = out if out is not None else Path("runs") / f"{name}-sac-seed{chosen_seed}"
+        hold("--out", directory, directory=True)  # one command at a time, until this one ends
         if force:  # only what such a run writes; anything else still stops it
             for stale in (MODEL, "policy.pt", "policy_last.pt", "validation.csv"):
                 (directory / stale).unlink(missing_ok=True)
-        if directory.is_dir() and any(directory.iterdir()):
+        if occupied(directory):
             raise PushctlError(f"{directory} already holds a run; --force starts over")
         made_by = provenance_line(invocation(ctx), f"seed {chosen_seed} (training stream)")
         row = train_sac(chosen, chosen_seed, directory, made_by, episodes, log=console.print)
