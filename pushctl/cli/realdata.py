@@ -8,7 +8,17 @@ from typing import Annotated
 
 import typer
 
-from pushctl.cli.common import FORCE_HELP, Command, Group, console, fail, fail_write, invocation
+from pushctl.cli.common import (
+    FORCE_HELP,
+    STOPPED,
+    Command,
+    Group,
+    console,
+    fail,
+    fail_write,
+    interrupted,
+    invocation,
+)
 from pushctl.errors import ConfigError, PushctlError
 from pushctl.output_guard import refuse_existing_files, refuse_occupied_dir
 
@@ -65,6 +75,8 @@ def fit(
                        grids=_grids(rim_weights))  # fmt: skip
     except PushctlError as error:
         fail(error)
+    except BaseException as error:
+        _stopped(error)
     _write_text(out, text)
 
 
@@ -93,6 +105,8 @@ def score(
         result = run_score(data, params, settings, split, shapes, workers)
     except PushctlError as error:
         fail(error)
+    except BaseException as error:
+        _stopped(error)
     line = provenance_line(_invocation(ctx))
     try:
         out.mkdir(exist_ok=True)
@@ -137,6 +151,8 @@ def loso(
                           progress=lambda line: console.print(line, highlight=False))  # fmt: skip
     except PushctlError as error:
         fail(error)
+    except BaseException as error:
+        _stopped(error)
     line = provenance_line(_invocation(ctx))
     try:
         out.mkdir(exist_ok=True)
@@ -189,6 +205,20 @@ def logs(
     console.print(f"{len(table)} segments; end error within 3x the repeat floor on "
                   f"{100 * share:.0f} %; median path RMSE "
                   f"{table['path_rmse_mm'].median():.2f} mm; wrote {out}")  # fmt: skip
+
+
+def _stopped(error: BaseException) -> None:
+    """End a command stopped during its replay in one line: Ctrl-C or SIGTERM (the replay's
+    workers stop with it), or a worker process killed on its own; re-raise anything else."""
+    from concurrent.futures.process import BrokenProcessPool
+
+    if isinstance(error, KeyboardInterrupt) or (
+        isinstance(error, BrokenProcessPool) and STOPPED["terminated"]
+    ):
+        interrupted("nothing written; run the command again")
+    if isinstance(error, BrokenProcessPool):
+        fail(PushctlError("a replay worker process ended unexpectedly (killed?); nothing written"))
+    raise error
 
 
 def _png_writer(fig):
