@@ -62,6 +62,7 @@ def fit(
     from pushctl.realdata.replay import ReplaySettings
 
     try:
+        _check_split_seed(split_seed)
         if out.suffix != ".toml":
             raise ConfigError(f"--out must end in .toml, got {str(out)!r}")
         if not out.parent.is_dir():
@@ -144,6 +145,7 @@ def loso(
     from pushctl.realdata.replay import ReplaySettings
 
     try:
+        _check_split_seed(split_seed)
         _prepare_dir(out, force)
         _check_workers(workers)
         settings = ReplaySettings(friction_model=friction_model)
@@ -249,6 +251,11 @@ def _grids(rim_weights: str):
     for w in grid:
         PressurePrior(rim_weight=w)  # |w| <= 20
     return FitGrids(rim_weight=grid)
+
+
+def _check_split_seed(seed: int) -> None:
+    if seed < 0:
+        raise ConfigError(f"--split-seed must be an integer >= 0, got {seed}")
 
 
 def _check_workers(workers: int) -> None:

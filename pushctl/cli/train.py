@@ -21,6 +21,7 @@ from pushctl.cli.common import (
     invocation,
 )
 from pushctl.errors import PushctlError
+from pushctl.ranges import check_range
 
 app = typer.Typer()
 
@@ -81,6 +82,11 @@ def train(
     checkpoint, the training curves (Fig. 5) and the policy to the run directory."""
     if algo not in ("ddpg", "sb3-sac"):
         fail(PushctlError(f"--algo must be ddpg or sb3-sac, got {algo!r}"))
+    try:
+        if episodes is not None:  # every path: one run, several seeds, sb3-sac
+            check_range("training episodes", episodes, "--episodes: ")
+    except PushctlError as error:
+        fail(error)
     if algo == "sb3-sac":
         return _train_sac(ctx, preset, episodes, seed, out, resume, force, seeds)
     if seeds is not None:
@@ -107,8 +113,7 @@ def train(
         trainer = prepare_trainer(preset, seed, out, resume, force, trust_undigested)
         trainer.collectors = workers  # no result depends on it (pushctl.rl.train)
         total = trainer.target(episodes)  # a resumed run: its own target unless asked
-        if total < 1:
-            raise PushctlError(f"--episodes must be an integer >= 1, got {total}")
+        check_range("training episodes", total, "--episodes: ")
     except PushctlError as error:
         fail(error)
     if trainer.finished(total):
@@ -189,8 +194,8 @@ def _train_sac(ctx, preset, episodes, seed, out, resume, force, seeds) -> None:
     try:
         if resume or seeds is not None:
             raise PushctlError("--algo sb3-sac trains one seed from the start: no --resume/--seeds")
-        if episodes is not None and episodes < 1:
-            raise PushctlError(f"--episodes must be an integer >= 1, got {episodes}")
+        if episodes is not None:
+            check_range("training episodes", episodes, "--episodes: ")
         if seed is not None and seed < 0:
             raise PushctlError(f"--seed must be an integer >= 0, got {seed}")
         name, chosen_seed = preset or "quick", seed or 0

@@ -18,6 +18,7 @@ import pandas as pd
 import tomllib
 
 from pushctl.errors import ConfigError
+from pushctl.ranges import check_range
 from pushctl.realdata.metrics import group_scores
 from pushctl.realdata.replay import ReplaySettings, SurfaceParameters, replay_pushes
 
@@ -142,5 +143,9 @@ def read_friction(path: Path) -> tuple[dict[str, SurfaceParameters], ReplaySetti
         raise ConfigError(f"--friction: {path} is not a friction fit ({error})") from None
     if not params:
         raise ConfigError(f"--friction: {path} names no surface")
+    for surface, values in params.items():
+        for name in ("mu_contact", "mu_ground"):
+            check_range("friction coefficient", getattr(values, name),
+                        f"--friction: {path}: surface {surface} {name}: ")  # fmt: skip
     split = data.get("split", {})
     return params, settings, split if isinstance(split, dict) else {}

@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from pushctl.errors import ConfigError
+from pushctl.ranges import check_range
 from pushctl.rl.config import DDPGConfig
 from pushctl.rl.env_config import EnvConfig
 from pushctl.rl.validate import SELECTION_RULES
@@ -57,6 +58,7 @@ class TrainConfig:
         ):
             _check_int(name, getattr(self, name), low)
         _check_int("workers", self.workers, 0)
+        check_range("training episodes", self.episodes, "train episodes: ")
         if self.select_on not in SELECTION_RULES:
             raise ConfigError(
                 f"train select_on must be one of {', '.join(SELECTION_RULES)}, "

@@ -9,6 +9,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
 from fault_helpers import lock_held_elsewhere, one_error_line
 from typer.testing import CliRunner
 
@@ -89,3 +90,30 @@ def test_a_refused_report_leaves_no_directory_behind(tmp_path):
     result = runner.invoke(app, ["report", "--in", str(tmp_path / "none"), "--out", str(out)])
     one_error_line(result, "no such directory")
     assert not (tmp_path / "new").exists()
+
+
+@pytest.mark.parametrize(
+    ("args", "files", "fragment"),
+    [
+        (["plan", "--object", "cube", "--goal", "1e308,0,0"], {}, "--goal: position"),
+        (["simulate", "--object", "cube", "--goal", "0.6,0,1e9"], {}, "--goal: angle"),
+        (["train", "--episodes", "1000000000000", "--out", "{tmp}/run"], {}, "--episodes"),
+        (["train", "--preset", "{tmp}/big.toml", "--out", "{tmp}/run"],
+         {"big.toml": "[train]\n[env]\n[ddpg]\nbuffer_size = 9000000000000000\n"}, "replay buffer size"),
+        (["plan", "--object", "cube", "--goal", "0.62,0.03,30", "--pusher", "{tmp}/p.toml"],
+         {"p.toml": "width = 1e9\n"}, "pusher plate size"),
+        (["realdata", "fit", "--data", "{tmp}", "--out", "{tmp}/f.toml", "--split-seed", "-1"],
+         {}, "--split-seed"),
+        (["realdata", "score", "--data", "{tmp}", "--friction", "{tmp}/fit.toml", "--out",
+          "{tmp}/score"], {"fit.toml": "[surface.felt]\nmu_contact = 1e9\n"},
+         "friction coefficient"),
+    ],
+    ids=["goal-1e308", "angle-1e9", "episodes-1e12", "buffer-9e15", "plate-1e9-m",
+         "split-seed-negative", "mu-1e9"],
+)  # fmt: skip
+def test_an_absurd_value_is_one_line_before_any_work(args, files, fragment, tmp_path):
+    for name, text in files.items():
+        (tmp_path / name).write_text(text)
+    args = [arg.replace("{tmp}", str(tmp_path)) for arg in args]
+    one_error_line(runner.invoke(app, args), fragment)
+    assert not (tmp_path / "run").exists() and not (tmp_path / "score").exists()
