@@ -10,7 +10,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from fault_helpers import lock_held_elsewhere, one_error_line
+from fault_helpers import lock_held_elsewhere, one_error_line, recorded_pushes
 from typer.testing import CliRunner
 
 from pushctl.cli import app
@@ -99,7 +99,8 @@ def test_a_refused_report_leaves_no_directory_behind(tmp_path):
         (["simulate", "--object", "cube", "--goal", "0.6,0,1e9"], {}, "--goal: angle"),
         (["train", "--episodes", "1000000000000", "--out", "{tmp}/run"], {}, "--episodes"),
         (["train", "--preset", "{tmp}/big.toml", "--out", "{tmp}/run"],
-         {"big.toml": "[train]\n[env]\n[ddpg]\nbuffer_size = 9000000000000000\n"}, "replay buffer size"),
+         {"big.toml": "[train]\n[env]\n[ddpg]\nbuffer_size = 9000000000000000\n"},
+         "replay buffer size"),
         (["plan", "--object", "cube", "--goal", "0.62,0.03,30", "--pusher", "{tmp}/p.toml"],
          {"p.toml": "width = 1e9\n"}, "pusher plate size"),
         (["realdata", "fit", "--data", "{tmp}", "--out", "{tmp}/f.toml", "--split-seed", "-1"],
@@ -117,3 +118,18 @@ def test_an_absurd_value_is_one_line_before_any_work(args, files, fragment, tmp_
     args = [arg.replace("{tmp}", str(tmp_path)) for arg in args]
     one_error_line(runner.invoke(app, args), fragment)
     assert not (tmp_path / "run").exists() and not (tmp_path / "score").exists()
+
+
+def test_recorded_pushes_cut_at_a_line_boundary_are_not_scored(tmp_path):
+    data = recorded_pushes(tmp_path / "data", 40)
+    fit = tmp_path / "fit.toml"
+    fitted = runner.invoke(app, ["realdata", "fit", "--data", str(data), "--out", str(fit),
+                                 "--workers", "1", "--rim-weights", "0"])  # fmt: skip
+    assert fitted.exit_code == 0, fitted.output
+    pushes = data / "mit" / "pushes.csv"
+    lines = pushes.read_text().splitlines(keepends=True)
+    pushes.write_text("".join(lines[:-3]))  # the last three pushes gone, every row whole
+    score = ["realdata", "score", "--data", str(data), "--friction", str(fit),
+             "--out", str(tmp_path / "score"), "--workers", "1"]  # fmt: skip
+    one_error_line(runner.invoke(app, score), str(pushes), "37 pushes", "40", "cut short")
+    assert not (tmp_path / "score").exists()
