@@ -88,6 +88,15 @@ def evaluate(
     """Paired trials, PD-only, feedback and RL-assisted on the same held-out targets and
     plants; write trials.csv (one row per trial and controller) and steps.csv (per-step
     means) to --out."""
+    from pushctl.cli.names import check_evaluate_options
+
+    scenario_block = take_renamed(ctx, "--scenario-block", scenario_block, "--seed", seed)
+    try:  # before the core is imported: a typo costs no time
+        check_evaluate_options(
+            object_name, profile, trials, controller, plant, scenario_block, stream, workers, out
+        )
+    except PushctlError as error:
+        fail(error)
     from pushctl.cli.evaluate_steps import (
         policy_kinds,
         policy_provenance,
@@ -99,7 +108,6 @@ def evaluate(
     from pushctl.evaluation.evaluate import STEPS_FILE, TRIALS_FILE, write_evaluation
     from pushctl.provenance import provenance_line
 
-    scenario_block = take_renamed(ctx, "--scenario-block", scenario_block, "--seed", seed)
     try:
         spec, trained, policy_path = prepare(
             object_name,

@@ -82,9 +82,12 @@ def train(
     checkpoint, the training curves (Fig. 5) and the policy to the run directory."""
     if algo not in ("ddpg", "sb3-sac"):
         fail(PushctlError(f"--algo must be ddpg or sb3-sac, got {algo!r}"))
-    try:
-        if episodes is not None:  # every path: one run, several seeds, sb3-sac
+    from pushctl.cli.names import check_train_options
+
+    try:  # every path (one run, several seeds, sb3-sac), before the core is imported
+        if episodes is not None:
             check_range("training episodes", episodes, "--episodes: ")
+        check_train_options(preset, seed, out, resume, force)
     except PushctlError as error:
         fail(error)
     if algo == "sb3-sac":
