@@ -26,8 +26,9 @@ from pushctl.machine import reproducible
 reproducible()  # before anything loads numpy: the same bytes on every x86-64 machine
 drop_stale()  # before any kernel loads: numba's cache does not follow calls across files
 
+from typing import Annotated  # noqa: E402
+
 import typer  # noqa: E402
-from typer.core import TyperGroup  # noqa: E402
 
 try:  # Typer >= 0.20 carries its own copy of click, whose exceptions its commands raise
     from typer._click import exceptions as click
@@ -47,9 +48,10 @@ from pushctl.cli import (  # noqa: E402
     tune_feedback,
     tune_pd,
 )
+from pushctl.cli.common import Group  # noqa: E402
 
 
-class _OneLineErrors(TyperGroup):
+class _OneLineErrors(Group):
     """pushctl's command group: a usage error (a missing or unknown option, a value that is
     not a number) is one ``error:`` line and exit code 2, as every other bad input is,
     instead of click's multi-line usage box."""
@@ -88,8 +90,24 @@ app = typer.Typer(
 )
 
 
+def _show_version(value: bool) -> None:
+    if value:
+        from pushctl.version import VERSION
+
+        print(f"pushctl {VERSION}")
+        raise typer.Exit()
+
+
 @app.callback()
-def _main(ctx: typer.Context) -> None:
+def _main(
+    ctx: typer.Context,
+    version: Annotated[
+        bool,
+        typer.Option(
+            "--version", callback=_show_version, is_eager=True, help="Show the version and exit."
+        ),
+    ] = False,
+) -> None:
     """pushctl: multi-point object pushing experiments."""
     from pushctl.cli.common import handle_termination
     from pushctl.output_guard import release

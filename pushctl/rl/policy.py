@@ -19,7 +19,7 @@ import numpy as np
 from pushctl.control.gains import PDGains
 from pushctl.episode.runner import Episode
 from pushctl.episode.trace import Trace
-from pushctl.errors import ConfigError, StateError
+from pushctl.errors import ConfigError, StateError, reason
 from pushctl.provenance import one_line
 from pushctl.rl.checkpoint import load_checked, nonfinite_entry, save_checked
 from pushctl.rl.env import PushEnv
@@ -85,10 +85,10 @@ def load_policy(path: str | Path, *, trust_undigested: bool = False) -> TrainedP
     except ConfigError as exc:
         raise ConfigError(f"policy file {path}: {exc}") from None
     except KeyError as exc:
-        raise ConfigError(f"policy file {path} is not a policy: it has no {exc}") from None
+        raise ConfigError(f"policy file {path} is not a policy: {reason(exc)} entry") from None
     except Exception as exc:  # a state dict of other shapes: torch's many error types
-        reason = one_line(str(exc), 120) or type(exc).__name__
-        raise ConfigError(f"policy file {path} is not a policy: {reason}") from None
+        why = one_line(str(exc), 120) or type(exc).__name__
+        raise ConfigError(f"policy file {path} is not a policy: {why}") from None
 
 
 def evaluation_env(policy: TrainedPolicy, gains: PDGains, plant: str = "sim") -> PushEnv:

@@ -33,7 +33,7 @@ import pandas as pd
 
 from pushctl.control.feedback import load_feedback_gains
 from pushctl.control.gains import PDGains, load_gains
-from pushctl.errors import ConfigError
+from pushctl.errors import ConfigError, reason
 from pushctl.provenance import write_csv
 from pushctl.rl.checkpoint import CHECKPOINT_FORMAT, content_digest, load_checked, read_checkpoint
 from pushctl.rl.collect import Behaviour, EpisodeRecord, curve_row, portable
@@ -122,7 +122,7 @@ class Trainer:
             raise ConfigError(f"checkpoint {out / CHECKPOINT} is incompatible: {exc}") from None
         except (KeyError, TypeError, ValueError, RuntimeError) as exc:
             raise ConfigError(
-                f"checkpoint {out / CHECKPOINT} is incompatible: missing or bad {exc}"
+                f"checkpoint {out / CHECKPOINT} is incompatible: {reason(exc)[:160]}"
             ) from None
         return trainer
 
