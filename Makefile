@@ -46,7 +46,7 @@ lint: install
 bench: install
 	$(PY) -m benchmarks.suite --out results/bench.csv --page docs/performance.md --force
 
-# Train (experiments/train_paper_v1.toml, seeds 0-4 on Ray; about 71 min here), evaluate
+# Train (experiments/train_paper_v1.toml, seeds 0-4 on Ray; 97 min on two cores), evaluate
 # (50 trials x 2 objects x 3 profiles x every controller x the plants sim, proxy and
 # mujoco), report, bench: `pushctl reproduce`.
 # QUICK=1: quick preset, 4 trials, into results-quick/; SEEDS=0: one training seed;
