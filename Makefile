@@ -14,6 +14,7 @@ install: $(STAMP) $(NATIVE) $(WARM)
 # torch is pinned and installed first: `torch==2.13.0` resolves to the CPU build on disk;
 # a looser requirement would pull several GB of CUDA packages.
 $(STAMP): pyproject.toml
+	@echo "installing pushctl and its packages into $(VENV) (torch, Pinocchio, MuJoCo, Ray)"
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --quiet "torch==2.13.0"
@@ -26,10 +27,11 @@ $(STAMP): pyproject.toml
 $(NATIVE): $(STAMP) $(wildcard pushctl/native/*.cpp)
 	$(PY) -c "from pushctl.native.build import build; print(build(optional=True))"
 
-# numba compiles the simulator's kernels at first use (about a minute of one core) and keeps
-# them in its disk cache: compiled here, the first command starts at once (pushctl/cli/warm.py).
+# numba compiles the simulator's kernels at first use (5-11 min on two cores) and keeps them
+# in its disk cache: compiled here, showing each step, the first command starts at once
+# (pushctl/cli/warm.py).
 $(WARM): $(STAMP) $(NATIVE) $(shell find pushctl -name '*.py')
-	$(PY) -c "from pushctl.cli.warm import warm; warm()"
+	$(PY) -m pushctl.cli.warm
 	touch $(WARM)
 
 test: install

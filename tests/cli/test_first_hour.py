@@ -47,3 +47,15 @@ def test_a_missing_entry_is_named_in_words(tmp_path):
     assert result.exit_code == 2 and "(no surface)" in result.stderr, result.stderr
     for shown in (result.stderr,):
         assert "KeyError" not in shown and "('" not in shown
+
+
+def test_compiling_the_kernels_says_each_step_and_its_time():
+    from pushctl.cli.warm import STEPS, warm
+
+    lines: list[str] = []
+    warm(report=lines.append)  # cached already in a test run: seconds
+    assert [line.split(":")[0] for line in lines[:-1]] == [
+        f"step {k} of {STEPS}" for k in range(1, STEPS + 1)
+    ]
+    assert all(re.search(r"\(\d+ min \d\d s\)$", line) for line in lines[:-1])
+    assert lines[-1].startswith("kernels compiled in ")
