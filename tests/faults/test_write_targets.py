@@ -133,3 +133,32 @@ def test_recorded_pushes_cut_at_a_line_boundary_are_not_scored(tmp_path):
              "--out", str(tmp_path / "score"), "--workers", "1"]  # fmt: skip
     one_error_line(runner.invoke(app, score), str(pushes), "37 pushes", "40", "cut short")
     assert not (tmp_path / "score").exists()
+
+
+def test_an_interrupted_evaluation_resumes_to_the_same_bytes(tmp_path, monkeypatch):
+    from pushctl.evaluation import evaluate as module
+
+    args = ["evaluate", "--object", "cube", "--profile", "chirp", "--trials", "3",
+            "--controller", "pd", "--plant", "sim"]  # fmt: skip
+    whole = tmp_path / "whole"
+    assert runner.invoke(app, [*args, "--out", str(whole)]).exit_code == 0
+    run, calls = module._Context.run, []
+
+    def stopped_at_the_third(self, job):
+        calls.append(job)
+        if len(calls) == 3:
+            raise KeyboardInterrupt
+        return run(self, job)
+
+    monkeypatch.setattr(module._Context, "run", stopped_at_the_third)
+    out = tmp_path / "evaluation"
+    stopped = runner.invoke(app, [*args, "--out", str(out)])
+    assert stopped.exit_code == 130, stopped.output
+    assert "2 of 3 trials kept" in stopped.stderr and "--resume" in stopped.stderr
+    monkeypatch.undo()
+    one_error_line(runner.invoke(app, [*args, "--out", str(out)]), "--resume")
+    resumed = runner.invoke(app, [*args, "--resume", "--out", str(out)])
+    assert resumed.exit_code == 0, resumed.output
+    for name in ("trials.csv", "steps.csv"):
+        assert (out / name).read_bytes() == (whole / name).read_bytes(), name
+    assert sorted(p.name for p in out.iterdir()) == ["steps.csv", "trials.csv"]
