@@ -12,6 +12,7 @@ from pushctl.cli.common import (
     FORCE_HELP,
     Command,
     console,
+    error_console,
     fail,
     fail_write,
     invocation,
@@ -68,5 +69,7 @@ def report(
     console.print(counts_table(made))
     for note in made.notes:
         console.print(f"note: {note}", highlight=False, soft_wrap=True)
+    for warning in made.warnings:
+        error_console.print(f"warning: {warning}", style="bold", highlight=False, markup=False)
     for path in written:
         console.print(f"wrote {path}")

@@ -59,3 +59,33 @@ def test_compiling_the_kernels_says_each_step_and_its_time():
     ]
     assert all(re.search(r"\(\d+ min \d\d s\)$", line) for line in lines[:-1])
     assert lines[-1].startswith("kernels compiled in ")
+
+
+def _results_with_runs(root: Path, evaluated: str, trained: str) -> Path:
+    """Synthetic results whose trials evaluated the policy of run ``evaluated`` and whose
+    curve is run ``trained``'s."""
+    from synthetic_results import sign, write_results
+
+    write_results(root)
+    trials = root / "evaluation" / "trials.csv"
+    lines = trials.read_text().splitlines(keepends=True)
+    lines[0] = lines[0].rstrip("\n") + f"; policy p.pt, made by: {evaluated}\n"
+    trials.write_text("".join(lines))
+    sign(trials)
+    curve = root / "training" / "curve.csv"
+    curve.write_text(f"# made by: {trained}\n" + curve.read_text())
+    sign(curve)
+    return root
+
+
+def test_a_report_says_loudly_when_fig5_is_another_runs(tmp_path):
+    mine = "pushctl train --preset quick; pushctl 0.1.0; commit abc; seed 0 (training stream)"
+    shipped = "pushctl train --preset experiments/train_paper_v1.toml; seed 0 (training stream)"
+    mixed = _results_with_runs(tmp_path / "mixed", shipped, mine)
+    result = runner.invoke(app, ["report", "--in", str(mixed), "--out", str(tmp_path / "a")])
+    assert result.exit_code == 0, result.output
+    warning = " ".join(result.stderr.split())
+    assert warning.startswith("warning: Fig. 5 shows the training run of") and "another" in warning
+    same = _results_with_runs(tmp_path / "same", mine, mine)
+    result = runner.invoke(app, ["report", "--in", str(same), "--out", str(tmp_path / "b")])
+    assert result.exit_code == 0 and "warning" not in result.stderr, result.stderr
