@@ -14,6 +14,7 @@ install: $(STAMP) $(NATIVE) $(WARM)
 # torch is pinned and installed first: `torch==2.13.0` resolves to the CPU build on disk;
 # a looser requirement would pull several GB of CUDA packages.
 $(STAMP): pyproject.toml
+	@echo "installing pushctl and its packages into $(VENV) (torch, Pinocchio, MuJoCo, Ray)"
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --quiet "torch==2.13.0"
@@ -26,10 +27,11 @@ $(STAMP): pyproject.toml
 $(NATIVE): $(STAMP) $(wildcard pushctl/native/*.cpp)
 	$(PY) -c "from pushctl.native.build import build; print(build(optional=True))"
 
-# numba compiles the simulator's kernels at first use (about a minute of one core) and keeps
-# them in its disk cache: compiled here, the first command starts at once (pushctl/cli/warm.py).
+# numba compiles the simulator's kernels at first use (5-11 min on two cores) and keeps them
+# in its disk cache: compiled here, showing each step, the first command starts at once
+# (pushctl/cli/warm.py).
 $(WARM): $(STAMP) $(NATIVE) $(shell find pushctl -name '*.py')
-	$(PY) -c "from pushctl.cli.warm import warm; warm()"
+	$(PY) -m pushctl.cli.warm
 	touch $(WARM)
 
 test: install
@@ -52,7 +54,7 @@ bench: install
 bench-learners: install
 	$(PY) -m benchmarks.learners --out docs/learner-check.csv --force
 
-# Train (experiments/train_paper_v1.toml, seeds 0-4 on Ray; about 71 min here), evaluate
+# Train (experiments/train_paper_v1.toml, seeds 0-4 on Ray; 97 min on two cores), evaluate
 # (50 trials x 2 objects x 3 profiles x every controller x the plants sim, proxy and
 # mujoco), report, bench: `pushctl reproduce`.
 # QUICK=1: quick preset, 4 trials, into results-quick/; SEEDS=0: one training seed;

@@ -63,6 +63,8 @@ class PusherConfig:
             if not np.isfinite(value) or value <= 0.0:
                 raise ConfigError(f"pusher {field} must be a positive number, got {value!r}")
         check_range("pusher mass", self.mass, "pusher: ")
+        for field in ("width", "height", "thickness"):
+            check_range("pusher plate size", getattr(self, field), f"pusher {field}: ")
         if not (isinstance(self.n_prongs, int) and 1 <= self.n_prongs <= 4):
             raise ConfigError(f"pusher n_prongs must be an integer in 1..4, got {self.n_prongs!r}")
         if not np.isfinite(self.prong_spacing) or self.prong_spacing < 0.0:

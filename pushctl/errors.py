@@ -35,3 +35,12 @@ class WriteError(PushctlError):
 class DamagedFileError(ConfigError):
     """A checkpoint, policy or results file whose content does not match the digest it was
     written with, or that misses rows it names: damaged or edited after it was written."""
+
+
+def reason(error: BaseException) -> str:
+    """What ``error`` says, for a one-line message: a KeyError's missing key as the word
+    ``no KEY`` (not the key's repr), anything else its message on one line (or its type)."""
+    if isinstance(error, KeyError) and error.args:
+        return f"no {error.args[0]}"
+    text = " ".join(str(error).split())
+    return text or type(error).__name__

@@ -36,6 +36,7 @@ RANGES: dict[str, Range] = {
     "object mass": Range(0.01, 50.0, "kg"),
     "pusher mass": Range(0.001, 10.0, "kg"),
     "prong spacing": Range(0.005, 0.5, "m"),  # two prongs or more: they must be apart
+    "pusher plate size": Range(0.001, 1.0, "m"),  # the paper's: 104 × 48 × 30 mm
     # PD gains (tuned: kp 30, kv 300, kx 42; a test saturates the torques with 1e6)
     "PD gain kp": Range(0.0, 1e6, "N·m/rad"),
     "PD gain kv": Range(1e-6, 1e6, "N·m·s/rad"),
@@ -50,6 +51,14 @@ RANGES: dict[str, Range] = {
     # networks (the presets: two layers of 256 or fewer)
     "hidden layer width": Range(1, 4096, "units"),
     "hidden layers": Range(1, 8, ""),
+    # training (the presets: 2500 episodes or fewer, buffers of 1e6 transitions)
+    "replay buffer size": Range(1, 1e8, "transitions"),
+    "training episodes": Range(1, 1e6, ""),
+    # poses on the table (the arm reaches about 1 m)
+    "position": Range(-10.0, 10.0, "m"),
+    "angle": Range(-360.0, 360.0, "deg"),
+    # recorded pushes (published fits: μ 0.1-0.5)
+    "friction coefficient": Range(0.0, 10.0, ""),
 }
 """Quantity → its accepted range."""
 

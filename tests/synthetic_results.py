@@ -4,6 +4,7 @@ file, so every test directory can import it (tests/ is on sys.path through conft
 
 from __future__ import annotations
 
+import hashlib
 import itertools
 import math
 from pathlib import Path
@@ -27,6 +28,16 @@ CI_1234 = 3.1824463053 * math.sqrt(5.0 / 3.0) / 2.0
 # With the first value NaN: 2, 3, 4, mean 3 f, s = f, t(0.975, 2) = 4.3026527, half-width
 # t·s/√3 = 2.4841377 f.
 CI_234 = 4.3026527297 / math.sqrt(3.0)
+
+
+def sign(path: Path) -> None:
+    """End ``path`` (a CSV) in the digest of its bytes, as pushctl writes it, replacing the
+    digest line it may already end in."""
+    from pushctl.files.provenance import DIGEST_PREFIX
+
+    lines = path.read_text().splitlines(keepends=True)
+    data = "".join(line for line in lines if not line.startswith(DIGEST_PREFIX)).encode()
+    path.write_bytes(data + f"{DIGEST_PREFIX}{hashlib.sha256(data).hexdigest()}\n".encode())
 
 
 def factor(plant: str, controller: str) -> float:
@@ -103,13 +114,15 @@ def curve_frame() -> pd.DataFrame:
 
 
 def write_results(root: Path) -> Path:
-    """Write the three synthetic inputs under ``root`` (trials.csv with a provenance line,
-    the others without); returns ``root``."""
+    """Write the three synthetic inputs under ``root`` (trials.csv with a provenance line
+    and its digest, as pushctl writes it; the others without either, as if made by hand);
+    returns ``root``."""
     (root / "evaluation").mkdir(parents=True)
     (root / "training").mkdir(parents=True)
     with (root / "evaluation" / "trials.csv").open("w") as handle:
         handle.write(TRIALS_MADE_BY + "\n")
         trials_frame().to_csv(handle, index=False)
+    sign(root / "evaluation" / "trials.csv")
     steps_frame().to_csv(root / "evaluation" / "steps.csv", index=False)
     curve_frame().to_csv(root / "training" / "curve.csv", index=False)
     return root

@@ -6,9 +6,9 @@ the ``pushctl`` command pins the CPU code first (:func:`pushctl.cli.main`)."""
 from __future__ import annotations
 
 import sys
+from typing import Annotated
 
 import typer
-from typer.core import TyperGroup
 
 try:  # Typer >= 0.20 carries its own copy of click, whose exceptions its commands raise
     from typer._click import exceptions as click
@@ -28,9 +28,10 @@ from pushctl.cli import (
     tune_feedback,
     tune_pd,
 )
+from pushctl.cli.common import Group
 
 
-class _OneLineErrors(TyperGroup):
+class _OneLineErrors(Group):
     """pushctl's command group: a usage error (a missing or unknown option, a value that is
     not a number) is one ``error:`` line and exit code 2, as every other bad input is,
     instead of click's multi-line usage box."""
@@ -69,8 +70,24 @@ app = typer.Typer(
 )
 
 
+def _show_version(value: bool) -> None:
+    if value:
+        from pushctl.version import VERSION
+
+        print(f"pushctl {VERSION}")
+        raise typer.Exit()
+
+
 @app.callback()
-def _main(ctx: typer.Context) -> None:
+def _main(
+    ctx: typer.Context,
+    version: Annotated[
+        bool,
+        typer.Option(
+            "--version", callback=_show_version, is_eager=True, help="Show the version and exit."
+        ),
+    ] = False,
+) -> None:
     """pushctl: multi-point object pushing experiments."""
     from pushctl.cli.common import handle_termination
     from pushctl.files.output_guard import release

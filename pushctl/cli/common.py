@@ -171,6 +171,10 @@ def parse_pose(option: str, text: str) -> tuple[float, float, float]:
         raise ConfigError(f"{option} must be {POSE_FORMAT}; got {text!r}") from None
     if not all(math.isfinite(v) for v in (x, y, theta_deg)):
         raise ConfigError(f"{option} must be finite numbers {POSE_FORMAT}; got {text!r}")
+    from pushctl.ranges import check_range
+
+    for quantity, value in (("position", x), ("position", y), ("angle", theta_deg)):
+        check_range(quantity, value, f"{option}: ")
     return x, y, math.radians(theta_deg)
 
 

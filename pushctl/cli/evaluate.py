@@ -24,7 +24,6 @@ from pushctl.cli.common import (
     take_renamed,
 )
 from pushctl.errors import PushctlError
-from pushctl.files.output_guard import refuse_occupied_dir
 
 app = typer.Typer()
 
@@ -76,15 +75,41 @@ def evaluate(
     workers: Annotated[int, typer.Option(help="processes running trials, 1-8")] = 1,
     out: Annotated[Path, typer.Option(help="output directory")] = Path("runs/evaluation"),
     force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
+    resume: Annotated[
+        bool,
+        typer.Option(
+            "--resume", help="continue an interrupted evaluation in --out from its kept trials"
+        ),
+    ] = False,
+    trust_undigested: Annotated[
+        bool,
+        typer.Option(
+            "--trust-undigested",
+            help="run a policy file without its digest (an edit to it goes unseen)",
+        ),
+    ] = False,
     seed: Annotated[int | None, renamed_option("--seed")] = None,
 ) -> None:
     """Paired trials, PD-only, feedback and RL-assisted on the same held-out targets and
     plants; write trials.csv (one row per trial and controller) and steps.csv (per-step
     means) to --out."""
+    from pushctl.cli.names import check_evaluate_options
+
+    scenario_block = take_renamed(ctx, "--scenario-block", scenario_block, "--seed", seed)
+    try:  # before the core is imported: a typo costs no time
+        check_evaluate_options(
+            object_name, profile, trials, controller, plant, scenario_block, stream, workers, out
+        )
+    except PushctlError as error:
+        fail(error)
     from pushctl.cli.evaluate_steps import (
+        PARTIAL_FILE,
+        Keeper,
+        open_out,
         policy_kinds,
         policy_provenance,
         prepare,
+        read_kept,
         run_with_progress,
         summary_table,
     )
@@ -92,7 +117,7 @@ def evaluate(
     from pushctl.evaluation.evaluate import STEPS_FILE, TRIALS_FILE, write_evaluation
     from pushctl.files.provenance import provenance_line
 
-    scenario_block = take_renamed(ctx, "--scenario-block", scenario_block, "--seed", seed)
+    keeper = None
     try:
         spec, trained, policy_path = prepare(
             object_name,
@@ -106,8 +131,9 @@ def evaluate(
             out,
             pusher,
             stream,
+            trust_undigested,
         )
-        refuse_occupied_dir("--out", out, force)
+        kept = open_out(out, force, resume)
         first = spec.scenario_seed(0)
         extra = f"scenario seeds {first}-{first + spec.trials - 1} ({spec.stream} stream)"
         if trained is not None:
@@ -129,15 +155,34 @@ def evaluate(
                 f"turn_ratio {law.turn_ratio:g}, smoothing {law.smoothing:g} s{guard} "
                 f"({DEFAULT_FEEDBACK_FILE.name})"
             )
-        made_by = provenance_line(invocation(ctx), extra)
+        # a resumed run's line is the interrupted one's: the same bytes as one run through
+        made_by = provenance_line(invocation(ctx).replace(" --resume", ""), extra)
+        start = None if kept is None else read_kept(kept, made_by, trust_undigested)
+        keeper = Keeper(out / PARTIAL_FILE, made_by, len(spec.jobs()), start)
         note_if_cold(error_console)
-        evaluation = run_with_progress(spec, trained, workers, console)
+        evaluation = run_with_progress(spec, trained, workers, console, start, keeper)
         write_evaluation(out, evaluation, made_by)
+        (out / PARTIAL_FILE).unlink(missing_ok=True)
     except PushctlError as error:
         fail(error)
     except KeyboardInterrupt:
-        interrupted("nothing written")
+        interrupted(_kept_advice(keeper, out))
     except OSError as error:
         fail_write(error)
     console.print(summary_table(evaluation))
     console.print(f"wrote {out / TRIALS_FILE} and {out / STEPS_FILE}")
+
+
+def _kept_advice(keeper, out: Path) -> str:  # noqa: ANN001 (imported late)
+    """What a stopped evaluation kept (its trials so far, written once more now) and how to
+    continue it."""
+    try:
+        done = keeper.save() if keeper is not None else 0
+    except (OSError, PushctlError):
+        done = 0
+    if not done:
+        return "nothing written"
+    return (
+        f"{done} of {keeper.jobs} trials kept in {out}; the same command with --resume "
+        "continues from them"
+    )

@@ -4,7 +4,10 @@ and prints the summary table."""
 from __future__ import annotations
 
 import os
+import time
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from rich import box
@@ -34,8 +37,10 @@ from pushctl.evaluation.evaluate import (
     summary,
 )
 from pushctl.evaluation.trials import CONTROLLERS, TrialResult, TrialSpec
+from pushctl.files.output_guard import hold, refuse_occupied_dir
 from pushctl.objects import OBJECT_NAMES
 from pushctl.planning import PROFILE_NAMES
+from pushctl.rl.checkpoint import load_checked, save_checked
 from pushctl.rl.policy import TrainedPolicy
 
 LOG_LINES = 20
@@ -91,6 +96,7 @@ def prepare(
     out: Path,
     pusher: Path | None = None,
     stream: str = "evaluation",
+    trust_undigested: bool = False,
 ) -> tuple[TrialSpec, TrainedPolicy | list[TrainedPolicy] | None, Path | list[Path]]:
     """The trial spec, the policy (None when RL does not run: PD-only and feedback need no
     file) and its path, from the options; ConfigError (one line) for anything that cannot run
@@ -117,11 +123,15 @@ def prepare(
     check_workers(workers)
     check_out(out)
     if isinstance(policy, list) and len(policy) > 1:
-        return spec, *_prepare_several(spec, policy)
+        return spec, *_prepare_several(spec, policy, trust_undigested)
     if isinstance(policy, list):
         policy = policy[0] if policy else None
     policy_path = policy if policy is not None else DEFAULT_POLICY
-    loaded = load_evaluation_policy(policy_path) if "rl" in spec.controllers else None
+    loaded = (
+        load_evaluation_policy(policy_path, trust_undigested=trust_undigested)
+        if "rl" in spec.controllers
+        else None
+    )
     if "feedback" in spec.controllers:
         load_feedback_gains()  # a missing or bad gains file fails here, before any trial
     if policy_path.is_absolute() and policy_path.is_relative_to(Path.cwd()):
@@ -130,7 +140,7 @@ def prepare(
 
 
 def _prepare_several(
-    spec: TrialSpec, paths: list[Path]
+    spec: TrialSpec, paths: list[Path], trust_undigested: bool
 ) -> tuple[list[TrainedPolicy] | None, list[Path]]:
     """Several ``--policy`` files: each loaded and checked (a file named twice, seeds or
     settings that cannot share an evaluation: ConfigError), paths as the provenance shows
@@ -142,7 +152,7 @@ def _prepare_several(
         load_feedback_gains()
     if "rl" not in spec.controllers:
         return None, shown
-    loaded = [load_evaluation_policy(path) for path in paths]
+    loaded = [load_evaluation_policy(p, trust_undigested=trust_undigested) for p in paths]
     policy_seeds(loaded)
     return loaded, shown
 
@@ -196,14 +206,84 @@ def check_out(out: Path) -> None:
         raise ConfigError(f"--out {out}: cannot write in {existing}")
 
 
+PARTIAL_FILE = ".evaluation.partial.pt"
+"""The trials an interrupted evaluation kept, in its output directory (``--resume``)."""
+KEEP_EVERY = 10.0
+"""Seconds between two writes of the kept trials (and one when the command is stopped)."""
+
+
+def open_out(out: Path, force: bool, resume: bool) -> Path | None:
+    """Hold ``out`` for this command and check it: the kept trials file to resume from
+    (``resume``), else None once ``out`` is free to write (an interrupted evaluation there
+    asks for --resume or --force). ConfigError (one line) otherwise."""
+    if resume and force:
+        raise ConfigError("--resume and --force exclude each other: continue, or start over")
+    hold("--out", out, directory=True)
+    kept = out / PARTIAL_FILE
+    if resume:
+        if not kept.is_file():
+            raise ConfigError(f"{out} holds no interrupted evaluation; run without --resume")
+        return kept
+    if kept.is_file() and not force:
+        raise ConfigError(
+            f"{out} holds an interrupted evaluation; pass --resume to continue it or --force "
+            "to start over"
+        )
+    kept.unlink(missing_ok=True)
+    refuse_occupied_dir("--out", out, force)
+    return None
+
+
+def read_kept(kept: Path, made_by: str, trust_undigested: bool) -> dict[str, Any]:
+    """The trials ``kept`` holds; ConfigError unless the same evaluation (``made_by``) kept
+    them."""
+    state = load_checked(kept, "kept trials file", trust_undigested=trust_undigested)
+    if state.pop("made_by", None) != made_by:
+        raise ConfigError(
+            f"{kept} was kept by an evaluation with other options; resume with the options it "
+            "started with, or pass --force to start over"
+        )
+    return state
+
+
+class Keeper:
+    """Writes what an evaluation gathered to its kept trials file every :data:`KEEP_EVERY`
+    seconds, and once more when asked (:meth:`save`, when the command is stopped)."""
+
+    def __init__(
+        self, path: Path, made_by: str, jobs: int, start: dict[str, Any] | None = None
+    ) -> None:
+        self.path, self.made_by, self.jobs = path, made_by, jobs
+        self.snapshot: Callable[[], dict[str, Any]] | None = None
+        self.saved = time.monotonic()
+        self.kept = 0 if start is None else int(start.get("done", 0))
+        """Trials in the file now (a resumed run's, until it writes its own)."""
+
+    def __call__(self, snapshot: Callable[[], dict[str, Any]]) -> None:
+        self.snapshot = snapshot
+        if time.monotonic() - self.saved >= KEEP_EVERY:
+            self.save()
+
+    def save(self) -> int:
+        """Write the trials gathered so far; the number kept (0: none, nothing written)."""
+        if self.snapshot is not None:
+            state = self.snapshot()
+            save_checked(self.path, {"made_by": self.made_by, **state})
+            self.saved, self.kept = time.monotonic(), int(state["done"])
+        return self.kept
+
+
 def run_with_progress(
     spec: TrialSpec,
     policy: TrainedPolicy | list[TrainedPolicy] | None,
     workers: int,
     console: Console,
+    start: dict[str, Any] | None = None,
+    keep: Keeper | None = None,
 ) -> Evaluation:
     """:func:`~pushctl.evaluation.evaluate.evaluate` with a live progress display (episodes
-    done, the running mean force error of each controller, the ETA)."""
+    done, the running mean force error of each controller, the ETA), from the trials
+    ``start`` holds, handing its state to ``keep``."""
     extra = len(policy) - 1 if isinstance(policy, list) and "rl" in spec.controllers else 0
     per_job = len(spec.controllers) + extra  # each further policy pushes every trial
     total = spec.n_episodes // len(spec.controllers) * per_job
@@ -219,8 +299,11 @@ def run_with_progress(
     )
     every = max(1, total // (per_job * LOG_LINES))
     # not a terminal (a log, a pipe): no live bar, whose last frame would wrap mid-field
+    first = 0 if start is None else int(start.get("done", 0))
     with Progress(*columns, console=console, disable=not console.is_terminal) as progress:
-        task = progress.add_task("evaluate", total=total, cell="", errors="")
+        task = progress.add_task(
+            "evaluate", total=total, completed=first * per_job, cell="", errors=""
+        )
 
         def show(result: TrialResult, done: int, jobs: int) -> None:
             for row in result.rows:  # rl: the sum over policies, shown per policy below
@@ -229,7 +312,7 @@ def run_with_progress(
             job = result.job
             cell = f"{job.object} {job.profile} {job.plant}"
             errors = "  ".join(
-                f"|F| {name} {1e3 * total_force / done:.2f} mN"
+                f"|F| {name} {1e3 * total_force / (done - first):.2f} mN"
                 for name, total_force in force_sums.items()
             )
             progress.update(task, completed=done * per_job, cell=cell, errors=errors)
@@ -241,7 +324,7 @@ def run_with_progress(
                     soft_wrap=True,
                 )
 
-        return evaluate(spec, policy, workers=workers, on_trial=show)
+        return evaluate(spec, policy, workers=workers, on_trial=show, start=start, keep=keep)
 
 
 def summary_table(evaluation: Evaluation) -> Table:

@@ -115,7 +115,7 @@ def plan(
 
             write_atomic(plot, lambda tmp: figure.savefig(tmp, format=plot.suffix[1:], dpi=150))
             console.print(f"wrote {plot}")
-    except OSError as error:
+    except (OSError, PushctlError) as error:
         fail_write(error)
 
 

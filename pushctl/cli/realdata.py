@@ -8,7 +8,17 @@ from typing import Annotated
 
 import typer
 
-from pushctl.cli.common import FORCE_HELP, Command, Group, console, fail, fail_write, invocation
+from pushctl.cli.common import (
+    FORCE_HELP,
+    STOPPED,
+    Command,
+    Group,
+    console,
+    fail,
+    fail_write,
+    interrupted,
+    invocation,
+)
 from pushctl.errors import ConfigError, PushctlError
 from pushctl.files.output_guard import refuse_existing_files, refuse_occupied_dir
 
@@ -52,6 +62,7 @@ def fit(
     from pushctl.realdata.replay import ReplaySettings
 
     try:
+        _check_split_seed(split_seed)
         if out.suffix != ".toml":
             raise ConfigError(f"--out must end in .toml, got {str(out)!r}")
         if not out.parent.is_dir():
@@ -65,6 +76,8 @@ def fit(
                        grids=_grids(rim_weights))  # fmt: skip
     except PushctlError as error:
         fail(error)
+    except BaseException as error:
+        _stopped(error)
     _write_text(out, text)
 
 
@@ -93,6 +106,8 @@ def score(
         result = run_score(data, params, settings, split, shapes, workers)
     except PushctlError as error:
         fail(error)
+    except BaseException as error:
+        _stopped(error)
     line = provenance_line(_invocation(ctx))
     try:
         out.mkdir(exist_ok=True)
@@ -130,6 +145,7 @@ def loso(
     from pushctl.realdata.replay import ReplaySettings
 
     try:
+        _check_split_seed(split_seed)
         _prepare_dir(out, force)
         _check_workers(workers)
         settings = ReplaySettings(friction_model=friction_model)
@@ -137,6 +153,8 @@ def loso(
                           progress=lambda line: console.print(line, highlight=False))  # fmt: skip
     except PushctlError as error:
         fail(error)
+    except BaseException as error:
+        _stopped(error)
     line = provenance_line(_invocation(ctx))
     try:
         out.mkdir(exist_ok=True)
@@ -191,6 +209,20 @@ def logs(
                   f"{table['path_rmse_mm'].median():.2f} mm; wrote {out}")  # fmt: skip
 
 
+def _stopped(error: BaseException) -> None:
+    """End a command stopped during its replay in one line: Ctrl-C or SIGTERM (the replay's
+    workers stop with it), or a worker process killed on its own; re-raise anything else."""
+    from concurrent.futures.process import BrokenProcessPool
+
+    if isinstance(error, KeyboardInterrupt) or (
+        isinstance(error, BrokenProcessPool) and STOPPED["terminated"]
+    ):
+        interrupted("nothing written; run the command again")
+    if isinstance(error, BrokenProcessPool):
+        fail(PushctlError("a replay worker process ended unexpectedly (killed?); nothing written"))
+    raise error
+
+
 def _png_writer(fig):
     """A writer for :func:`~pushctl.files.provenance.write_atomic` saving ``fig`` as PNG."""
 
@@ -219,6 +251,11 @@ def _grids(rim_weights: str):
     for w in grid:
         PressurePrior(rim_weight=w)  # |w| <= 20
     return FitGrids(rim_weight=grid)
+
+
+def _check_split_seed(seed: int) -> None:
+    if seed < 0:
+        raise ConfigError(f"--split-seed must be an integer >= 0, got {seed}")
 
 
 def _check_workers(workers: int) -> None:

@@ -12,6 +12,7 @@ from pushctl.cli.common import (
     FORCE_HELP,
     Command,
     console,
+    error_console,
     fail,
     fail_write,
     invocation,
@@ -37,6 +38,13 @@ def report(
         "runs/report"
     ),
     force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
+    trust_undigested: Annotated[
+        bool,
+        typer.Option(
+            "--trust-undigested",
+            help="report from pushctl CSVs without their digest (an edit to them goes unseen)",
+        ),
+    ] = False,
 ) -> None:
     """Tables III and IV (CSV and Markdown, beside the paper's values) and Figs. 5, 6 and 8
     from the evaluation and training CSVs (without a training run, Fig. 5 is skipped)."""
@@ -52,7 +60,7 @@ def report(
         check_out_dir(out)
         refuse_existing_files("--out", report_paths(out), force)
         with console.status("reading the results and drawing the figures"):
-            made = make_report(in_dir, invocation(ctx))
+            made = make_report(in_dir, invocation(ctx), trust_undigested)
         written = write_report(made, out)
     except PushctlError as error:
         fail(error)
@@ -61,5 +69,7 @@ def report(
     console.print(counts_table(made))
     for note in made.notes:
         console.print(f"note: {note}", highlight=False, soft_wrap=True)
+    for warning in made.warnings:
+        error_console.print(f"warning: {warning}", style="bold", highlight=False, markup=False)
     for path in written:
         console.print(f"wrote {path}")

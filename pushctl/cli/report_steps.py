@@ -26,7 +26,7 @@ from pushctl.report.figures import (
     tracking_figure,
     training_figure,
 )
-from pushctl.report.inputs import CURVE, ResultsTable, read_report_inputs, summary
+from pushctl.report.inputs import CURVE, ReportInputs, ResultsTable, read_report_inputs, summary
 from pushctl.report.markdown import tables_markdown
 from pushctl.report.seeds import across_seeds, seed_tables
 from pushctl.report.tables import (
@@ -61,6 +61,8 @@ class Report:
     figures: dict[str, bytes]
     notes: tuple[str, ...] = ()
     """What the inputs could not give, one line each (Fig. 5 without a training curve)."""
+    warnings: tuple[str, ...] = ()
+    """What mixes results that do not belong together (another run's Fig. 5), one line each."""
     per_seed: pd.DataFrame | None = None
     """``table3_seeds.csv`` (:func:`~pushctl.report.seeds.seed_ratios`), written only when
     the trials hold several training seeds."""
@@ -75,6 +77,22 @@ class Report:
         return [TABLE3_FILE, TABLE4_FILE, *more, *seeds, MARKDOWN_FILE, *self.figures]
 
 
+def unmatched_training(inputs: ReportInputs) -> str | None:
+    """Why Fig. 5's training run is not the one whose policy the tables evaluated (the
+    trials' provenance names each evaluated policy's own line, the curve's run has one), or
+    None when it is, or when no policy was evaluated or there is no curve."""
+    trials, curve = inputs.trials, inputs.curve
+    if curve is None or trials.made_by is None or "; policy " not in trials.made_by:
+        return None
+    if curve.made_by is not None and curve.made_by in trials.made_by:
+        return None
+    return (
+        f"Fig. 5 shows the training run of {curve.path} ({summary(curve.made_by, 120)}), but "
+        f"the tables' RL rows evaluated another policy (see {trials.path}'s first line): "
+        "report them apart, or evaluate that run's policy.pt"
+    )
+
+
 def _source(table: ResultsTable) -> str:
     """``path [its made-by line, shortened]``, for another file's provenance."""
     return f"{table.path} [{summary(table.made_by)}]"
@@ -86,11 +104,11 @@ def _png(figure: Figure, description: str) -> bytes:
     return buffer.getvalue()
 
 
-def make_report(in_dir: Path, command: str) -> Report:
+def make_report(in_dir: Path, command: str, trust_undigested: bool = False) -> Report:
     """Read and check ``in_dir``'s inputs, compute the tables and render the figures;
     ``command`` is the invocation for the provenance lines. Raises
     :class:`~pushctl.report.inputs.ResultsFileError` for a bad input; writes nothing."""
-    inputs = read_report_inputs(in_dir)
+    inputs = read_report_inputs(in_dir, trust_undigested=trust_undigested)
     made_by = provenance_line(command)
     seeds = seed_tables(inputs.trials.frame)
     three, four = seeds.table3, seeds.table4
@@ -100,7 +118,10 @@ def make_report(in_dir: Path, command: str) -> Report:
         (FIG6_FILE, tracking_figure(inputs.steps.frame), inputs.steps),
         (FIG8_FILE, force_error_figure(inputs.steps.frame), inputs.steps),
     ]
-    notes = []
+    notes, warnings = [], []
+    other_run = unmatched_training(inputs)
+    if other_run is not None:
+        warnings.append(other_run)
     if inputs.curve is not None:
         drawings.insert(0, (FIG5_FILE, training_figure(inputs.curve.frame), inputs.curve))
     else:
@@ -116,6 +137,7 @@ def make_report(in_dir: Path, command: str) -> Report:
         markdown=markdown,
         figures=figures,
         notes=tuple(notes),
+        warnings=tuple(warnings),
         per_seed=seeds.per_seed if seeds.several else None,  # one seed: as before
         more={
             TABLE3_PROXY_FILE: (

@@ -45,7 +45,8 @@ def reproduce_command(
         bool, typer.Option("--force", help="overwrite a results directory it did not make")
     ] = False,
 ) -> None:
-    """Make the shipped results again: train, evaluate, report, bench (about an hour)."""
+    """Make the shipped results again: train, evaluate, report, bench (about 2 h on two
+    cores: docs/performance.md)."""
     from pushctl.cli.reproduce_manifest import minutes
     from pushctl.cli.reproduce_plan import MANIFEST, check_owned
     from pushctl.cli.reproduce_steps import choose_setup, reproduce

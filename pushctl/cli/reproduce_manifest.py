@@ -1,10 +1,11 @@
 """The manifest ``results/provenance.md`` of ``pushctl reproduce`` (``make
 reproduce-tables``): each step's command, exit code and wall time, the git commit, the seeds
-and the date, and each stage's wall time beside the project's time budget.
+and the date, and each stage's wall time with how it ran (the seeds side by side, the
+pushes evaluated): it reports timings and grades none of them.
 
 It is written atomically before the first step ("running"), after each step, and at the end,
-also when a step fails (then naming it). When the bench ran, a line sets MuJoCo's step on this
-machine beside its time on the machine the budgets were set on (:func:`machine_speed_lines`).
+also when a step fails (then naming it). When the bench ran, a line gives MuJoCo's step on
+this machine, a measure of its speed (:func:`machine_speed_lines`).
 """
 
 from __future__ import annotations
@@ -29,18 +30,8 @@ from pushctl.files.provenance import git_commit, write_atomic
 from pushctl.machine import machine_description, usable_cores
 from pushctl.version import VERSION
 
-TRAINING_BUDGET = 20 * 60.0
-"""The budget for one training run of the ``paper`` preset on the reference machine [s]."""
-EVALUATION_BUDGET = 3 * 60.0 / 1200
-"""The evaluation's budget, 3 min for 1200 episodes, per episode [s]."""
-BUDGET_MACHINE_MJ_STEP = 10.4
-"""MuJoCo's step of the arm pushing the cube on the machine the budgets were set on
-(2026-11-23) [µs]: the manifest sets this run's own beside it."""
 MJ_STEP_ROW = "world step arm+cube [mujoco mj_step alone]"
 """The bench row (``benchmarks/engines.py``) with MuJoCo's step alone [µs]."""
-TOTAL_BUDGETS = {1: 30 * 60.0, 3: 60 * 60.0, 5: 120 * 60.0}
-"""The whole ``make reproduce-tables`` by training seeds [s] (other counts: interpolated):
-2 h with five seeds, 60 min with three, 30 min with one."""
 
 
 def commands(setup: Setup) -> tuple[str, str]:
@@ -85,11 +76,11 @@ def write_manifest(
         "|---|---|---|---|",
         *(f"| {r.name} | `{r.command}` | {r.returncode} | {minutes(r.seconds)} |" for r in records),
         "",
-        *budget_lines(setup, records),
+        *timing_lines(setup, records),
         "A `train` step that finds its run finished trains nothing and takes seconds; each",
         "seed's own training wall time (summed over every session that trained it, a stopped",
         "one up to its last episode) is in its run directory's `timing.json`, which the",
-        "budgets above read.",
+        "timings above read.",
         "",
     ]
     setup.results.mkdir(parents=True, exist_ok=True)
@@ -115,58 +106,39 @@ def training_commit_lines(setup: Setup) -> list[str]:
 
 
 @dataclass(frozen=True)
-class Budget:
-    """A stage's wall time [s] (None: not recorded) beside its budget [s] (None: none is
-    set), with what the budget is based on."""
+class Timing:
+    """A stage's wall time [s] (None: not recorded) and how it ran."""
 
     stage: str
     seconds: float | None
-    budget: float | None
-    basis: str
-
-    @property
-    def met(self) -> bool | None:
-        if self.seconds is None or self.budget is None:
-            return None
-        return self.seconds <= self.budget
+    note: str
 
 
-def budgets(setup: Setup, records: list[StepRecord]) -> list[Budget]:
-    """Each stage's wall time beside its budget: training per seed (its own wall time,
-    :data:`~pushctl.runs.seeds.TIMING`; the seeds train side by side, which the basis
-    says, as the budget is for one run alone), the evaluation (3 min per 1200 episodes,
-    scaled to the episodes it ran), the report, and the whole run (30 min with one training
-    seed, 60 min with three). A run whose ``train`` step resumed has its whole-run time for
-    this invocation only: the basis says so."""
+def timings(setup: Setup, records: list[StepRecord]) -> list[Timing]:
+    """Each stage's wall time: training per seed (its own wall time,
+    :data:`~pushctl.runs.seeds.TIMING`, with the seeds that trained side by side),
+    the evaluation (with the pushes it ran), the report, and the whole run (this invocation
+    only when its ``train`` step resumed earlier runs)."""
     from pushctl.runs.seeds import TIMING, read_timing  # Ray only when reporting
 
     took = {record.name: record.seconds for record in records}
     rows = []
-    other = "" if setup.preset == "paper" else f"; this run: preset {setup.preset}"
     shared = ""
-    if len(setup.seeds) > 1:  # the budget is for one run alone; say how these ran
-        shared = f"; here {len(setup.seeds)} seeds at once on {usable_cores()} cores"
+    if len(setup.seeds) > 1:
+        shared = f"; {len(setup.seeds)} seeds at once on {usable_cores()} cores"
     for seed in setup.seeds:
         timing = read_timing(seed_run(setup, seed) / TIMING)
         seconds = None if timing is None else float(timing["seconds"])
-        basis = f"the paper preset, one seed{other}{shared}"
-        rows.append(Budget(f"training, seed {seed}", seconds, TRAINING_BUDGET, basis))
+        rows.append(Timing(f"training, seed {seed}", seconds, f"preset {setup.preset}{shared}"))
     episodes = _evaluated_episodes(setup.results / "evaluation" / "trials.csv")
-    if episodes:
-        budget, basis = EVALUATION_BUDGET * episodes, f"3 min per 1200 episodes; {episodes} run"
-    else:
-        budget, basis = None, "no trials.csv to count its episodes"
-    rows.append(Budget("evaluation", took.get("evaluate"), budget, basis))
-    rows.append(Budget("report", took.get("report"), None, "no budget set"))
-    count = len(setup.seeds)
-    total = TOTAL_BUDGETS.get(count)
-    basis = f"{count} training seed{'s' if count > 1 else ''}"
-    if total is None:  # between (or beyond) the two set points, on their line
-        total = TOTAL_BUDGETS[1] + (TOTAL_BUDGETS[3] - TOTAL_BUDGETS[1]) / 2 * (count - 1)
-        basis += " (interpolated from 30 min for 1, 60 min for 3)"
+    rows.append(
+        Timing("evaluation", took.get("evaluate"), f"{episodes} pushes" if episodes else "")
+    )
+    rows.append(Timing("report", took.get("report"), ""))
+    note = f"{len(setup.seeds)} training seed{'s' if len(setup.seeds) > 1 else ''}"
     if any(r.name == "train" and "--resume" in r.command.split() for r in records):
-        basis += "; this invocation only: its training resumed earlier runs"
-    rows.append(Budget("whole run", sum(took.values()) if records else None, total, basis))
+        note += "; this invocation only: its training resumed earlier runs"
+    rows.append(Timing("whole run", sum(took.values()) if records else None, note))
     return rows
 
 
@@ -180,33 +152,25 @@ def _evaluated_episodes(trials: Path) -> int:
     return max(len(rows) - 1, 0)  # the header
 
 
-def budget_lines(setup: Setup, records: list[StepRecord]) -> list[str]:
-    rows = budgets(setup, records)
-    verdicts = [row for row in rows if row.met is not None]
-    missed = [row.stage for row in verdicts if not row.met]
-    summary = f"{len(verdicts) - len(missed)} of {len(verdicts)} budgets met"
-    summary += f"; missed: {', '.join(missed)}" if missed else ""
-    word = {True: "yes", False: "**no**", None: "—"}
+def timing_lines(setup: Setup, records: list[StepRecord]) -> list[str]:
     return [
-        "## Budgets (this machine)",
+        "## Timings (this machine)",
         "",
-        "| stage | wall time | budget | met | budget for |",
-        "|---|---|---|---|---|",
+        "| stage | wall time | how it ran |",
+        "|---|---|---|",
         *(
-            f"| {row.stage} | {_maybe_minutes(row.seconds)} | {_maybe_minutes(row.budget)} "
-            f"| {word[row.met]} | {row.basis} |"
-            for row in rows
+            f"| {row.stage} | {_maybe_minutes(row.seconds)} | {row.note} |"
+            for row in timings(setup, records)
         ),
         "",
-        f"- {summary}",
         *machine_speed_lines(setup, records),
         "",
     ]
 
 
 def machine_speed_lines(setup: Setup, records: list[StepRecord]) -> list[str]:
-    """The machine's speed beside that of the machine the budgets were set on, as MuJoCo's
-    step alone in this run's bench (none if the bench did not run and succeed here)."""
+    """The machine's speed as MuJoCo's step alone in this run's bench (none if the bench
+    did not run and succeed here)."""
     if not any(r.name == "bench" and r.returncode == 0 for r in records):
         return []
     step = bench_value(setup.results / "bench.csv", MJ_STEP_ROW)
@@ -214,10 +178,8 @@ def machine_speed_lines(setup: Setup, records: list[StepRecord]) -> list[str]:
         return []
     return [
         f"- this machine's speed: MuJoCo's `mj_step` alone took {step:.1f} µs in this run's "
-        f"bench, {BUDGET_MACHINE_MJ_STEP} µs on the machine the budgets were set on "
-        f"(2026-11-23): {step / BUDGET_MACHINE_MJ_STEP:.1f} times as long. The budgets "
-        "above are not scaled by it; the machine's speed also swings between and within "
-        "runs (docs/performance.md)."
+        "bench; the speed also swings between and within runs with the machine's load "
+        "(docs/performance.md)."
     ]
 
 

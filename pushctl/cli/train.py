@@ -21,6 +21,7 @@ from pushctl.cli.common import (
     invocation,
 )
 from pushctl.errors import PushctlError
+from pushctl.ranges import check_range
 
 app = typer.Typer()
 
@@ -34,7 +35,10 @@ def train(
     ] = None,
     episodes: Annotated[
         int | None,
-        typer.Option(help="episodes in all, counting resumed ones", show_default="the preset's"),
+        typer.Option(
+            help="episodes in all, counting resumed ones",
+            show_default="the preset's; on --resume, the run's own",
+        ),
     ] = None,
     seed: Annotated[
         int | None,
@@ -46,6 +50,13 @@ def train(
     ] = None,
     resume: Annotated[bool, typer.Option("--resume", help="continue the run in --out")] = False,
     force: Annotated[bool, typer.Option("--force", help="start over in an occupied --out")] = False,
+    trust_undigested: Annotated[
+        bool,
+        typer.Option(
+            "--trust-undigested",
+            help="resume from a checkpoint without its digest (an edit to it goes unseen)",
+        ),
+    ] = False,
     seeds: Annotated[
         str | None,
         typer.Option(
@@ -71,6 +82,14 @@ def train(
     checkpoint, the training curves (Fig. 5) and the policy to the run directory."""
     if algo not in ("ddpg", "sb3-sac"):
         fail(PushctlError(f"--algo must be ddpg or sb3-sac, got {algo!r}"))
+    from pushctl.cli.names import check_train_options
+
+    try:  # every path (one run, several seeds, sb3-sac), before the core is imported
+        if episodes is not None:
+            check_range("training episodes", episodes, "--episodes: ")
+        check_train_options(preset, seed, out, resume, force)
+    except PushctlError as error:
+        fail(error)
     if algo == "sb3-sac":
         return _train_sac(ctx, preset, episodes, seed, out, resume, force, seeds)
     if seeds is not None:
@@ -94,11 +113,10 @@ def train(
     from pushctl.rl.train import CURVE, POLICY
 
     try:
-        trainer = prepare_trainer(preset, seed, out, resume, force)
+        trainer = prepare_trainer(preset, seed, out, resume, force, trust_undigested)
         trainer.collectors = workers  # no result depends on it (pushctl.rl.train)
-        total = episodes if episodes is not None else trainer.preset.train.episodes
-        if total < 1:
-            raise PushctlError(f"--episodes must be an integer >= 1, got {total}")
+        total = trainer.target(episodes)  # a resumed run: its own target unless asked
+        check_range("training episodes", total, "--episodes: ")
     except PushctlError as error:
         fail(error)
     if trainer.finished(total):
@@ -109,7 +127,7 @@ def train(
         note_if_cold(error_console)
         run_with_progress(trainer, total, made_by, console)
     except KeyboardInterrupt:
-        interrupted(resume_advice(trainer.out))
+        interrupted(resume_advice(trainer.out, total))
     except (OSError, PushctlError) as error:
         fail_write(error)
     console.print(summary_table(trainer))
@@ -120,13 +138,19 @@ def train(
         fail(error)
 
 
-def resume_advice(directory: Path) -> str:
+def resume_advice(directory: Path, episodes: int) -> str:
     """What an interrupted run kept and how to continue it: ``--resume`` from its last
-    checkpoint, or, stopped before its first one, the same command again (nothing kept)."""
+    checkpoint to the ``episodes`` it was asked for, or, stopped before its first one, the
+    same command again (nothing kept)."""
+    import shlex
+
     from pushctl.rl.train import CHECKPOINT
 
     if (directory / CHECKPOINT).is_file():
-        return f"`pushctl train --resume --out {directory}` continues from the last checkpoint"
+        return (
+            f"`pushctl train --resume --episodes {episodes} --out {shlex.quote(str(directory))}` "
+            "continues from the last checkpoint"
+        )
     return (
         f"stopped before the first checkpoint, nothing kept in {directory}; run the same "
         "command again to start over"
@@ -165,6 +189,7 @@ def _train_seeds(ctx, preset, episodes, seed, out, resume, force, seeds, address
 def _train_sac(ctx, preset, episodes, seed, out, resume, force, seeds) -> None:
     """``pushctl train --algo sb3-sac``: :func:`pushctl.rl.sb3.train_sac` (one seed, no
     resume)."""
+    from pushctl.files.output_guard import hold, occupied
     from pushctl.files.provenance import provenance_line
     from pushctl.rl.presets import load_preset
     from pushctl.rl.sb3 import MODEL, train_sac
@@ -172,17 +197,18 @@ def _train_sac(ctx, preset, episodes, seed, out, resume, force, seeds) -> None:
     try:
         if resume or seeds is not None:
             raise PushctlError("--algo sb3-sac trains one seed from the start: no --resume/--seeds")
-        if episodes is not None and episodes < 1:
-            raise PushctlError(f"--episodes must be an integer >= 1, got {episodes}")
+        if episodes is not None:
+            check_range("training episodes", episodes, "--episodes: ")
         if seed is not None and seed < 0:
             raise PushctlError(f"--seed must be an integer >= 0, got {seed}")
         name, chosen_seed = preset or "quick", seed or 0
         chosen = load_preset(name)
         directory = out if out is not None else Path("runs") / f"{name}-sac-seed{chosen_seed}"
+        hold("--out", directory, directory=True)  # one command at a time, until this one ends
         if force:  # only what such a run writes; anything else still stops it
             for stale in (MODEL, "policy.pt", "policy_last.pt", "validation.csv"):
                 (directory / stale).unlink(missing_ok=True)
-        if directory.is_dir() and any(directory.iterdir()):
+        if occupied(directory):
             raise PushctlError(f"{directory} already holds a run; --force starts over")
         made_by = provenance_line(invocation(ctx), f"seed {chosen_seed} (training stream)")
         row = train_sac(chosen, chosen_seed, directory, made_by, episodes, log=console.print)

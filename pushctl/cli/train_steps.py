@@ -31,7 +31,12 @@ LOG_EVERY = 25
 
 
 def prepare_trainer(
-    preset: str | None, seed: int | None, out: Path | None, resume: bool, force: bool
+    preset: str | None,
+    seed: int | None,
+    out: Path | None,
+    resume: bool,
+    force: bool,
+    trust_undigested: bool = False,
 ) -> Trainer:
     """A new or resumed trainer for the options; ConfigError (one line) for an unknown
     preset, a clash of --resume and --force, an occupied output directory, or a checkpoint
@@ -46,7 +51,7 @@ def prepare_trainer(
         raise ConfigError(f"--out {directory} is a file; give a directory")
     hold("--out", directory, directory=True)  # one command at a time, until this one ends
     if resume:
-        trainer = Trainer.resume(directory)
+        trainer = Trainer.resume(directory, trust_undigested=trust_undigested)
         saved = trainer.preset.name, trainer.seed
         if (preset is not None and preset != saved[0]) or (seed is not None and seed != saved[1]):
             raise ConfigError(

@@ -15,12 +15,13 @@ from __future__ import annotations
 
 import os
 import re
+from collections.abc import Callable
 from pathlib import Path
 
 from rich.console import Console
 
 PACKAGE = Path(__file__).resolve().parent.parent
-COMPILING = "compiling the simulator's kernels (first run only, about a minute)…"
+COMPILING = "compiling the simulator's kernels (first run only, a few minutes)…"
 _KERNEL = re.compile(r"^@(?:numba\.)?njit", re.MULTILINE)
 WARM_DURATION = 1.0
 """Seconds pushed by each of :func:`warm`'s pushes [s]: the gate opens and a prong slips."""
@@ -45,10 +46,29 @@ def note_if_cold(console: Console) -> None:
         console.print(COMPILING, highlight=False, markup=False, soft_wrap=True)
 
 
-def warm() -> None:
+STEPS = 7
+""":func:`warm`'s steps: loading, four pushes (two objects, two plants), two training
+episodes."""
+
+
+def warm(report: Callable[[str], None] | None = None) -> None:
     """Compile every kernel a command calls: a :data:`WARM_DURATION` push of each object on
     the ``sim`` and ``proxy`` plants with each controller (the shipped policy for ``rl``),
-    and one short training episode. A second call finds them cached: a few seconds."""
+    and one short training episode. A second call finds them cached: a few seconds.
+    ``report`` is told each step as it starts (``step 2 of 6: …``) and the total at the end."""
+    import time
+
+    started = time.perf_counter()
+    step = 0
+
+    def say(what: str) -> None:
+        nonlocal step
+        step += 1
+        if report is not None:
+            took = time.perf_counter() - started
+            report(f"step {step} of {STEPS}: {what} ({took // 60:.0f} min {took % 60:02.0f} s)")
+
+    say("loading the simulator")
     from pushctl.cli.simulate_steps import push, simulate_scenario
     from pushctl.control import load_gains
     from pushctl.rl.warm_up import compile_kernels
@@ -58,6 +78,7 @@ def warm() -> None:
     unchanged = {"mu_ground": None, "mu_contact": None, "object_mass": None}
     for object_name in ("cube", "wedge"):
         for plant in ("sim", "proxy"):
+            say(f"pushing the {object_name} on {plant} with each controller")
             scenario, _ = simulate_scenario(
                 object_name, "chirp", None, 0, False, unchanged, WARM_DURATION,
                 "kinova-gen2-7dof", plant,
@@ -65,4 +86,18 @@ def warm() -> None:
             for controller in ("pd", "feedback", "rl"):
                 push(scenario, controller, gains, None, plant)
     for base_law in ("none", "feedback"):
+        say(f"a training episode on base law {base_law}")
         compile_kernels(EnvConfig(base_law=base_law, action_repeat=10), gains, (16, 16))
+    if report is not None:
+        took = time.perf_counter() - started
+        report(f"kernels compiled in {took // 60:.0f} min {took % 60:02.0f} s; cached for later")
+
+
+def main() -> None:
+    """``python -m pushctl.cli.warm`` (``make install``): :func:`warm`, saying each step."""
+    print("compiling the simulator's kernels, once (5-11 min on two cores):", flush=True)
+    warm(report=lambda line: print(f"  {line}", flush=True))
+
+
+if __name__ == "__main__":
+    main()

@@ -79,10 +79,10 @@ class Evaluation:
     redrawn: int
 
 
-def load_evaluation_policy(path: str | Path) -> TrainedPolicy:
+def load_evaluation_policy(path: str | Path, *, trust_undigested: bool = False) -> TrainedPolicy:
     """:func:`~pushctl.rl.policy.load_policy`, then ConfigError (one line) unless the actor
     fits the environment: its observation and action sizes."""
-    policy = load_policy(path)
+    policy = load_policy(path, trust_undigested=trust_undigested)
     actor = policy.actor.actor
     n_obs = len(
         observation_entries(
@@ -108,6 +108,8 @@ def evaluate(
     env_config: EnvConfig | None = None,
     on_trial: OnTrial | None = None,
     feedback_gains: FeedbackGains | None = None,
+    start: dict[str, Any] | None = None,
+    keep: Callable[[Callable[[], dict[str, Any]]], None] | None = None,
 ) -> Evaluation:
     """Run every trial of ``spec`` and gather the tables.
 
@@ -120,6 +122,9 @@ def evaluate(
     ``feedback_gains``: the feedback law's (default ``pushctl/defaults/feedback_gains.toml``,
     read only when ``feedback`` runs); it pushes with today's default residual settings
     (:func:`~pushctl.evaluation.controllers.feedback_config`). ``workers``: 1 … 8 processes.
+    ``keep`` is handed, after each job, a function returning what the jobs so far gathered
+    (plain values and tensors, for ``torch.save``); ``start``, such a state, makes a resumed
+    evaluation run only the jobs after it, to the same bytes as one run straight through.
     """
     check_workers(workers)
     none = policy is None or (not isinstance(policy, TrainedPolicy) and len(policy) == 0)
@@ -152,11 +157,14 @@ def evaluate(
         spec.pusher, spec.stream,
     )  # fmt: skip
     jobs = spec.jobs()
-    gathered = _Gathered(spec)
-    for done, result in enumerate(_results(jobs, setup, workers), start=1):
+    gathered = _Gathered(spec) if start is None else _Gathered.restored(spec, start, len(jobs))
+    skip = gathered.done  # the jobs a resumed evaluation has already gathered
+    for done, result in enumerate(_results(jobs[skip:], setup, workers), start=skip + 1):
         gathered.add(result)
         if on_trial is not None:
             on_trial(result, done, len(jobs))
+        if keep is not None:
+            keep(gathered.state)
     return gathered.evaluation()
 
 
@@ -302,6 +310,11 @@ def _worker_context(*setup: Any) -> _Context:
 # ---------------------------------------------------------------------------- gathering
 
 
+def _plain(value: Any) -> Any:
+    """A numpy scalar as the Python value it holds (the same number), anything else as is."""
+    return value.item() if isinstance(value, np.generic) else value
+
+
 class _Gathered:
     """Rows and per-step sums, filled in job order."""
 
@@ -312,8 +325,39 @@ class _Gathered:
         self.counts: dict[tuple[str, str, str, str], int] = {}
         self.t: np.ndarray | None = None
         self.redrawn: dict[tuple[str, str, int], int] = {}
+        self.done = 0
+        """Jobs gathered so far (the first ones, in job order)."""
+
+    def state(self) -> dict[str, Any]:
+        """What the jobs so far gathered, as plain values and tensors (exact: float64)."""
+        return {
+            "done": self.done,
+            "rows": [{k: _plain(v) for k, v in row.items()} for row in self.rows],
+            "sums": {key: torch.from_numpy(value.copy()) for key, value in self.sums.items()},
+            "counts": dict(self.counts),
+            "t": None if self.t is None else torch.from_numpy(self.t.copy()),
+            "redrawn": dict(self.redrawn),
+        }
+
+    @classmethod
+    def restored(cls, spec: TrialSpec, state: dict[str, Any], jobs: int) -> _Gathered:
+        """The gathering :meth:`state` describes; ConfigError if it does not fit ``jobs``."""
+        gathered = cls(spec)
+        try:
+            gathered.done = int(state["done"])
+            gathered.rows = [dict(row) for row in state["rows"]]
+            gathered.sums = {tuple(k): v.numpy().copy() for k, v in state["sums"].items()}
+            gathered.counts = {tuple(k): int(v) for k, v in state["counts"].items()}
+            gathered.t = None if state["t"] is None else state["t"].numpy().copy()
+            gathered.redrawn = {tuple(k): int(v) for k, v in state["redrawn"].items()}
+        except (KeyError, TypeError, AttributeError, ValueError) as exc:
+            raise ConfigError(f"the kept trials are not an evaluation's ({exc})") from None
+        if not 0 <= gathered.done <= jobs:
+            raise ConfigError(f"the kept trials number {gathered.done}, the evaluation {jobs}")
+        return gathered
 
     def add(self, result: TrialResult) -> None:
+        self.done += 1
         job = result.job
         self.rows.extend(result.rows)
         self.redrawn[(job.object, job.profile, job.trial)] = result.redrawn

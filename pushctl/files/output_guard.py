@@ -15,7 +15,8 @@ by a file the same run wrote.
 One command at a time: before its check, a command takes an exclusive lock on its output
 (:func:`hold`; a directory's ``.pushctl.lock``, a file's ``.NAME.lock`` beside it, both
 ``fcntl.flock`` locks, which the system drops when the process ends, killed or not) and holds
-it until it returns. A second command writing there meanwhile is refused in one line. The
+it until it returns; a directory not made yet is made first, so the lock is held before
+anything is written there. A second command writing there meanwhile is refused in one line. The
 lock file is removed when the command ends; a killed command's one is left, unlocked, and
 counts as nothing. The hidden temporary folders of a killed command's writes
 (``.NAME.PID.tmp/``) count as nothing either, and the next command holding the directory
@@ -39,9 +40,10 @@ _TEMPORARY = re.compile(r"^\..+\.(\d+)\.tmp$")
 """A temporary folder of :func:`pushctl.files.provenance.write_atomic`: ``.NAME.PID.tmp``."""
 _held: dict[Path, int] = {}
 """Lock file → open descriptor, for the locks this process holds."""
-_created: set[Path] = set()
-"""The lock files of output directories this process created: removed again on release if
-the command left them empty (a refused or failed command leaves no empty directory)."""
+_created: dict[Path, list[Path]] = {}
+"""Lock file → the directories this process created for it (deepest first): removed again
+on release if the command left them empty (a refused or failed command leaves no empty
+directory)."""
 
 
 def refuse_existing_files(option: str, paths: Iterable[Path | None], force: bool) -> None:
@@ -94,34 +96,46 @@ def is_ours(name: str) -> bool:
 def hold(option: str, path: Path, *, directory: bool = False) -> None:
     """Lock ``path`` (an output file, or with ``directory`` an output directory) for this
     command until it returns; ConfigError (one line) if another process holds it. Taking a
-    lock this process already holds does nothing. A directory that does not exist yet is
-    created (and removed again on release if the command wrote nothing into it); then the
-    killed commands' temporary folders in it are removed. The lock is released when the
-    command returns (the click context closes), else when the process exits."""
+    lock this process already holds does nothing. A directory that does not exist yet (the
+    output directory, or an output file's directory) is created first, so the lock is held
+    before anything is written there, and removed again on release if the command wrote
+    nothing into it; then the killed commands' temporary folders in it are removed. The
+    lock is released when the command returns (the click context closes), else when the
+    process exits."""
     path = Path(path)
     if directory:
         if path.exists() and not path.is_dir():
             raise ConfigError(f"{option} {path} is a file; give a directory")
-        created = not path.exists()
-        try:
-            path.mkdir(parents=True, exist_ok=True)
-        except OSError as error:
-            raise ConfigError(f"{option}: cannot create {path}: {error.strerror}") from None
-        lock = path / LOCK_NAME
-        if created:
-            _created.add(lock.absolute())
+        home, lock = path, path / LOCK_NAME
     else:
-        if not path.parent.is_dir():
-            return  # the command's own check reports the missing directory
-        lock = path.with_name(f".{path.name}.lock")
+        home, lock = path.parent, path.with_name(f".{path.name}.lock")
+        if home.exists() and not home.is_dir():
+            return  # the command's own check reports a file where its directory should be
+    made = _make_directory(option, home)
     key = lock.absolute()
     if key in _held:
         return
-    descriptor = _acquire(option, path, lock)
+    try:
+        descriptor = _acquire(option, path, lock)
+    except ConfigError:
+        _remove_empty(made)
+        raise
     _held[key] = descriptor
+    if made:
+        _created[key] = made
     _release_when_done(key)
     if directory:
         sweep_temporaries(path)
+
+
+def _make_directory(option: str, directory: Path) -> list[Path]:
+    """Create ``directory`` and its missing parents; return those created, deepest first."""
+    missing = [d for d in (directory, *directory.parents) if not d.exists()]
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise ConfigError(f"{option}: cannot create {directory}: {error.strerror}") from None
+    return [d.absolute() for d in missing]
 
 
 def _acquire(option: str, path: Path, lock: Path) -> int:
@@ -149,10 +163,19 @@ def _acquire(option: str, path: Path, lock: Path) -> int:
         except FileNotFoundError:
             same = False
         if same:
-            os.ftruncate(descriptor, 0)
-            os.write(descriptor, f"{os.getpid()}\n".encode())
+            _write_holder(descriptor)
             return descriptor
         os.close(descriptor)
+
+
+def _write_holder(descriptor: int) -> None:
+    """Write this process's id into its lock file, for the message of a refused command; on
+    a full disk the lock holds without it (the command's own writes then say why)."""
+    try:
+        os.ftruncate(descriptor, 0)
+        os.write(descriptor, f"{os.getpid()}\n".encode())
+    except OSError:
+        pass
 
 
 def _read_holder(descriptor: int) -> str:
@@ -181,12 +204,16 @@ def release(lock: Path | None = None) -> None:
         except OSError:
             pass
         os.close(descriptor)
-        if key in _created:
-            _created.discard(key)
-            try:
-                key.parent.rmdir()  # only if empty
-            except OSError:
-                pass
+        _remove_empty(_created.pop(key, []))
+
+
+def _remove_empty(directories: list[Path]) -> None:
+    """Remove ``directories`` (deepest first) while they are empty."""
+    for directory in directories:
+        try:
+            directory.rmdir()
+        except OSError:
+            break
 
 
 def sweep_temporaries(directory: Path) -> list[Path]:

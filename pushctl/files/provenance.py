@@ -173,13 +173,14 @@ DIGEST_PREFIX = "# sha256: "
 """The start of a CSV's last line: the SHA-256 (hex) of every byte before that line."""
 
 
-def csv_digest_problem(data: bytes) -> str | None:
+def csv_digest_problem(data: bytes, required: bool = False) -> str | None:
     """Why a CSV's bytes ``data`` (decompressed) do not match the digest on their last line,
-    or None if they do or have none (a file written by hand or by an older pushctl)."""
+    or None if they do. A file without one (written by hand, by an older pushctl, or cut
+    short, or its digest removed) is a problem only if the digest is ``required``."""
     start = data.rfind(b"\n", 0, len(data) - 1) + 1
     last = data[start:]
     if not last.startswith(DIGEST_PREFIX.encode()):
-        return None
+        return "it has no digest line (cut short, or its digest removed)" if required else None
     recorded = last[len(DIGEST_PREFIX) :].strip().decode("ascii", "replace")
     if hashlib.sha256(data[:start]).hexdigest() != recorded:
         return "its rows do not match the digest on its last line (edited or damaged)"

@@ -9,6 +9,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
 
 from pushctl.realdata.metrics import COMPONENTS, predicted, recorded  # noqa: E402
 
@@ -67,11 +68,22 @@ def example_pushes_figure(
                 "r.-", lw=0.8)  # fmt: skip
         ax.set_aspect("equal")
         ax.set_title(f"{row.push_id}", fontsize=7)
-        ax.tick_params(labelsize=6)
-    fig.suptitle("grey: start, black: recorded end, blue: ours, orange dashed: Zhou [mm]",
-                 fontsize=8)  # fmt: skip
-    fig.tight_layout()
+        _label_mm(ax)
+    entries = [("0.6", "-", "start"), ("k", "-", "recorded end"), ("tab:blue", "-", "ours")]
+    if zhou is not None:
+        entries.append(("tab:orange", "--", "Zhou"))
+    handles = [Line2D([], [], color=c, ls=s, lw=1, label=name) for c, s, name in entries]
+    handles.append(Line2D([], [], color="r", marker=".", lw=0.8, label="pusher tip"))
+    fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=7)
+    fig.suptitle("recorded pushes: the object's outline at the start and the end", fontsize=8)
+    fig.tight_layout(rect=(0, 0.08, 1, 1))
     return fig
+
+
+def _label_mm(ax) -> None:  # noqa: ANN001 (a matplotlib Axes)
+    ax.set_xlabel("x [mm]", fontsize=7)
+    ax.set_ylabel("y [mm]", fontsize=7)
+    ax.tick_params(labelsize=6)
 
 
 def logs_figure(segments, replays, count: int = 6):
@@ -93,7 +105,13 @@ def logs_figure(segments, replays, count: int = 6):
             ax.plot(seg.pusher[:, 0] * 1e3, seg.pusher[:, 1] * 1e3, color="0.7", lw=0.6)
         ax.set_aspect("equal")
         ax.set_title(start, fontsize=7)
-        ax.tick_params(labelsize=6)
-    fig.suptitle("object centre [mm]: recorded (black), replayed (blue); pusher (grey)", fontsize=8)
-    fig.tight_layout()
+        _label_mm(ax)
+    handles = [
+        Line2D([], [], color=c, lw=w, label=name)
+        for c, w, name in (("k", 1, "object centre, recorded"), ("tab:blue", 1,
+                           "object centre, replayed"), ("0.7", 0.6, "pusher"))
+    ]  # fmt: skip
+    fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=7)
+    fig.suptitle("two-finger logs: the first log of each start", fontsize=8)
+    fig.tight_layout(rect=(0, 0.1, 1, 1))
     return fig

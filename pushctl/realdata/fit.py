@@ -17,7 +17,8 @@ import numpy as np
 import pandas as pd
 import tomllib
 
-from pushctl.errors import ConfigError
+from pushctl.errors import ConfigError, reason
+from pushctl.ranges import check_range
 from pushctl.realdata.metrics import group_scores
 from pushctl.realdata.replay import ReplaySettings, SurfaceParameters, replay_pushes
 
@@ -80,8 +81,12 @@ def fit_surfaces(
             if params not in scores:
                 end = cache.ends(part, surface, params)
                 scores[params] = float(group_scores(part, end)["nmse"].mean())
-                if progress is not None:
-                    progress(f"{surface}: {params} -> NMSE {scores[params]:.4f}")
+                if progress is not None and scores[params] == min(scores.values()):
+                    progress(
+                        f"{surface}: best so far μ_c {params.mu_contact:g}, μ_g "
+                        f"{params.mu_ground:g}, rim weight {params.rim_weight:g}: NMSE "
+                        f"{scores[params]:.4f} ({len(scores)} tried)"
+                    )
             return scores[params]
 
         best = SurfaceParameters()
@@ -139,8 +144,12 @@ def read_friction(path: Path) -> tuple[dict[str, SurfaceParameters], ReplaySetti
             for name, table in data["surface"].items()
         }  # fmt: skip
     except (KeyError, TypeError, ValueError, AttributeError) as error:
-        raise ConfigError(f"--friction: {path} is not a friction fit ({error})") from None
+        raise ConfigError(f"--friction: {path} is not a friction fit ({reason(error)})") from None
     if not params:
         raise ConfigError(f"--friction: {path} names no surface")
+    for surface, values in params.items():
+        for name in ("mu_contact", "mu_ground"):
+            check_range("friction coefficient", getattr(values, name),
+                        f"--friction: {path}: surface {surface} {name}: ")  # fmt: skip
     split = data.get("split", {})
     return params, settings, split if isinstance(split, dict) else {}

@@ -67,6 +67,7 @@ def run_fit(
     return text + (
         f"\n[split]\nseed = {seed}\nexclude_shapes = {list(exclude)!r}\n"
         f'calibration_digest = "{split_digest(data.pushes, mask)}"\n'
+        f"pushes = {len(data.pushes)}\n"
     ).replace("'", '"')
 
 
@@ -101,6 +102,13 @@ def run_score(
     if "seed" in split:
         mask = calibration_split(data, int(split["seed"]), split.get("exclude_shapes", []))
         known = split_digest(data.pushes, mask) == split.get("calibration_digest")
+        fitted_on = int(split.get("pushes", 0))
+        if len(data.pushes) < fitted_on:
+            raise ConfigError(
+                f"{data_dir / 'mit' / 'pushes.csv'} holds {len(data.pushes)} pushes, fewer than "
+                f"the {fitted_on} the fit was made on: cut short? Score the data the fit was "
+                "made on (--shapes picks some of it)"
+            )
         if not known:
             mask[:] = False  # another data set: every push is unseen by the fit
     pushes = data.pushes.assign(_calibration=mask)

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 import multiprocessing
+import signal
 from collections.abc import Mapping
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
@@ -73,11 +74,25 @@ def replay_pushes(
         return out
     _replay_chunk(chunks[0][1], chunks[0][2], chunks[0][3][:1], settings)  # compile before fork
     context = multiprocessing.get_context("fork")
-    with ProcessPoolExecutor(workers, mp_context=context) as pool:
+    pool = ProcessPoolExecutor(workers, mp_context=context, initializer=_stop_on_signals)
+    try:
         futures = [pool.submit(_replay_chunk, v, p, r, settings) for _, v, p, r in chunks]
         for (idx, *_), future in zip(chunks, futures, strict=True):
             out[idx] = future.result()
+    except BaseException:  # stopped (Ctrl-C, SIGTERM) or failed: the workers go at once
+        pool.shutdown(wait=False, cancel_futures=True)
+        for process in list((pool._processes or {}).values()):
+            process.terminate()
+        raise
+    pool.shutdown()
     return out
+
+
+def _stop_on_signals() -> None:
+    """A worker ends at SIGTERM and leaves Ctrl-C to the command, which stops the pool: a
+    forked worker would otherwise inherit the command's handlers and go on with its queue."""
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 def _replay_chunk(

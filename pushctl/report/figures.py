@@ -92,7 +92,9 @@ def training_figure(curve: pd.DataFrame, window: int = 100) -> Figure:
     episode, normal and tangential force error [mN] and torque error [mN·m] of each RL
     episode (red, exploration noise included) and PD-only episode (blue, on the episodes
     where it ran), raw points faint and a centred rolling mean over ``window`` episodes
-    solid."""
+    solid. A run shorter than five windows is averaged over a fifth of its episodes (at
+    least 3), so a short run's line follows it rather than flattening into one hump."""
+    window = min(window, max(3, len(curve) // 5))
     fig = Figure(figsize=(11, 9), layout="constrained")
     axes = fig.subplots(len(_CURVE_PANELS), 1, sharex=True)
     counts = {}
@@ -125,6 +127,20 @@ def training_figure(curve: pd.DataFrame, window: int = 100) -> Figure:
         fontsize=FONT["title"],
     )
     return fig
+
+
+def _legend_columns(fig: Figure, wanted: int) -> int:
+    """``wanted`` legend columns, or as many as the figure's width holds (2.2 in each): a
+    one-column figure's legend wraps instead of running off its sides."""
+    return max(1, min(wanted, int(fig.get_figwidth() // 2.2)))
+
+
+def _fitted(fig: Figure, title: str) -> str:
+    """``title`` wrapped to the figure's width (about 11 characters an inch at the title's
+    size): a narrow figure's title wraps instead of being cut at its sides."""
+    import textwrap
+
+    return textwrap.fill(title, width=max(30, int(fig.get_figwidth() * 11)))
 
 
 def _pick_plant(steps: pd.DataFrame, plant: str) -> tuple[pd.DataFrame, str]:
@@ -177,12 +193,15 @@ def tracking_figure(steps: pd.DataFrame, plant: str = "sim") -> Figure:
     fig.legend(
         handles=_tracking_handles(styles, set(rows["controller"])),
         loc="outside lower center",
-        ncol=4 + len(styles),
+        ncol=_legend_columns(fig, 4 + len(styles)),
         fontsize=FONT["legend"] + 1,
     )
     fig.suptitle(
-        f"Fig. 6 · tracking, mean over the trials ({plant_text}): desired vs PD-only vs "
-        "feedback vs RL-assisted",
+        _fitted(
+            fig,
+            f"Fig. 6 · tracking, mean over the trials ({plant_text}): desired vs PD-only vs "
+            "feedback vs RL-assisted",
+        ),
         fontsize=FONT["title"],
     )
     return fig
@@ -292,10 +311,18 @@ def force_error_figure(steps: pd.DataFrame, smooth: float = SMOOTH_S) -> Figure:
         if p != "mujoco" or (steps["plant"] == "mujoco").any()
     ]
     handles.append(Line2D([], [], color="0.4", lw=0.5, alpha=0.5, label="each step (faint)"))
-    fig.legend(handles=handles, loc="outside lower center", ncol=5, fontsize=FONT["legend"] + 1)
+    fig.legend(
+        handles=handles,
+        loc="outside lower center",
+        ncol=_legend_columns(fig, 5),
+        fontsize=FONT["legend"] + 1,
+    )
     fig.suptitle(
-        "Fig. 8 · per-step force and torque tracking error, mean over the trials: sim vs "
-        f"proxy, PD-only vs RL-assisted (bold: {smooth:g} s rolling mean)",
+        _fitted(
+            fig,
+            "Fig. 8 · per-step force and torque tracking error, mean over the trials: sim vs "
+            f"proxy, PD-only vs RL-assisted (bold: {smooth:g} s rolling mean)",
+        ),
         fontsize=FONT["title"],
     )
     return fig

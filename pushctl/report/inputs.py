@@ -40,6 +40,11 @@ CURVE_METRICS = ("force_n_error", "force_t_error", "torque_error")
 """The per-episode errors of Fig. 5 [N, N, N·m], each as ``rl_<m>`` and ``pd_<m>``."""
 
 
+PUSHCTL_MADE_BY = b"# made by: pushctl "
+"""How a CSV that pushctl wrote begins (:func:`pushctl.files.provenance.provenance_line`)."""
+TRUST_OPTION = "--trust-undigested"
+
+
 class ResultsFileError(ConfigError):
     """A results file the report cannot use; the message names the file and the problem."""
 
@@ -123,7 +128,7 @@ class ReportInputs:
         return (self.trials, self.steps, *curve)
 
 
-def read_report_inputs(directory: Path) -> ReportInputs:
+def read_report_inputs(directory: Path, *, trust_undigested: bool = False) -> ReportInputs:
     """Read and check ``directory``'s trials, steps and (if present) curve CSVs (see the
     module docstring); raises :class:`ResultsFileError` for the first problem found."""
     directory = Path(directory)
@@ -139,12 +144,15 @@ def read_report_inputs(directory: Path) -> ReportInputs:
     if not steps.exists() and _gzipped(steps).is_file():
         steps = _gzipped(steps)  # a shipped results directory keeps it compressed (11 MB → 3.5)
     curve = directory / CURVE
-    trials = read_results_csv(evaluation / TRIALS.name, TRIALS_SPEC)
+    trust = trust_undigested
+    trials = read_results_csv(evaluation / TRIALS.name, TRIALS_SPEC, trust_undigested=trust)
     check_complete(trials.path, trials.frame, trials.made_by)  # not cut short
     return ReportInputs(
         trials=trials,
-        steps=read_results_csv(steps, STEPS_SPEC),
-        curve=read_results_csv(curve, CURVE_SPEC) if curve.exists() else None,
+        steps=read_results_csv(steps, STEPS_SPEC, trust_undigested=trust),
+        curve=read_results_csv(curve, CURVE_SPEC, trust_undigested=trust)
+        if curve.exists()
+        else None,
     )
 
 
@@ -152,17 +160,21 @@ def _gzipped(path: Path) -> Path:
     return path.with_name(path.name + ".gz")
 
 
-def read_results_csv(path: Path, spec: CsvSpec) -> ResultsTable:
+def read_results_csv(path: Path, spec: CsvSpec, *, trust_undigested: bool = False) -> ResultsTable:
     """Read ``path`` (a CSV with an optional leading ``# made by:`` line; gzip-compressed if
-    its name ends in ``.gz``) and check it against ``spec``; raises :class:`ResultsFileError`."""
+    its name ends in ``.gz``) and check it against ``spec``; raises :class:`ResultsFileError`.
+    A file pushctl wrote (its first line ``# made by: pushctl …``) must end in its digest,
+    unless ``trust_undigested``; a file made by hand (no such line) is taken as it is."""
     if not path.is_file():
         problem = "is a directory" if path.is_dir() else "no such file"
         raise ResultsFileError(f"{path}: {problem}; expected the {spec.what}")
     try:
         data = gzip.decompress(path.read_bytes()) if path.suffix == ".gz" else path.read_bytes()
-        damage = csv_digest_problem(data)
+        ours = data.startswith(PUSHCTL_MADE_BY)
+        damage = csv_digest_problem(data, required=ours and not trust_undigested)
         if damage is not None:
-            raise ResultsFileError(f"{path}: {damage}; expected the {spec.what}")
+            advice = f"; pass {TRUST_OPTION} if you trust it" if "no digest" in damage else ""
+            raise ResultsFileError(f"{path}: {damage}{advice}; expected the {spec.what}")
         text = data.decode()
         first = text.partition("\n")[0].strip()
         _check_row_lengths(path, text)

@@ -208,7 +208,7 @@ def _title(plan: Plan) -> str:
     tr, fp = plan.trajectory, plan.forces
     verdict = "feasible" if plan.feasible else "INFEASIBLE (see below)"
     return (
-        f"{plan.obj.name} · {tr.profile} profile · Δθ = {math.degrees(tr.delta_theta):+.1f}° · "
+        f"{plan.obj.name} · {tr.profile} profile · Δθ = {_degrees(tr.delta_theta)}° · "
         f"arc {tr.arc_length * MM:.0f} mm · prong offset δ = {fp.offset * MM:+.1f} mm · "
         f"{verdict}"
     )
@@ -241,3 +241,9 @@ def plan_figure(plan: Plan, outlines: int = 6) -> Figure:
         caption = textwrap.fill(plan.problems[0], 190)
         fig.supxlabel(caption, fontsize=FONT["legend"], color="#b00000")
     return fig
+
+
+def _degrees(radians: float) -> str:
+    """``radians`` in degrees with a sign and one decimal; ``0.0``, not ``-0.0``."""
+    value = round(math.degrees(radians), 1) + 0.0
+    return f"{value:+.1f}" if value else "0.0"

@@ -212,8 +212,8 @@ def _title(trace: Trace) -> str:
     return (
         f"push trace · {trace.n_prongs} prong{'s' if trace.n_prongs != 1 else ''} · "
         f"T = {trace.t[-1] - trace.t[0]:.2f} s · μ_c = {trace.mu_contact:g} · "
-        f"arc {trace.arc_length * MM:.0f} mm · Δθ = {np.degrees(trace.delta_theta):+.1f}° · "
-        f"final error {np.hypot(diff[0], diff[1]) * MM:.1f} mm, {np.degrees(diff[2]):+.2f}°"
+        f"arc {trace.arc_length * MM:.0f} mm · Δθ = {_degrees(trace.delta_theta, 1)}° · "
+        f"final error {np.hypot(diff[0], diff[1]) * MM:.1f} mm, {_degrees(diff[2], 2)}°"
     )
 
 
@@ -247,3 +247,10 @@ def trace_figure(trace: Trace, title: str | None = None) -> Figure:
     theta.set_xlim(trace.t[0], trace.t[-1])
     fig.suptitle(_title(trace) if title is None else title, fontsize=FONT["title"])
     return fig
+
+
+def _degrees(radians: float, digits: int) -> str:
+    """``radians`` in degrees with a sign, ``digits`` decimals; a value that rounds to zero
+    is ``0.00``, not ``-0.00``."""
+    value = round(float(np.degrees(radians)), digits) + 0.0  # + 0.0 turns -0.0 into 0.0
+    return f"{value:+.{digits}f}" if value else f"{0.0:.{digits}f}"

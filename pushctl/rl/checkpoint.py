@@ -10,7 +10,9 @@ Two checks on load, both cheap (a 16 MB checkpoint in about 0.1 s):
 - ``digest``, the SHA-256 of the saved content (every tensor's dtype, shape and bytes, every
   other value's ``repr``, keys in sorted order) stored beside it by :func:`save_checked`:
   it catches a file loaded, changed and saved again, which carries valid CRCs. A file
-  without the key (written before the key existed) is accepted on the CRCs alone.
+  without the key (its digest removed, or written before the key existed) is refused unless
+  the caller trusts it (``trust_undigested``, the commands' ``--trust-undigested``): then it
+  is accepted on the CRCs alone.
 """
 
 from __future__ import annotations
@@ -28,6 +30,8 @@ from pushctl.files.provenance import one_line, write_atomic
 
 CHECKPOINT_FORMAT = 1
 """Bumped when a checkpoint's layout changes; an older one is refused, not misread."""
+TRUST_OPTION = "--trust-undigested"
+"""The commands' option that accepts a file without its digest."""
 DIGEST_KEY = "digest"
 """The key of a saved dict that holds :func:`content_digest` of the rest."""
 
@@ -70,10 +74,11 @@ def save_checked(path: Path, state: dict[str, Any]) -> None:
     write_atomic(Path(path), lambda tmp: torch.save(signed, tmp))
 
 
-def load_checked(path: Path, kind: str) -> dict[str, Any]:
+def load_checked(path: Path, kind: str, *, trust_undigested: bool = False) -> dict[str, Any]:
     """The dict saved in ``path``, its digest checked and removed; DamagedFileError (one line
     naming the ``kind`` of file, ``"checkpoint"``) if it is empty, not a torch file,
-    damaged, or not a dict. The caller checks that the file exists."""
+    damaged, not a dict, or without its digest (unless ``trust_undigested``). The caller
+    checks that the file exists."""
     size = path.stat().st_size
     if size == 0:
         raise DamagedFileError(f"{kind} {path} is empty (0 bytes): not a {kind}")
@@ -95,6 +100,11 @@ def load_checked(path: Path, kind: str) -> dict[str, Any]:
     if not isinstance(state, dict):
         raise DamagedFileError(f"{kind} {path} holds a {type(state).__name__}, not a {kind}")
     stored = state.pop(DIGEST_KEY, None)
+    if stored is None and not trust_undigested:
+        raise DamagedFileError(
+            f"{kind} {path} has no digest, so an edit to it cannot be detected; pass "
+            f"{TRUST_OPTION} if you trust it"
+        )
     if stored is not None and stored != content_digest(state):
         raise DamagedFileError(
             f"{kind} {path} was changed after it was written: its content does not match its digest"
@@ -111,12 +121,12 @@ def nonfinite_entry(tensors: dict[str, Any]) -> str | None:
     return None
 
 
-def read_checkpoint(path: Path) -> dict[str, Any]:
+def read_checkpoint(path: Path, *, trust_undigested: bool = False) -> dict[str, Any]:
     """A training checkpoint's contents; ConfigError if missing, damaged (checksums or
-    digest) or of another format."""
+    digest), without its digest (unless ``trust_undigested``) or of another format."""
     if not path.is_file():
         raise ConfigError(f"no checkpoint at {path}: start a run without --resume")
-    state = load_checked(path, "checkpoint")
+    state = load_checked(path, "checkpoint", trust_undigested=trust_undigested)
     if state.get("format") != CHECKPOINT_FORMAT:
         raise ConfigError(
             f"checkpoint {path} has format {state.get('format')!r}; "

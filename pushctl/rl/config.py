@@ -180,6 +180,7 @@ class DDPGConfig:
             _check(name, getattr(self, name), getattr(self, name) >= 0.0, "a number >= 0")
         _check("gamma", self.gamma, 0.0 <= self.gamma <= 1.0, "a number in [0, 1]")
         _check("tau", self.tau, 0.0 < self.tau <= 1.0, "a number in (0, 1]")
+        check_range("replay buffer size", self.buffer_size, "ddpg buffer_size: ")
         if self.buffer_size < self.batch_size:
             raise ConfigError(
                 f"ddpg buffer_size must be >= batch_size ({self.batch_size}), "

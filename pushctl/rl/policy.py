@@ -19,7 +19,7 @@ import numpy as np
 from pushctl.control.gains import PDGains
 from pushctl.episode.runner import Episode
 from pushctl.episode.trace import Trace
-from pushctl.errors import ConfigError, StateError
+from pushctl.errors import ConfigError, StateError, reason
 from pushctl.files.provenance import one_line
 from pushctl.rl.checkpoint import load_checked, nonfinite_entry, save_checked
 from pushctl.rl.networks import ActorPolicy
@@ -63,13 +63,14 @@ def write_policy(path: Path, actor_state: dict[str, Any], env: EnvConfig, made_b
     save_atomic(path, state)
 
 
-def load_policy(path: str | Path) -> TrainedPolicy:
+def load_policy(path: str | Path, *, trust_undigested: bool = False) -> TrainedPolicy:
     """Read ``policy.pt``; ConfigError (one line) if it is missing, damaged (its checksums
-    or digest: :mod:`pushctl.rl.checkpoint`), not a policy, or holds non-finite weights."""
+    or digest: :mod:`pushctl.rl.checkpoint`; without one, unless ``trust_undigested``), not
+    a policy, or holds non-finite weights."""
     path = Path(path)
     if not path.is_file():
         raise ConfigError(f"no policy file at {path}: train one with `pushctl train`")
-    state = load_checked(path, "policy file")
+    state = load_checked(path, "policy file", trust_undigested=trust_undigested)
     try:
         if state.get("format") != POLICY_FORMAT:
             raise ValueError(f"format {state.get('format')!r}, this pushctl reads {POLICY_FORMAT}")
@@ -84,10 +85,10 @@ def load_policy(path: str | Path) -> TrainedPolicy:
     except ConfigError as exc:
         raise ConfigError(f"policy file {path}: {exc}") from None
     except KeyError as exc:
-        raise ConfigError(f"policy file {path} is not a policy: it has no {exc}") from None
+        raise ConfigError(f"policy file {path} is not a policy: {reason(exc)} entry") from None
     except Exception as exc:  # a state dict of other shapes: torch's many error types
-        reason = one_line(str(exc), 120) or type(exc).__name__
-        raise ConfigError(f"policy file {path} is not a policy: {reason}") from None
+        why = one_line(str(exc), 120) or type(exc).__name__
+        raise ConfigError(f"policy file {path} is not a policy: {why}") from None
 
 
 def evaluation_env(policy: TrainedPolicy, gains: PDGains, plant: str = "sim") -> PushEnv:

@@ -12,6 +12,7 @@ from typing import Any
 from pushctl.defaults import default_file
 from pushctl.errors import ConfigError
 from pushctl.files.toml import check_keys, read_toml
+from pushctl.ranges import check_range
 from pushctl.rl.config import DDPGConfig
 from pushctl.rl.validate import SELECTION_RULES
 from pushctl.task.env_config import EnvConfig
@@ -58,6 +59,7 @@ class TrainConfig:
         ):
             _check_int(name, getattr(self, name), low)
         _check_int("workers", self.workers, 0)
+        check_range("training episodes", self.episodes, "train episodes: ")
         if self.select_on not in SELECTION_RULES:
             raise ConfigError(
                 f"train select_on must be one of {', '.join(SELECTION_RULES)}, "

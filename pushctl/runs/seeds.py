@@ -174,7 +174,7 @@ def run_job(
     clock = time.perf_counter()
     trainer = open_trainer(job)
     trainer.collectors = collectors
-    total = job.episodes if job.episodes is not None else trainer.preset.train.episodes
+    total = trainer.target(job.episodes)  # a resumed run: its own target unless asked
     before = read_timing(job.out / TIMING) or {"seconds": 0.0, "sessions": 0}
 
     def show(update: Progress) -> None:

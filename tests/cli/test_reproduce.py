@@ -158,7 +158,7 @@ def test_the_training_seeds_are_an_option(tmp_path: Path, monkeypatch: pytest.Mo
     assert len(refused.stderr.strip().splitlines()) == 1 and len(seen) == 1
 
 
-def test_the_manifest_sets_each_stage_beside_its_budget(tmp_path: Path) -> None:
+def test_the_manifest_reports_each_stages_time_and_grades_none(tmp_path: Path) -> None:
     setup = replace(FULL, run=tmp_path / "run", results=tmp_path / "results", seeds=(0, 1, 2))
     for seed, seconds in ((0, 900.0), (1, 1500.0)):  # seed 2 recorded no time
         plan.seed_run(setup, seed).mkdir(parents=True)
@@ -170,31 +170,26 @@ def test_the_manifest_sets_each_stage_beside_its_budget(tmp_path: Path) -> None:
     trials.write_text("# made by: test\nobject,plant\n" + "cube,sim\n" * 2400)
     records = [
         plan.StepRecord("train", "pushctl train", 0, 1600.0),
-        plan.StepRecord("evaluate", "pushctl evaluate", 0, 400.0),  # budget 6 min
+        plan.StepRecord("evaluate", "pushctl evaluate", 0, 400.0),
         plan.StepRecord("report", "pushctl report", 0, 60.0),
     ]
-    rows = {row.stage: row for row in manifests.budgets(setup, records)}
-    assert [rows[f"training, seed {k}"].met for k in (0, 1, 2)] == [True, False, None]
-    assert rows["evaluation"].budget == pytest.approx(360.0)
-    assert rows["evaluation"].met is False
-    assert rows["report"].met is None
+    rows = {row.stage: row for row in manifests.timings(setup, records)}
+    assert [rows[f"training, seed {k}"].seconds for k in (0, 1, 2)] == [900.0, 1500.0, None]
+    assert rows["evaluation"].note == "2400 pushes"
     assert rows["whole run"].seconds == pytest.approx(2060.0)
-    assert rows["whole run"].budget == 3600.0 and rows["whole run"].met
     manifests.write_manifest(setup, records, datetime.now(timezone.utc))
     manifest = (setup.results / MANIFEST).read_text()
-    assert "2 of 4 budgets met; missed: training, seed 1, evaluation" in manifest
-    assert "| training, seed 0 | 15 min 00.0 s | 20 min 00.0 s | yes |" in manifest
-    # the budget is for a seed alone: the rows say the seeds shared the cores
+    assert "| training, seed 0 | 15 min 00.0 s |" in manifest
+    assert "budget" not in manifest.lower() and "missed" not in manifest
     cores = len(os.sched_getaffinity(0))
-    assert f"here 3 seeds at once on {cores} cores" in rows["training, seed 0"].basis
+    assert f"3 seeds at once on {cores} cores" in rows["training, seed 0"].note
     # the kind of machine the bytes belong to (docs/reproducibility.md)
     assert f"- machine: {machine_description()} (the bytes repeat" in manifest
     one = replace(setup, seeds=(0,))
-    assert manifests.budgets(one, records)[-1].budget == 30 * 60.0
-    assert "at once" not in manifests.budgets(one, records)[0].basis
+    assert "at once" not in manifests.timings(one, records)[0].note
     resumed = [replace(records[0], command="pushctl train --resume"), *records[1:]]
-    assert "this invocation only" in manifests.budgets(setup, resumed)[-1].basis
-    assert "this invocation only" not in rows["whole run"].basis
+    assert "this invocation only" in manifests.timings(setup, resumed)[-1].note
+    assert "this invocation only" not in rows["whole run"].note
 
 
 @pytest.mark.slow
@@ -210,13 +205,13 @@ def test_a_tiny_reproduction_times_every_stage(
         ("evaluate", 0),
         ("report", 0),
     ]
-    rows = {row.stage: row for row in manifests.budgets(setup, records)}
+    rows = {row.stage: row for row in manifests.timings(setup, records)}
     trained = rows["training, seed 0"].seconds
     assert trained is not None and 0.0 < trained < records[0].seconds
-    assert rows["evaluation"].budget is not None and rows["evaluation"].met is not None
+    assert rows["evaluation"].seconds is not None
     manifest = (setup.results / MANIFEST).read_text()
-    assert "## Budgets" in manifest and "budgets met" in manifest
-    assert "this run: preset" in manifest
+    assert "## Timings" in manifest and "budget" not in manifest.lower()
+    assert f"preset {preset}" in manifest
     steps = setup.results / "evaluation" / "steps.csv"
     assert gzip.decompress(steps.with_name("steps.csv.gz").read_bytes()) == steps.read_bytes()
 
@@ -285,7 +280,7 @@ def test_every_shipped_file_of_the_reproduction_names_its_commit() -> None:
         assert f"commit {made_at.group(1)}" in head.splitlines()[0], path
 
 
-def test_the_manifest_sets_the_machine_s_speed_beside_the_budgets_machine(tmp_path: Path) -> None:
+def test_the_manifest_gives_the_machine_s_speed_from_this_run_s_bench(tmp_path: Path) -> None:
     setup = replace(FULL, run=tmp_path / "run", results=tmp_path / "results", seeds=(0,))
     setup.results.mkdir()
     (setup.results / "bench.csv").write_text(
@@ -299,8 +294,7 @@ def test_the_manifest_sets_the_machine_s_speed_beside_the_budgets_machine(tmp_pa
     bench = plan.StepRecord("bench", "python -m benchmarks.suite", 0, 60.0)
     manifests.write_manifest(setup, [*before_bench, bench], started)
     manifest = (setup.results / MANIFEST).read_text()
-    assert "`mj_step` alone took 41.6 µs in this run's bench, 10.4 µs" in manifest
-    assert "4.0 times as long" in manifest
+    assert "`mj_step` alone took 41.6 µs in this run's bench" in manifest
     (setup.results / "bench.csv").write_text("name,value\nother,1\n")
     manifests.write_manifest(setup, [*before_bench, bench], started)
     assert "this machine's speed" not in (setup.results / MANIFEST).read_text()

@@ -12,6 +12,7 @@ from __future__ import annotations
 import errno
 import os
 import random
+import shlex
 import signal
 import subprocess
 import sys
@@ -20,7 +21,7 @@ from pathlib import Path
 
 import pytest
 import torch
-from fault_helpers import lock_held_elsewhere, one_error_line
+from fault_helpers import lock_held_elsewhere, one_error_line, recorded_pushes
 from typer.testing import CliRunner
 
 from pushctl.cli import app
@@ -171,6 +172,64 @@ def test_killed_after_the_last_checkpoint_ships_its_policy(
     assert "nothing to do" in again.output  # now it is finished
 
 
+def test_an_extended_run_killed_after_its_last_checkpoint_replaces_its_policies(
+    preset_file, reference, tmp_path, monkeypatch
+):
+    out = tmp_path / "run"
+    Trainer.start(load_preset(str(preset_file)), 0, out).run(2)
+    short = {name: (out / name).read_bytes() for name in (POLICY, LAST_POLICY)}
+
+    def die(*args, **kwargs):
+        raise Killed
+
+    monkeypatch.setattr(train_module, "write_policy", die)
+    with pytest.raises(Killed):  # extended to 4, killed after its checkpoint at 4
+        Trainer.resume(out).run(EPISODES)
+    monkeypatch.undo()
+    assert {name: (out / name).read_bytes() for name in short} == short  # the 2-episode ones
+    assert not Trainer.resume(out).finished(EPISODES)
+    result = runner.invoke(app, ["train", "--resume", "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    assert "nothing to do" not in result.output
+    assert results(out) == reference
+
+
+def test_a_bare_resume_keeps_the_runs_own_episodes(preset_file, tmp_path):
+    out = tmp_path / "run"
+    train = ["train", "--preset", str(preset_file), "--out", str(out)]
+    first = runner.invoke(app, [*train, "--episodes", "2"])
+    assert first.exit_code == 0, first.output
+    policy = (out / POLICY).read_bytes()
+    again = runner.invoke(app, ["train", "--resume", "--out", str(out)])
+    assert again.exit_code == 0, again.output
+    assert "already has 2 episodes; nothing to do" in " ".join(again.output.split())
+    assert (out / POLICY).read_bytes() == policy
+
+
+def test_the_resume_hint_trains_to_the_episodes_asked_for(preset_file, tmp_path, monkeypatch):
+    out = tmp_path / "run"
+    real_run = Trainer.run
+
+    def interrupted_after_the_checkpoint(self, episodes, on_episode=None, made_by=""):
+        def stop(progress):
+            on_episode(progress)
+            if progress.episodes_done == 3:  # after the checkpoint at 2
+                raise KeyboardInterrupt
+
+        real_run(self, episodes, on_episode=stop, made_by=made_by)
+
+    monkeypatch.setattr(Trainer, "run", interrupted_after_the_checkpoint)
+    train = ["train", "--preset", str(preset_file), "--episodes", "3", "--out", str(out)]
+    stopped = runner.invoke(app, train)
+    assert stopped.exit_code == 130, stopped.output
+    monkeypatch.undo()
+    hint = stopped.stderr.split("`")[1]
+    assert hint.startswith("pushctl train --resume") and "--episodes 3" in hint
+    resumed = runner.invoke(app, shlex.split(hint)[1:])
+    assert resumed.exit_code == 0, resumed.output
+    assert Trainer.resume(out).next_episode == 3  # not the preset's 4
+
+
 def test_a_second_writer_is_refused_while_the_first_holds_the_directory(tmp_path):
     out = tmp_path / "evaluation"
     out.mkdir()
@@ -184,6 +243,15 @@ def test_a_second_writer_is_refused_while_the_first_holds_the_directory(tmp_path
     done = runner.invoke(app, args)
     assert done.exit_code == 0, done.output
     assert sorted(p.name for p in out.iterdir()) == ["steps.csv", "trials.csv"]
+
+
+def test_a_second_sac_trainer_is_refused_while_the_first_holds_the_directory(tmp_path):
+    out = tmp_path / "sac"
+    out.mkdir()
+    sac = ["train", "--algo", "sb3-sac", "--episodes", "1", "--out", str(out)]
+    with lock_held_elsewhere(out / LOCK_NAME):
+        one_error_line(runner.invoke(app, sac), str(out), "in use by another pushctl command")
+        assert sorted(p.name for p in out.iterdir()) == [LOCK_NAME]  # nothing written
 
 
 def test_a_full_disk_during_training_is_one_line_and_keeps_the_checkpoint(
@@ -222,6 +290,47 @@ def test_a_full_disk_while_writing_a_csv_names_the_file(tmp_path, monkeypatch):
     assert not out.exists() or not list(out.iterdir())
 
 
+def fill_the_disk(monkeypatch) -> None:
+    """From now on no space is left: writing a lock file's process id, a file's bytes or a
+    torch file fails as on a full disk."""
+    real_write = os.write
+
+    def write(descriptor, data):
+        try:
+            target = os.readlink(f"/proc/self/fd/{descriptor}")
+        except OSError:
+            target = ""
+        if target.endswith(".lock"):
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+        return real_write(descriptor, data)
+
+    def no_space(*args, **kwargs):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(os, "write", write)
+    monkeypatch.setattr(Path, "write_bytes", no_space)
+    monkeypatch.setattr(torch, "save", no_space)
+
+
+@pytest.mark.skipif(not Path("/proc/self/fd").is_dir(), reason="reads /proc")
+@pytest.mark.parametrize("command", ["plan", "train", "report"])
+def test_a_full_disk_is_one_line_naming_the_file(command, preset_file, tmp_path, monkeypatch):
+    from synthetic_results import write_results
+
+    out = tmp_path / "out"
+    results_dir = write_results(tmp_path / "results")
+    args, target = {
+        "plan": (["plan", "--object", "cube", "--goal", "0.6,0,0", "--out", str(out / "p.csv")],
+                 out / "p.csv"),
+        "train": (["train", "--preset", str(preset_file), "--episodes", "2", "--out", str(out)],
+                  out / CHECKPOINT),
+        "report": (["report", "--in", str(results_dir), "--out", str(out)], out / "table3.csv"),
+    }[command]  # fmt: skip
+    out.mkdir()
+    fill_the_disk(monkeypatch)
+    one_error_line(runner.invoke(app, args), f"cannot write {target}", "No space left on device")
+
+
 @pytest.mark.parametrize("which", [CHECKPOINT, POLICY])
 def test_flipped_bytes_and_edited_weights_are_refused(preset_file, reference, tmp_path, which):
     out = tmp_path / "run"
@@ -249,6 +358,39 @@ def test_flipped_bytes_and_edited_weights_are_refused(preset_file, reference, tm
                 "--profile", "chirp", "--plant", "sim", "--policy", str(path),
                 "--out", str(tmp_path / "eval")])  # fmt: skip
     one_error_line(runner.invoke(app, command), str(path))
+
+
+@pytest.mark.parametrize("which", [CHECKPOINT, POLICY, "trials.csv"])
+def test_a_file_whose_digest_was_removed_is_refused_unless_trusted(preset_file, tmp_path, which):
+    """Its digest removed and its content edited: refused in one line naming the file and
+    --trust-undigested; with that option the command runs."""
+    from synthetic_results import write_results
+
+    if which == "trials.csv":
+        root = write_results(tmp_path / "results")
+        path = root / "evaluation" / "trials.csv"
+        lines = [line for line in path.read_text().splitlines(True) if "sha256" not in line]
+        lines[3] = lines[3].replace("0.", "9.", 1)
+        path.write_text("".join(lines))
+        command = ["report", "--in", str(root), "--out", str(tmp_path / "report")]
+    else:
+        out = tmp_path / "run"
+        Trainer.start(load_preset(str(preset_file)), 0, out).run(2)
+        path = out / which
+        state = torch.load(path, weights_only=True)
+        del state["digest"]
+        tensors = state["agent"]["actor"] if which == CHECKPOINT else state["actor"]["actor"]
+        first = next(iter(tensors))
+        tensors[first] = tensors[first] * 1.5
+        torch.save(state, path)
+        command = (["train", "--resume", "--episodes", "3", "--out", str(out)]
+                   if which == CHECKPOINT else
+                   ["evaluate", "--controller", "rl", "--trials", "1", "--object", "cube",
+                    "--profile", "chirp", "--plant", "sim", "--policy", str(path),
+                    "--out", str(tmp_path / "eval")])  # fmt: skip
+    one_error_line(runner.invoke(app, command), str(path), "--trust-undigested")
+    trusted = runner.invoke(app, [*command, "--trust-undigested"])
+    assert trusted.exit_code == 0, trusted.output
 
 
 def _write(path: Path, data: bytes) -> Path:
@@ -334,20 +476,24 @@ def _spawn_train(preset_file: Path, out: Path, *extra: str) -> subprocess.Popen:
 
 @pytest.mark.skipif(not Path("/proc/self/environ").exists(), reason="reads /proc")
 def test_sigterm_stops_training_cleanly_and_the_run_resumes(preset_file, reference, tmp_path):
+    pytest.importorskip("ray")
     out = tmp_path / "run"
-    process = _spawn_train(preset_file, out)
-    deadline = time.monotonic() + 90
+    process = _spawn_train(preset_file, out, "--workers", "1")  # a collector on Ray
+    deadline = time.monotonic() + 240
     while not (out / CHECKPOINT).exists() and process.poll() is None:
         assert time.monotonic() < deadline
         time.sleep(0.05)
+    ray = [line for line in _ray_processes_of(os.getpid()) if "ray" in line.lower()]
     process.send_signal(signal.SIGTERM)
     stdout, stderr = process.communicate(timeout=60)
     if process.returncode == 0:
         pytest.skip("the run finished before the signal arrived")
     assert process.returncode == 143, stderr
     assert "Traceback" not in stderr and "Aborted" not in stderr
-    lines = [line for line in stderr.splitlines() if line.strip()]
+    # Ray's core worker logs, at its start, that it took its level from the environment
+    lines = [line for line in stderr.splitlines() if line.strip() and "Set ray log" not in line]
     assert len(lines) == 1 and "--resume" in lines[0], stderr
+    assert ray or process.returncode == 0, "Ray's processes were never seen: nothing checked"
     time.sleep(1.0)
     assert _ray_processes_of(os.getpid()) == []
     result = runner.invoke(app, ["train", "--resume", "--out", str(out)])
@@ -368,3 +514,30 @@ def test_sigterm_before_the_first_checkpoint_advises_starting_over(preset_file, 
     # whatever was left, the same command runs again
     again = runner.invoke(app, ["train", "--preset", str(preset_file), "--out", str(out)])
     assert again.exit_code == 0, again.output
+
+
+@pytest.mark.skipif(not Path("/proc/self/environ").exists(), reason="reads /proc")
+def test_sigterm_during_a_replay_is_one_line_and_stops_its_workers(tmp_path):
+    data = recorded_pushes(tmp_path / "data", 3000)
+    env = {**os.environ, "PUSHCTL_FAULT_TEST": str(os.getpid())}
+    process = subprocess.Popen(
+        [sys.executable, "-m", "pushctl.cli", "realdata", "score", "--data", str(data),
+         "--friction", str(data / "fit.toml"), "--out", str(tmp_path / "score"),
+         "--workers", "2"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
+        start_new_session=True,
+    )  # fmt: skip
+    deadline = time.monotonic() + 120
+    while len(_ray_processes_of(os.getpid())) < 3 and process.poll() is None:  # and 2 workers
+        assert time.monotonic() < deadline
+        time.sleep(0.1)
+    time.sleep(1.0)  # replaying
+    os.killpg(process.pid, signal.SIGTERM)  # as a terminal or a batch system sends it
+    _, stderr = process.communicate(timeout=30)
+    assert process.returncode == 143, stderr
+    assert "Traceback" not in stderr
+    lines = [line for line in stderr.splitlines() if line.strip()]
+    assert lines == ["terminated: nothing written; run the command again"], stderr
+    time.sleep(0.5)
+    assert _ray_processes_of(os.getpid()) == []  # no worker left replaying
+    assert not (tmp_path / "score").exists()

@@ -34,7 +34,7 @@ def test_a_policy_saved_before_the_residual_path_existed_loads_on_the_velocity_p
     tmp_path: Path,
 ) -> None:
     path = _saved(tmp_path, EnvConfig(action_scale_linear=0.02), drop=tuple(LEGACY_VALUES))
-    loaded = load_policy(path).env
+    loaded = load_policy(path, trust_undigested=True).env
     assert loaded.residual_path == "velocity"
     assert loaded.observe_camera is False
     assert loaded.action_scale_linear == 0.02  # saved keys keep their values

@@ -322,11 +322,12 @@ def test_resume_refuses_another_seed_or_format(tmp_path: Path) -> None:
     state.pop("digest", None)  # edited on purpose: what is checked is what follows
     state["format"] = 99
     torch.save(state, out / CHECKPOINT)
-    _one_line_error(runner.invoke(app, ["train", "--resume", "--out", str(out)]), "format 99")
+    resume = ["train", "--resume", "--trust-undigested", "--out", str(out)]
+    _one_line_error(runner.invoke(app, resume), "format 99")
     state["format"] = 1
     state["agent"]["obs_dim"] = 4
     torch.save(state, out / CHECKPOINT)
-    _one_line_error(runner.invoke(app, ["train", "--resume", "--out", str(out)]), "incompatible")
+    _one_line_error(runner.invoke(app, resume), "incompatible")
     del before
 
 
