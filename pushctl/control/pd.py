@@ -18,8 +18,8 @@ Note that with ``q_des = q + h q̇_des`` (docs/design.md §5's form of eq. 15) t
 ``K_p h q̇_des``: the joint loop is a velocity loop of gain ``K_p h + K_v``, and position is
 held by the operational-space feedback ``K_x``.
 
-:meth:`PDController.command` runs the compiled :func:`pushctl.control.kernel.pd_torque`;
-:meth:`PDController.reference_command` is the same law in plain numpy, kept as its reference.
+:meth:`PDController.command` runs the compiled :func:`pushctl.control.kernel.pd_torque`; the
+same law in plain numpy, its reference, lives with the tests (``tests/control/pd_reference.py``).
 """
 
 from __future__ import annotations
@@ -122,35 +122,3 @@ class PDController:
             twist,
         )
         return PDCommand(tau, gains.kv, q_dot, twist, bool(saturated))
-
-    def reference_command(
-        self,
-        terms: ArmTerms,
-        q: np.ndarray,
-        position_des: np.ndarray,
-        yaw_des: float,
-        twist_ff: np.ndarray,
-        residual: np.ndarray | None = None,
-    ) -> PDCommand:
-        """:meth:`command` in plain numpy (the reference the compiled kernel is tested
-        against; about 60 µs a step instead of a few)."""
-        error = np.empty(6)
-        error[:3] = position_des - terms.pusher_position
-        error[3:] = rotation_error(yaw_rotation(yaw_des), terms.pusher_rotation)
-        twist = twist_ff + self._task_gain * error
-        if residual is not None:
-            twist[list(PLANAR_TWIST_ROWS)] += finite_vector("residual", residual, 3)
-        jacobian = terms.pusher_jacobian
-        posture = self.gains.posture_gain * (self._q_posture - q)
-        # J⁺ v + (I − J⁺J) z = z + Jᵀ (J Jᵀ + λ²I)⁻¹ (v − J z): one 6×6 solve for both.
-        gram = jacobian @ jacobian.T + self._damping
-        q_dot = posture + jacobian.T @ np.linalg.solve(gram, twist - jacobian @ posture)
-        ratio = float(np.max(np.abs(q_dot) / self._v_limit))
-        saturated = ratio > 1.0
-        if saturated:
-            q_dot = q_dot / ratio
-        tau = self._joint_gain * q_dot + terms.g
-        if np.any(np.abs(tau) > self._tau_limit):
-            saturated = True
-            tau = np.clip(tau, -self._tau_limit, self._tau_limit)
-        return PDCommand(tau, self.gains.kv, q_dot, twist, saturated)
