@@ -25,8 +25,8 @@ def finite_vector(name: str, value, n: int) -> np.ndarray:
             raise StateError(f"{accepted}, got {type(value).__name__} {value!r:.40}") from None
         if array.shape != (n,):
             raise StateError(f"{accepted}, got shape {array.shape}")
-    # A finite sum of the entries means none is NaN or ±inf (0.2 µs for these short
-    # vectors, where isfinite(...).all() takes 1.5); otherwise the full check decides (the
+    # A finite sum of the entries means none is NaN or ±inf (for these short vectors a
+    # Python sum is cheaper than isfinite(...).all()); otherwise the full check decides (the
     # sum may also have overflowed).
     if not math.isfinite(sum(array.tolist())) and not np.isfinite(array).all():
         bad = int(np.flatnonzero(~np.isfinite(array))[0])

@@ -158,10 +158,10 @@ class ArmModel:
 
     def _bind_views(self) -> None:
         """Views of Data's fixed-size M, nle and g, which Pinocchio fills in place: each
-        attribute access builds a new view, a quarter of a microsecond on the hot path.
+        attribute access builds a new view, on the hot path.
         Likewise the world placements of the pusher and prong frames (``data.oMf[i]`` is a
         reference into Data): :meth:`compute` reads them after getFrameJacobian updated them,
-        without an updateFramePlacement call each (0.25 µs)."""
+        without an updateFramePlacement call each."""
         self._data_M, self._data_nle, self._data_g = self.data.M, self.data.nle, self.data.g
         self._pusher_placement = self.data.oMf[self.pusher_frame_id]
         self._prong_placements = [self.data.oMf[frame] for frame in self.prong_frame_ids]

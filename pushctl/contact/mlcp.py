@@ -17,7 +17,7 @@ Method:
    at most ``_COLD_PIVOTS`` pivots each) from the warm start's active set
    (``method="warm-start"``), then from "every row free" and from the active set of p = 0
    (``method="active-set"``). This is the cold path of a simulation (a prong starts or stops
-   slipping): about 90 % of such steps end here, in tens of µs, with an answer that is a
+   slipping): about 90 % of such steps end here, with an answer that is a
    deterministic function of the inputs.
 3. Otherwise the warm start's active set is pivoted by the plain-numpy best-first search (up
    to four pivots, :mod:`pushctl.contact.active_set`, ``method="warm-start"``), and then,
@@ -140,7 +140,7 @@ def solve_box_mlcp(
         max_iterations: bound on the fixed-point iterations of each relaxation phase and on
             the pivots of each exact finish (the warm start's finish gets at most 4 pivots).
         validate: check the arrays (the default). A caller that builds them itself, like the
-            world step, may pass False to skip the checks (about 20 µs at n = 12); the
+            world step, may pass False to skip the checks; the
             arrays must then be float64/integer numpy arrays of the right shapes and meaning.
 
     Returns:

@@ -3,8 +3,8 @@
 Every world step hands out new arrays: a :class:`~pushctl.types.StepResult` shares the
 world's state arrays and an :class:`~pushctl.arm.ArmTerms` its arm terms, and a caller may
 keep either for as long as it likes, so a step never writes into an array it handed out
-before. Making them costs: a step's seventeen ``np.empty`` calls were about 1.5 µs of a
-25 µs world step (``timeit``, one core). Most callers read a step's arrays and drop them
+before. Making them costs a step seventeen ``np.empty`` calls (docs/performance.md). Most
+callers read a step's arrays and drop them
 (the episode copies them into its trace), so by the step after next they are garbage.
 
 :class:`ArrayRecycler` gives a step the arrays of the step before the previous one when no

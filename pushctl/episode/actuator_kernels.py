@@ -2,8 +2,8 @@
 q̂ of the new joint velocity and the joint impulse the step added besides the actuators
 (:class:`~pushctl.episode.proxy.ProxyActuators` says what they are and why).
 
-A proxy step spent 16–28 µs (timeit) in this arithmetic as numpy calls on 7-vectors and a
-7 × 7 solve (docs/evaluation-speed.md, item 7), more than the arithmetic itself. The algebra is
+As numpy calls on 7-vectors and a 7 × 7 solve, a proxy step spent more time in the calls than
+in the arithmetic itself (docs/performance.md). The algebra is
 :mod:`pushctl.contact.compiled.algebra`'s loops, as in the world's step: one summation order on
 every machine, where numpy's OpenBLAS and LAPACK pick their kernels by CPU.
 """

@@ -288,7 +288,7 @@ class MujocoWorld:
         control step's start (:meth:`_geometry`) and e_t = e_z × e_n: (2k,) as a list,
         prong i's (normal, tangential) at 2i, 2i + 1.
 
-        Python floats throughout (numpy's scalars cost ~0.1 µs per operation): the same
+        Python floats throughout (numpy's scalars cost more per operation): the same
         IEEE operations in the same order as on float64, so the same bits. The contact
         frame's rotation stays numpy's ``local @ frame`` (BLAS's own summation)."""
         forces = [0.0] * (2 * self._n_prongs)
@@ -302,7 +302,7 @@ class MujocoWorld:
             prong = self._prong_geoms.get(g1 if g2 == obj else g2)
             if prong is None:  # the floor
                 continue
-            if frames is None:  # once per call: each of MuJoCo's views costs ~0.2 µs
+            if frames is None:  # once per call: each of MuJoCo's views is built anew
                 # (ncon, 3, 3): a view, each frames[n] the very (3, 3) block, strides and
                 # all, that contacts.frame[n].reshape(3, 3) is
                 frames = contacts.frame.reshape(-1, 3, 3)

@@ -104,7 +104,7 @@ class ActorPolicy:
     Rebuild one for evaluation with ``ActorPolicy.from_state(agent.actor_state())``.
 
     A single observation (a float numpy array) takes a fast path, as it runs millions of
-    times: ~20 µs instead of ~90 µs through ``nn.Module`` calls. The layers are evaluated with
+    times, without ``nn.Module``'s calls (docs/performance.md): the layers are evaluated with
     ``torch.addmv`` into preallocated buffers, on detached views of the actor's parameters
     (so optimiser steps and ``load_state_dict`` show through); it equals ``actor.forward`` up
     to float32 rounding. Not thread-safe: use one policy per thread.

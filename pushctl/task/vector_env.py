@@ -167,8 +167,8 @@ class PushVectorEnv(gym.vector.VectorEnv):
     def _batch_infos(self, infos: list[dict[str, Any]]) -> dict[str, Any]:
         """The N infos in gymnasium's vector form, as ``VectorEnv._add_info`` builds it. Step
         infos (same keys; numbers, bools or arrays) take one numpy call per key: the
-        generic path costs about 1 µs per key and sub-environment, 4 % of a collector's
-        time. Anything else (an auto-reset's info among them) takes the generic path."""
+        generic path pays a Python call per key and sub-environment (docs/performance.md).
+        Anything else (an auto-reset's info among them) takes the generic path."""
         keys = infos[0].keys()
         plain = all(info.keys() == keys for info in infos) and all(
             type(value) in (bool, int, float, np.ndarray)

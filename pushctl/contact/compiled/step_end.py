@@ -23,8 +23,8 @@ def arm_moved(
     ledger, v_new, M_old, nle_old, g_old, M_new, h, edges, pose, prong_positions, margin
 ):  # fmt: skip
     """:func:`coriolis_energy_error` of the arm's step, then :func:`prong_geometry` at the
-    new state: one compiled call instead of two (each costs about a microsecond of dispatch
-    and boxing from Python). Returns ``(ledger, energy, geometry, gaps, mask)``."""
+    new state: one compiled call instead of two (each pays numba's dispatch and boxing
+    from Python). Returns ``(ledger, energy, geometry, gaps, mask)``."""
     ledger, energy = coriolis_energy_error(ledger, v_new, M_old, nle_old, g_old, M_new, h)
     geometry, gaps, mask = prong_geometry(edges, pose, prong_positions, margin)
     return ledger, energy, geometry, gaps, mask
@@ -44,8 +44,8 @@ def native_arm_moved(
 
     Writes into the arrays the caller passes (``q_new`` (nq,), the eight of an
     :class:`~pushctl.arm.ArmTerms` and ``geometry`` (k, 5), ``gaps`` (k,)) instead of
-    returning new ones: numba's boxing of a returned array cost about 0.4–0.8 µs each, an
-    array made by ``np.empty`` in Python and passed in about 0.25 (eleven a step, measured).
+    returning new ones: numba boxes a returned array at several times the cost of one made
+    by ``np.empty`` in Python and passed in (eleven a step; docs/performance.md).
     Returns ``(ledger, energy, contacts, mask)``:
     the first ``contacts`` rows of ``geometry`` are the prongs in contact."""
     return native_arm_moved_nominal(
