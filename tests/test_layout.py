@@ -17,8 +17,9 @@ import tomllib
 
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGE = ROOT / "pushctl"
-MAX_LINES = 400
-"""No module longer than this: one job, read at once."""
+MAX_LINES = 600
+"""No module longer than this. Past about 400 lines a module is a prompt to check that it
+still does one job; a module of one job may be longer, and a class is never sliced to fit."""
 
 TOP_LEVEL = {
     "__init__.py",
@@ -306,7 +307,7 @@ def test_the_command_line_loads_no_heavy_library_until_a_command_runs() -> None:
     import sys
 
     code = (
-        "import sys, pushctl.cli\n"
+        "import sys, pushctl.cli.commands\n"
         "heavy = ('torch', 'matplotlib', 'pandas', 'ray', 'mujoco', 'pushctl.evaluation')\n"
         "print(','.join(m for m in heavy if m in sys.modules))\n"
     )

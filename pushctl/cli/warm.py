@@ -94,10 +94,10 @@ def warm(report: Callable[[str], None] | None = None) -> None:
 
 
 def main() -> None:
-    """``python -m pushctl.cli.warm`` (``make install``): :func:`warm`, saying each step."""
+    """``make install``'s step: :func:`warm`, saying each step, after dropping the caches
+    whose sources changed, as the ``pushctl`` command does first."""
+    from pushctl.machine.kernel_cache import drop_stale
+
+    drop_stale()
     print("compiling the simulator's kernels, once (5-11 min on two cores):", flush=True)
     warm(report=lambda line: print(f"  {line}", flush=True))
-
-
-if __name__ == "__main__":
-    main()
