@@ -5,9 +5,25 @@ import pytest
 
 import pushctl
 from benchmarks.suite import _pushing_world
-from pushctl.contact.recycle import ArrayRecycler
+from pushctl.contact.recycle import ArrayRecycler, set_recycling
 from pushctl.task.env import PushEnv
 from pushctl.task.env_config import EnvConfig
+
+
+@pytest.fixture(autouse=True)
+def recycling():
+    """Recycling is opt-in: these tests turn it on, and leave it as they found it."""
+    previous = set_recycling(True)
+    yield
+    set_recycling(previous)
+
+
+def test_recycling_is_off_by_default_and_then_every_step_gets_new_arrays():
+    set_recycling(False)
+    recycler = ArrayRecycler(((3,),))
+    first, second, third = recycler.take(), recycler.take(), recycler.take()
+    assert len({id(first[0]), id(second[0]), id(third[0])}) == 3
+    assert recycler._newer is None  # nothing kept to hand out again
 
 
 def test_a_set_comes_back_the_step_after_next_when_nothing_holds_it():
