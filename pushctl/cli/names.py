@@ -41,8 +41,8 @@ def check_evaluate_options(
     _names("--controller", controller, CONTROLLERS, "all")
     if plant not in (*PLANTS, "both", "all"):
         raise ConfigError(f"unknown --plant {plant!r}; accepted: {', '.join(PLANTS)}, both or all")
-    if trials < 1:
-        raise ConfigError(f"--trials must be an integer >= 1, got {trials}")
+    if not 1 <= trials <= 100_000:  # SEEDS_PER_EVALUATION (pushctl.evaluation.trials)
+        raise ConfigError(f"--trials must be an integer in 1 … 100000, got {trials!r}")
     if scenario_block < 0:
         raise ConfigError(f"--scenario-block must be an integer >= 0, got {scenario_block}")
     if stream not in STREAMS:

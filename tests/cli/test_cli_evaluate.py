@@ -141,3 +141,15 @@ def test_a_bare_evaluation_writes_under_runs(tmp_path: Path, monkeypatch) -> Non
     progress = [line for line in result.output.splitlines() if "episode" in line or "|F|" in line]
     assert progress and all(line.startswith("episode 1/1 ") for line in progress), progress
     assert all(line.endswith(" mN") for line in progress), progress
+
+
+def test_the_early_trials_check_has_the_evaluation_s_bound(tmp_path: Path) -> None:
+    """The check before the heavy imports refuses what the evaluation itself refuses."""
+    from pushctl.cli.names import check_evaluate_options
+    from pushctl.errors import ConfigError
+    from pushctl.evaluation.trials import SEEDS_PER_EVALUATION
+
+    args = ("cube", "constant", "pd", "sim", 0, "evaluation", 1, tmp_path / "out")
+    check_evaluate_options(args[0], args[1], SEEDS_PER_EVALUATION, *args[2:])
+    with pytest.raises(ConfigError, match=f"in 1 … {SEEDS_PER_EVALUATION}"):
+        check_evaluate_options(args[0], args[1], SEEDS_PER_EVALUATION + 1, *args[2:])
