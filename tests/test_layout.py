@@ -41,19 +41,20 @@ TOP_LEVEL = {
 
 # The layer of each subpackage or top-level module (an entry for a module inside a package
 # sets that module's own layer: the distributed package spans two). A module may import only
-# modules of its own layer or lower. cli → evaluation / rl → episode → control / planning →
-# contact / mujoco → arm / objects, with the shared basics below all; ``pushctl`` itself (the
-# public API, which re-exports from below) above all. A new subpackage or top-level module
-# gets its entry here.
+# modules of its own layer or lower. cli → evaluation → controllers → rl → episode → control /
+# planning → contact / mujoco → arm / objects, with the shared basics below all; ``pushctl``
+# itself (the public API, which re-exports from below) above all. A new subpackage or
+# top-level module gets its entry here.
 LAYERS = {
-    "pushctl": 10,  # only the package's own __init__: its API re-exports from every layer
-    "pushctl.cli": 9,
-    "pushctl.report": 8,  # tables and figures from the evaluation's results
-    "pushctl.distributed.seeds": 7,  # several training runs on Ray
-    "pushctl.distributed.sweep": 7,
-    "pushctl.distributed.sweep_config": 7,
-    "pushctl.evaluation": 6,
-    "pushctl.realdata": 6,  # recorded pushes replayed and scored
+    "pushctl": 11,  # only the package's own __init__: its API re-exports from every layer
+    "pushctl.cli": 10,
+    "pushctl.report": 9,  # tables and figures from the evaluation's results
+    "pushctl.distributed.seeds": 8,  # several training runs on Ray
+    "pushctl.distributed.sweep": 8,
+    "pushctl.distributed.sweep_config": 8,
+    "pushctl.evaluation": 7,
+    "pushctl.realdata": 7,  # recorded pushes replayed and scored
+    "pushctl.controllers": 6,  # the Controller protocol and registry: PD, the law, a policy
     "pushctl.rl": 5,
     "pushctl.episode": 4,
     "pushctl.control": 3,
@@ -198,8 +199,9 @@ def test_imports_flow_one_way_through_the_layers() -> None:
 
 
 def test_the_layers_are_read() -> None:
-    assert layer("pushctl") == 10 and layer("pushctl.cli.plan") == 9
-    assert layer("pushctl.distributed.seeds") == 7 and layer("pushctl.distributed.engine") == 0
+    assert layer("pushctl") == 11 and layer("pushctl.cli.plan") == 10
+    assert layer("pushctl.distributed.seeds") == 8 and layer("pushctl.distributed.engine") == 0
+    assert layer("pushctl.controllers.pd") == 6
     assert layer("pushctl.nowhere") is None  # a new top-level module needs its entry
 
 
