@@ -18,11 +18,11 @@ import pandas as pd
 from pushctl.control.feedback import FeedbackGains, load_feedback_gains
 from pushctl.episode.metrics import compute_metrics
 from pushctl.episode.unknowns import NO_UNKNOWNS
-from pushctl.evaluation.controllers import FeedbackActor
 from pushctl.evaluation.tune_feedback import BELIEVED, reset_pushes, tuning_env
 from pushctl.objects import OBJECT_NAMES
 from pushctl.planning import PROFILE_NAMES
 from pushctl.rl.env import PushEnv
+from pushctl.rl.feedback_actor import FeedbackActor
 from pushctl.rl.policy import finish_with_policy
 
 SIM_GATES = (0.0, 5e-5, 1e-4, 1.5e-4, 3e-4, 5e-4)

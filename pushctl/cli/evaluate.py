@@ -3,7 +3,6 @@ steps are in :mod:`pushctl.cli.evaluate_steps`."""
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 from typing import Annotated
 
@@ -15,6 +14,7 @@ from pushctl.cli.common import (
     PUSHER_HELP,
     Command,
     console,
+    controller_help,
     error_console,
     fail,
     fail_write,
@@ -23,10 +23,13 @@ from pushctl.cli.common import (
     renamed_option,
     take_renamed,
 )
+from pushctl.controllers import paper_controllers
 from pushctl.errors import PushctlError
 from pushctl.output_guard import refuse_occupied_dir
 
 app = typer.Typer()
+PAPER = ", ".join(paper_controllers())
+"""What ``--controller all`` runs: the paper's comparison."""
 
 
 @app.command(cls=Command)
@@ -43,9 +46,7 @@ def evaluate(
     trials: Annotated[int, typer.Option(help="trials per object × profile")] = 50,
     controller: Annotated[
         str,
-        typer.Option(
-            help="pd (PD-only), feedback (PD + PI on the pose), rl, all, or several: pd,feedback"
-        ),
+        typer.Option(help=controller_help(f"all (the paper's: {PAPER}), or several: pd,feedback")),
     ] = "all",
     plant: Annotated[
         str,
@@ -78,10 +79,11 @@ def evaluate(
     force: Annotated[bool, typer.Option("--force", help=FORCE_HELP)] = False,
     seed: Annotated[int | None, renamed_option("--seed")] = None,
 ) -> None:
-    """Paired trials, PD-only, feedback and RL-assisted on the same held-out targets and
-    plants; write trials.csv (one row per trial and controller) and steps.csv (per-step
-    means) to --out."""
+    """Paired trials, PD-only, feedback and RL-assisted (or any registered controller) on the
+    same held-out targets and plants; write trials.csv (one row per trial and controller)
+    and steps.csv (per-step means) to --out."""
     from pushctl.cli.evaluate_steps import (
+        gains_provenance,
         policy_kinds,
         policy_provenance,
         prepare,
@@ -114,21 +116,7 @@ def evaluate(
             extra += "; " + policy_provenance(trained, policy_path)
             for line in policy_kinds(trained, policy_path):
                 console.print(line, soft_wrap=True, highlight=False, markup=False)
-        if "feedback" in spec.controllers:
-            from pushctl.control.feedback import DEFAULT_FEEDBACK_FILE, load_feedback_gains
-
-            law = load_feedback_gains()
-            guard = (
-                f", slide guard {1e3 * law.slide_limit:g} mm over {law.slide_filter:g} s"
-                if math.isfinite(law.slide_limit)
-                else ""
-            )
-            extra += (
-                f"; feedback k {law.k:g} /s, k_i {law.k_i:g} /s², lateral_ratio "
-                f"{law.lateral_ratio:g}, seek {law.seek_rate:g} rad/s over {law.seek_ramp:g} s, "
-                f"turn_ratio {law.turn_ratio:g}, smoothing {law.smoothing:g} s{guard} "
-                f"({DEFAULT_FEEDBACK_FILE.name})"
-            )
+        extra += gains_provenance(spec.controllers)
         made_by = provenance_line(invocation(ctx), extra)
         note_if_cold(error_console)
         evaluation = run_with_progress(spec, trained, workers, console)

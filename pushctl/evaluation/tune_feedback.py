@@ -12,7 +12,7 @@ The procedure:
    reference offset; with everything a reset draws there (goal, parameters and the plant
    unknowns the planner cannot see). Each is reset once; every candidate pushes from a copy
    of the episode as the approach left it, so all candidates see the same pushes.
-2. The push: the feedback law (:class:`~pushctl.evaluation.controllers.FeedbackActor`)
+2. The push: the feedback law (:class:`~pushctl.rl.feedback_actor.FeedbackActor`)
    through the environment's gate, action scale and residual path: today's defaults of
    :class:`~pushctl.rl.env_config.EnvConfig`, the settings ``pushctl evaluate`` runs it with.
 3. Objective: the mean over the tuning set of translation error % + angle error %
@@ -36,9 +36,9 @@ import numpy as np
 from pushctl.control.feedback import FeedbackGains
 from pushctl.episode.metrics import compute_metrics
 from pushctl.errors import ConfigError, PushctlError
-from pushctl.evaluation.controllers import FeedbackActor
 from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
+from pushctl.rl.feedback_actor import FeedbackActor
 from pushctl.rl.policy import finish_with_policy, pd_only_episode
 
 GRID = {"k": (0.1, 0.2, 0.35, 0.5), "k_i": (0.0, 0.02, 0.05, 0.1)}

@@ -12,9 +12,10 @@ import numpy as np
 import pytest
 
 from pushctl.control.feedback import load_feedback_gains
-from pushctl.evaluation.controllers import FeedbackActor, feedback_config
+from pushctl.controllers.feedback import feedback_config
 from pushctl.rl.env import PushEnv
 from pushctl.rl.env_config import EnvConfig
+from pushctl.rl.feedback_actor import FeedbackActor
 from pushctl.rl.policy import finish_with_policy
 
 

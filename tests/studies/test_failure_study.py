@@ -89,8 +89,8 @@ def test_the_lagged_law_keeps_contact_on_mujoco() -> None:
 
     from pushctl.control.feedback import load_feedback_gains
     from pushctl.episode.metrics import compute_metrics
-    from pushctl.evaluation.controllers import FeedbackActor
     from pushctl.evaluation.tune_feedback import BELIEVED, reset_pushes, tuning_env
+    from pushctl.rl.feedback_actor import FeedbackActor
     from pushctl.rl.policy import finish_with_policy
 
     reset = reset_pushes(
