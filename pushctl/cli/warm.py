@@ -47,10 +47,12 @@ def note_if_cold(console: Console) -> None:
 
 def warm() -> None:
     """Compile every kernel a command calls: a :data:`WARM_DURATION` push of each object on
-    the ``sim`` and ``proxy`` plants with each controller (the shipped policy for ``rl``),
+    the ``sim`` and ``proxy`` plants with each registered controller (the shipped policy for
+    ``rl``),
     and one short training episode. A second call finds them cached: a few seconds."""
     from pushctl.cli.simulate_steps import push, simulate_scenario
     from pushctl.control import load_gains
+    from pushctl.controllers import controller_names
     from pushctl.rl.env_config import EnvConfig
     from pushctl.rl.warm_up import compile_kernels
 
@@ -62,7 +64,7 @@ def warm() -> None:
                 object_name, "chirp", None, 0, False, unchanged, WARM_DURATION,
                 "kinova-gen2-7dof", plant,
             )  # fmt: skip
-            for controller in ("pd", "feedback", "rl"):
+            for controller in controller_names():
                 push(scenario, controller, gains, None, plant)
     for base_law in ("none", "feedback"):
         compile_kernels(EnvConfig(base_law=base_law, action_repeat=10), gains, (16, 16))
