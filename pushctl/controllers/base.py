@@ -23,7 +23,7 @@ from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Protocol
 
-from pushctl.errors import ConfigError
+from pushctl.errors import ConfigError, StateError
 
 if TYPE_CHECKING:  # the registry stays light: `pushctl --help` lists it without the simulator
     from pushctl.control.gains import PDGains
@@ -75,7 +75,7 @@ class Start:
 
     def __init__(self, env: PushEnv, options: Mapping[str, Any], redrawn: int) -> None:
         if env.episode is None or env.episode.step_index != 0:
-            raise ConfigError("a controller's start is an environment just reset, before a step")
+            raise StateError("a controller's start is an environment just reset, before a step")
         self.env = env
         self.options = dict(options)
         self.redrawn = redrawn

@@ -131,6 +131,7 @@ def test_a_toy_controller_runs_through_simulate_evaluate_and_report(
     assert table3[f"translation_error_{toy}"].notna().all()
     assert table3["translation_error_feedback"].isna().all()
     assert (report / "fig6_tracking.png").stat().st_size > 0
+    assert "translation toy (zero residual)" in (report / "tables.md").read_text()
 
 
 def test_an_unregistered_controller_is_refused_in_one_line(tmp_path: Path) -> None:
