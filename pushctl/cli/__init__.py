@@ -12,8 +12,8 @@ that work in a ``*_steps`` module imported only when the command runs, so ``push
   (:mod:`pushctl.cli.reproduce_steps`: ``make reproduce-tables``, which runs the others);
 - :mod:`pushctl.cli.common`: consoles, the one-line failure, provenance, atomic writes.
 
-The core never imports this package: imports flow cli → evaluation / rl → episode →
-control / planning → contact → arm / objects (tests/test_layout.py).
+The core never imports this package: imports flow cli → evaluation → controllers → rl →
+episode → control / planning → contact → arm / objects (tests/test_layout.py).
 """
 
 from __future__ import annotations
