@@ -53,8 +53,8 @@ STREAMS_EVALUATED = ("evaluation", "tuning")
 class TrialSpec:
     """Which trials run: distinct names from :data:`OBJECT_NAMES`, :data:`PROFILE_NAMES`,
     :data:`PLANTS` and the registered controllers (default: the paper's three; the outputs
-    keep the order given), ``trials``
-    per object × profile (1 … :data:`SEEDS_PER_EVALUATION`) and the evaluation ``seed`` >= 0.
+    keep the order given), ``trials`` per object × profile (1 … :data:`SEEDS_PER_EVALUATION`)
+    and the evaluation ``seed`` >= 0.
     An object may also be a TOML object file (``experiments/objects/hexagon.toml``).
     ``pusher``: the plate and prongs of every trial (a pusher file's; None: the paper's),
     for controllers that push with any pusher only (a policy was trained for the paper's).
