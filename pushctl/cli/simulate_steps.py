@@ -64,7 +64,8 @@ def push(
 
         config = EnvConfig()
     own = {} if entry.load_gains is None else {controller: entry.load_gains()}
-    setup = PushSetup(replace(config, plant=plant), gains, policies, own)
+    # the evaluation stream, as simulate's scenarios (a given scenario draws nothing)
+    setup = PushSetup(replace(config, plant=plant, stream="evaluation"), gains, policies, own)
     return push_scenario(controller, scenario, setup)
 
 

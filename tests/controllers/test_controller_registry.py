@@ -138,3 +138,17 @@ def test_an_unregistered_controller_is_refused_in_one_line(tmp_path: Path) -> No
     done = runner.invoke(app, ["simulate", "--controller", "toy", "--scenario", "1"])
     assert done.exit_code == 2
     assert "unknown controller 'toy'; accepted: pd, feedback, rl" in done.stderr
+
+
+@pytest.mark.parametrize("controller", ["feedback", "rl"])
+def test_simulate_runs_a_residual_controller_on_mujoco(controller: str, tmp_path: Path) -> None:
+    """simulate builds its environment on the evaluation stream, as its scenarios are, so
+    the MuJoCo plant (evaluation only) takes the law and a policy as it takes PD-only."""
+    out = tmp_path / "trace.csv"
+    done = runner.invoke(
+        app,
+        ["simulate", "--controller", controller, "--plant", "mujoco", "--duration", "0.5",
+         "--scenario", "2", "--out", str(out)],
+    )  # fmt: skip
+    assert done.exit_code == 0, done.output
+    assert len(pd.read_csv(out, comment="#")) == 51
