@@ -54,9 +54,9 @@ from pushctl.control.feedback_gains import (
     feedback_table,
     load_feedback_gains,
 )
+from pushctl.controllers.feedback import feedback_config
 from pushctl.episode.metrics import compute_metrics
 from pushctl.errors import PushctlError
-from pushctl.evaluation.controllers import feedback_config
 from pushctl.evaluation.tune_feedback import tuning_env
 from pushctl.files.provenance import write_atomic
 from pushctl.objects import OBJECT_NAMES

@@ -42,12 +42,12 @@ from pushctl.control.feedback import FeedbackGains, load_feedback_gains
 from pushctl.episode.landed import landed
 from pushctl.episode.metrics import compute_metrics, push_failed
 from pushctl.episode.trace import Trace
-from pushctl.evaluation.controllers import FeedbackActor
 from pushctl.evaluation.tune_feedback import BELIEVED, reset_pushes, tuning_env
 from pushctl.objects import OBJECT_NAMES
 from pushctl.planning import PROFILE_NAMES
 from pushctl.rl.policy import finish_with_policy
 from pushctl.task.env import PushEnv
+from pushctl.task.feedback_actor import FeedbackActor
 
 
 @dataclass(frozen=True)

@@ -18,12 +18,12 @@ import pandas as pd
 from pushctl.control.feedback import FeedbackGains, load_feedback_gains
 from pushctl.episode.metrics import compute_metrics
 from pushctl.episode.unknowns import NO_UNKNOWNS
-from pushctl.evaluation.controllers import FeedbackActor
 from pushctl.evaluation.tune_feedback import BELIEVED, reset_pushes, tuning_env
 from pushctl.objects import OBJECT_NAMES
 from pushctl.planning import PROFILE_NAMES
 from pushctl.rl.policy import finish_with_policy
 from pushctl.task.env import PushEnv
+from pushctl.task.feedback_actor import FeedbackActor
 
 SIM_GATES = (0.0, 5e-5, 1e-4, 1.5e-4, 3e-4, 5e-4)
 """Gate thresholds [m] tried on the simulator."""

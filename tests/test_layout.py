@@ -36,17 +36,18 @@ the machine, the defaults, ...)."""
 
 # The layer of each subpackage or top-level module: one per package, never one for a module
 # inside a package (test_every_layer_is_a_whole_package). A module may import only
-# modules of its own layer or lower. cli → evaluation / rl → episode → control / planning →
-# contact / mujoco → arm / objects, with the shared basics below all; ``pushctl`` itself (the
-# public API, which re-exports from below) above all. A new subpackage or top-level module
-# gets its entry here.
+# modules of its own layer or lower. cli → report → runs → evaluation → controllers → rl →
+# task → episode → control / planning → contact / mujoco → arm / objects, with the shared
+# basics below all; ``pushctl`` itself (the public API, which re-exports from below) above
+# all. A new subpackage or top-level module gets its entry here.
 LAYERS = {
-    "pushctl": 10,  # only the package's own __init__: its API re-exports from every layer
-    "pushctl.cli": 9,
-    "pushctl.report": 8,  # tables and figures from the evaluation's results
-    "pushctl.runs": 7,  # several training runs: seeds, sweeps
-    "pushctl.evaluation": 6,
-    "pushctl.realdata": 6,  # recorded pushes replayed and scored
+    "pushctl": 12,  # only the package's own __init__: its API re-exports from every layer
+    "pushctl.cli": 11,
+    "pushctl.report": 10,  # tables and figures from the evaluation's results
+    "pushctl.runs": 9,  # several training runs: seeds, sweeps
+    "pushctl.evaluation": 8,
+    "pushctl.realdata": 8,  # recorded pushes replayed and scored
+    "pushctl.controllers": 7,  # the Controller protocol and registry: PD, the law, a policy
     "pushctl.rl": 6,  # learners
     "pushctl.task": 5,  # the push task: the environment a controller or learner pushes in
     "pushctl.episode": 4,
@@ -219,8 +220,9 @@ def test_no_import_cycle_between_packages() -> None:
 
 
 def test_the_layers_are_read() -> None:
-    assert layer("pushctl") == 10 and layer("pushctl.cli.plan") == 9
-    assert layer("pushctl.runs.seeds") == 7 and layer("pushctl.distributed.engine") == 0
+    assert layer("pushctl") == 12 and layer("pushctl.cli.plan") == 11
+    assert layer("pushctl.runs.seeds") == 9 and layer("pushctl.distributed.engine") == 0
+    assert layer("pushctl.controllers.pd") == 7
     assert layer("pushctl.nowhere") is None  # a new top-level module needs its entry
 
 

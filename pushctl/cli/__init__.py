@@ -11,8 +11,9 @@ only when the command runs, so ``pushctl --help`` stays fast.
   (:mod:`pushctl.cli.reproduce_steps`: ``make reproduce-tables``, which runs the others);
 - :mod:`pushctl.cli.common`: consoles, the one-line failure, provenance, atomic writes.
 
-The core never imports this package: imports flow cli → evaluation / rl → episode →
-control / planning → contact → arm / objects (tests/test_layout.py).
+The core never imports this package: imports flow cli → report → runs → evaluation →
+controllers → rl → task → episode → control / planning → contact → arm / objects
+(tests/test_layout.py).
 
 Importing this package changes nothing outside it: :func:`main`, the ``pushctl`` command,
 pins the CPU code and drops stale kernel caches before it loads the commands; ``app`` (for

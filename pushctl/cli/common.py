@@ -13,6 +13,7 @@ import typer
 from rich.console import Console
 from typer.core import TyperCommand, TyperGroup
 
+from pushctl.controllers import entries
 from pushctl.errors import ConfigError, PushctlError
 
 console = Console()
@@ -21,6 +22,17 @@ FORCE_HELP = "overwrite existing results in the output path"
 OBJECT_HELP = "cube, wedge, or a TOML object file (e.g. experiments/objects/hexagon.toml)"
 ARM_HELP = "kinova-gen2-7dof, kinova-j2s6s200 or panda"
 PUSHER_HELP = "pusher file: k = 1-4 prongs, spacing, plate, mass (experiments/pushers/*.toml)"
+
+
+def controller_help(every: str | None = None) -> str:
+    """``--controller``'s help from the registry: each name with its summary, then
+    ``every`` (the choice of several), e.g. ``pd (PD-only), …``."""
+    named = [f"{entry.name} ({entry.summary})" for entry in entries()]
+    if every is None:
+        return ", ".join(named[:-1]) + " or " + named[-1] if len(named) > 1 else named[0]
+    return ", ".join([*named, every])
+
+
 PUSHER_DEFAULT = "the paper's two-prong plate"
 
 

@@ -3,7 +3,6 @@ steps are in :mod:`pushctl.cli.evaluate_steps`."""
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 from typing import Annotated
 
@@ -15,6 +14,7 @@ from pushctl.cli.common import (
     PUSHER_HELP,
     Command,
     console,
+    controller_help,
     error_console,
     fail,
     fail_write,
@@ -23,9 +23,12 @@ from pushctl.cli.common import (
     renamed_option,
     take_renamed,
 )
+from pushctl.controllers import paper_controllers
 from pushctl.errors import PushctlError
 
 app = typer.Typer()
+PAPER = ", ".join(paper_controllers())
+"""What ``--controller all`` runs: the paper's comparison."""
 
 
 @app.command(cls=Command)
@@ -42,9 +45,7 @@ def evaluate(
     trials: Annotated[int, typer.Option(help="trials per object × profile")] = 50,
     controller: Annotated[
         str,
-        typer.Option(
-            help="pd (PD-only), feedback (PD + PI on the pose), rl, all, or several: pd,feedback"
-        ),
+        typer.Option(help=controller_help(f"all (the paper's: {PAPER}), or several: pd,feedback")),
     ] = "all",
     plant: Annotated[
         str,
@@ -90,9 +91,9 @@ def evaluate(
     ] = False,
     seed: Annotated[int | None, renamed_option("--seed")] = None,
 ) -> None:
-    """Paired trials, PD-only, feedback and RL-assisted on the same held-out targets and
-    plants; write trials.csv (one row per trial and controller) and steps.csv (per-step
-    means) to --out."""
+    """Paired trials, PD-only, feedback and RL-assisted (or any registered controller) on the
+    same held-out targets and plants; write trials.csv (one row per trial and controller)
+    and steps.csv (per-step means) to --out."""
     from pushctl.cli.names import check_evaluate_options
 
     scenario_block = take_renamed(ctx, "--scenario-block", scenario_block, "--seed", seed)
@@ -105,6 +106,7 @@ def evaluate(
     from pushctl.cli.evaluate_steps import (
         PARTIAL_FILE,
         Keeper,
+        gains_provenance,
         open_out,
         policy_kinds,
         policy_provenance,
@@ -140,21 +142,7 @@ def evaluate(
             extra += "; " + policy_provenance(trained, policy_path)
             for line in policy_kinds(trained, policy_path):
                 console.print(line, soft_wrap=True, highlight=False, markup=False)
-        if "feedback" in spec.controllers:
-            from pushctl.control.feedback import DEFAULT_FEEDBACK_FILE, load_feedback_gains
-
-            law = load_feedback_gains()
-            guard = (
-                f", slide guard {1e3 * law.slide_limit:g} mm over {law.slide_filter:g} s"
-                if math.isfinite(law.slide_limit)
-                else ""
-            )
-            extra += (
-                f"; feedback k {law.k:g} /s, k_i {law.k_i:g} /s², lateral_ratio "
-                f"{law.lateral_ratio:g}, seek {law.seek_rate:g} rad/s over {law.seek_ramp:g} s, "
-                f"turn_ratio {law.turn_ratio:g}, smoothing {law.smoothing:g} s{guard} "
-                f"({DEFAULT_FEEDBACK_FILE.name})"
-            )
+        extra += gains_provenance(spec.controllers)
         # a resumed run's line is the interrupted one's: the same bytes as one run through
         made_by = provenance_line(invocation(ctx).replace(" --resume", ""), extra)
         start = None if kept is None else read_kept(kept, made_by, trust_undigested)

@@ -24,7 +24,7 @@ from rich.table import Table
 
 from pushctl.arm.pusher_file import resolve_pusher
 from pushctl.cli.policy_kind import describe_policy, read_validation
-from pushctl.control.feedback import load_feedback_gains
+from pushctl.controllers import controller_names, entries, paper_controllers
 from pushctl.episode.ranges import DEFAULT_PLANTS, PLANTS
 from pushctl.errors import ConfigError
 from pushctl.evaluation.evaluate import (
@@ -36,7 +36,7 @@ from pushctl.evaluation.evaluate import (
     policy_seeds,
     summary,
 )
-from pushctl.evaluation.trials import CONTROLLERS, TrialResult, TrialSpec
+from pushctl.evaluation.trials import TrialResult, TrialSpec
 from pushctl.files.output_guard import hold, refuse_occupied_dir
 from pushctl.objects import OBJECT_NAMES
 from pushctl.planning import PROFILE_NAMES
@@ -59,11 +59,17 @@ SUMMARY_COLUMNS = (
 push steps with a prong slipping, with a prong out of contact)."""
 
 
-def choose(option: str, value: str, names: tuple[str, ...], every: str) -> tuple[str, ...]:
+def choose(
+    option: str,
+    value: str,
+    names: tuple[str, ...],
+    every: str,
+    everything: tuple[str, ...] | None = None,
+) -> tuple[str, ...]:
     """The names ``value`` selects: one of ``names``, several comma-separated (in the order
-    given; ``pd,feedback``), or all of them for ``every``."""
+    given; ``pd,feedback``), or ``everything`` (default: all of ``names``) for ``every``."""
     if value == every:
-        return names
+        return names if everything is None else everything
     chosen = tuple(value.split(","))
     if not all(name in names for name in chosen):
         raise ConfigError(
@@ -114,7 +120,9 @@ def prepare(
         objects=objects,
         profiles=choose("--profile", profile, PROFILE_NAMES, "all"),
         plants=choose_plants(plant),
-        controllers=choose("--controller", controller, CONTROLLERS, "all"),
+        controllers=choose(
+            "--controller", controller, controller_names(), "all", paper_controllers()
+        ),
         trials=trials,
         seed=seed,
         pusher=resolve_pusher(pusher),
@@ -129,14 +137,37 @@ def prepare(
     policy_path = policy if policy is not None else DEFAULT_POLICY
     loaded = (
         load_evaluation_policy(policy_path, trust_undigested=trust_undigested)
-        if "rl" in spec.controllers
+        if needs_policy(spec)
         else None
     )
-    if "feedback" in spec.controllers:
-        load_feedback_gains()  # a missing or bad gains file fails here, before any trial
+    load_controller_gains(spec)
     if policy_path.is_absolute() and policy_path.is_relative_to(Path.cwd()):
         policy_path = policy_path.relative_to(Path.cwd())  # as the provenance line shows it
     return spec, loaded, policy_path
+
+
+def needs_policy(spec: TrialSpec) -> bool:
+    """Whether a controller of ``spec`` pushes with a policy file (``rl``)."""
+    return any(entry.needs_policy for entry in entries(spec.controllers))
+
+
+def load_controller_gains(spec: TrialSpec) -> dict[str, object]:
+    """The gains of ``spec``'s controllers that have a file of their own (the feedback
+    law's): a missing or bad file fails here, before any trial."""
+    return {
+        entry.name: entry.load_gains()
+        for entry in entries(spec.controllers)
+        if entry.load_gains is not None
+    }
+
+
+def gains_provenance(controllers: tuple[str, ...]) -> str:
+    """The provenance fields naming the gains of ``controllers`` that have their own."""
+    return "".join(
+        f"; {entry.describe_gains(entry.load_gains())}"
+        for entry in entries(controllers)
+        if entry.load_gains is not None and entry.describe_gains is not None
+    )
 
 
 def _prepare_several(
@@ -148,9 +179,8 @@ def _prepare_several(
     shown = [_shown(path) for path in paths]
     if len({path.resolve() for path in paths}) < len(paths):
         raise ConfigError("--policy names one file twice; give each policy once")
-    if "feedback" in spec.controllers:
-        load_feedback_gains()
-    if "rl" not in spec.controllers:
+    load_controller_gains(spec)
+    if not needs_policy(spec):
         return None, shown
     loaded = [load_evaluation_policy(p, trust_undigested=trust_undigested) for p in paths]
     policy_seeds(loaded)
@@ -284,10 +314,11 @@ def run_with_progress(
     """:func:`~pushctl.evaluation.evaluate.evaluate` with a live progress display (episodes
     done, the running mean force error of each controller, the ETA), from the trials
     ``start`` holds, handing its state to ``keep``."""
-    extra = len(policy) - 1 if isinstance(policy, list) and "rl" in spec.controllers else 0
+    extra = len(policy) - 1 if isinstance(policy, list) and needs_policy(spec) else 0
     per_job = len(spec.controllers) + extra  # each further policy pushes every trial
     total = spec.n_episodes // len(spec.controllers) * per_job
     force_sums = dict.fromkeys(spec.controllers, 0.0)
+    by_policy = {entry.name for entry in entries(spec.controllers) if entry.needs_policy}
     columns = (
         TextColumn("[bold]episode"),
         MofNCompleteColumn(),
@@ -307,7 +338,7 @@ def run_with_progress(
 
         def show(result: TrialResult, done: int, jobs: int) -> None:
             for row in result.rows:  # rl: the sum over policies, shown per policy below
-                share = 1.0 / (1 + extra) if row["controller"] == "rl" else 1.0
+                share = 1.0 / (1 + extra) if row["controller"] in by_policy else 1.0
                 force_sums[row["controller"]] += share * row["force_error"]
             job = result.job
             cell = f"{job.object} {job.profile} {job.plant}"

@@ -1,6 +1,7 @@
 """The names and values ``evaluate`` and ``train`` accept, checked before the core is
 imported (torch, the simulator: seconds), so a typo is refused at once. The names are the
-core's own (tests/cli/test_early_checks.py holds them equal); the core checks them again.
+core's own (tests/cli/test_early_checks.py holds them equal; the controllers are read from
+their registry); the core checks them again.
 """
 
 from __future__ import annotations
@@ -13,8 +14,6 @@ OBJECTS = ("cube", "wedge")
 """:data:`pushctl.objects.OBJECT_NAMES`; a TOML object file is accepted too."""
 PROFILES = ("constant", "trapezoid", "chirp")
 """:data:`pushctl.planning.PROFILE_NAMES`."""
-CONTROLLERS = ("pd", "feedback", "rl")
-""":data:`pushctl.evaluation.trials.CONTROLLERS`."""
 PLANTS = ("sim", "proxy", "mujoco")
 """:data:`pushctl.config.PLANT_KINDS`; ``both`` and ``all`` select several."""
 STREAMS = ("evaluation", "tuning")
@@ -38,7 +37,9 @@ def check_evaluate_options(
     if not object_name.lower().endswith(".toml"):
         _names("--object", object_name, OBJECTS, "all")
     _names("--profile", profile, PROFILES, "all")
-    _names("--controller", controller, CONTROLLERS, "all")
+    from pushctl.controllers import controller_names  # the registry: light, no numpy
+
+    _names("--controller", controller, controller_names(), "all")
     if plant not in (*PLANTS, "both", "all"):
         raise ConfigError(f"unknown --plant {plant!r}; accepted: {', '.join(PLANTS)}, both or all")
     if not 1 <= trials <= 100_000:  # SEEDS_PER_EVALUATION (pushctl.evaluation.trials)

@@ -21,6 +21,7 @@ from pushctl.cli.common import (
     Command,
     check_output,
     console,
+    controller_help,
     error_console,
     fail,
     invocation,
@@ -56,9 +57,7 @@ def simulate(
             "evaluation stream: evaluate's trial N",
         ),
     ] = None,
-    controller: Annotated[
-        str, typer.Option(help="pd (PD-only), feedback (PD + PI on the pose) or rl (PD + policy)")
-    ] = "pd",
+    controller: Annotated[str, typer.Option(help=controller_help())] = "pd",
     policy: Annotated[
         Path | None,
         typer.Option(help="rl's policy", show_default="results/training/policy.pt, shipped"),

@@ -5,20 +5,17 @@ terminal. The commands are in
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from dataclasses import replace
 from pathlib import Path
 
-import numpy as np
 from rich.table import Table
 
 from pushctl.config import PusherConfig
 from pushctl.control.gains import PDGains, gains_toml
 from pushctl.episode.draw import draw_scenario
 from pushctl.episode.metrics import METRIC_UNITS, EpisodeMetrics
-from pushctl.episode.proxy import effects_for
-from pushctl.episode.ranges import PLANTS, plant_engine
-from pushctl.episode.runner import Episode
+from pushctl.episode.ranges import PLANTS
 from pushctl.episode.scenario import PhysicalParameters, Scenario
 from pushctl.episode.trace import Trace
 from pushctl.episode.unknowns import PlantUnknowns
@@ -30,14 +27,12 @@ from pushctl.planning import Plan
 from pushctl.planning.profiles import PROFILE_NAMES
 from pushctl.types import PlanarPose
 
-CONTROLLERS = ("pd", "feedback", "rl")
-"""Controllers ``pushctl simulate`` can run: PD-only, PD + the PI feedback law, PD + the
-residual policy."""
-
 
 def check_controller(name: str) -> None:
-    if name not in CONTROLLERS:
-        raise ConfigError(f"unknown controller {name!r}; accepted: {', '.join(CONTROLLERS)}")
+    """ConfigError (one line, naming those accepted) unless ``name`` is registered."""
+    from pushctl.controllers import controller_entry
+
+    controller_entry(name)
 
 
 def push(
@@ -47,48 +42,40 @@ def push(
     policy: Path | None = None,
     plant: str = "sim",
 ) -> tuple[Trace, Plan]:
-    """Run ``scenario`` with ``controller`` on ``plant``; the trace and the plan.
-    ``feedback`` pushes with the gains of ``pushctl/defaults/feedback_gains.toml`` and today's
-    residual settings, ``rl`` with the policy at ``policy`` (default: the shipped one) and
-    the settings it was trained with; both through :class:`~pushctl.task.env.PushEnv`."""
-    check_controller(controller)
-    check_plant(plant)
-    if controller == "pd":
-        episode = Episode(
-            scenario, gains=gains, effects=effects_for(plant), engine=plant_engine(plant)
-        )
-        return episode.run(), episode.plan
-    # torch and the environment load only for the controllers that need them
-    from pushctl.control.feedback import load_feedback_gains
-    from pushctl.evaluation.controllers import FeedbackActor
-    from pushctl.evaluation.evaluate import DEFAULT_POLICY, load_evaluation_policy
-    from pushctl.rl.policy import finish_with_policy
-    from pushctl.task.env import PushEnv
-    from pushctl.task.env_config import EnvConfig
+    """Run ``scenario`` with the registered ``controller`` on ``plant``; the trace and the
+    plan, through the evaluation's driver (:func:`~pushctl.controllers.drive.push_scenario`).
+    A controller that pushes with a policy (``rl``) takes the one at ``policy`` (default:
+    the shipped one) and the settings it was trained with; the others today's defaults (the
+    feedback law its own residual settings and ``experiments/feedback_gains.toml``)."""
+    from pushctl.controllers import PushSetup, controller_entry
+    from pushctl.controllers.drive import push_scenario
 
-    actor: Callable[[np.ndarray], np.ndarray]
-    if controller == "rl":
+    entry = controller_entry(controller)
+    check_plant(plant)
+    # torch loads only for a controller that pushes with a policy
+    policies: tuple = ()
+    if entry.needs_policy:
+        from pushctl.evaluation.evaluate import DEFAULT_POLICY, load_evaluation_policy
+
         trained = load_evaluation_policy(policy if policy is not None else DEFAULT_POLICY)
-        config, actor = trained.env, trained.actor
+        config, policies = trained.env, ((trained.actor, trained.seed),)
     else:
+        from pushctl.task.env_config import EnvConfig
+
         config = EnvConfig()
-    env = PushEnv(replace(config, plant=plant, duration=scenario.duration, dt=scenario.dt), gains)
-    env.reset(options={"scenario": scenario})
-    if controller == "feedback":
-        actor = FeedbackActor(env, load_feedback_gains())
-    finish_with_policy(env, actor)
-    assert env.episode is not None
-    return env.episode.trace(), env.plan
+    own = {} if entry.load_gains is None else {controller: entry.load_gains()}
+    # the evaluation stream, as simulate's scenarios (a given scenario draws nothing)
+    setup = PushSetup(replace(config, plant=plant, stream="evaluation"), gains, policies, own)
+    return push_scenario(controller, scenario, setup)
 
 
 def check_pusher(pusher: PusherConfig | None, controller: str) -> None:
-    """ConfigError for ``rl`` with a pusher other than the paper's: a policy is trained
-    for one pusher (its observation has a row per prong)."""
-    if pusher is not None and controller == "rl" and pusher != PusherConfig():
-        raise ConfigError(
-            "--pusher runs with --controller pd or feedback: the policy was trained for "
-            "the paper's two-prong pusher"
-        )
+    """ConfigError for a controller that pushes with the paper's pusher only (``rl``) with
+    another: a policy is trained for one pusher (its observation has a row per prong)."""
+    if pusher is not None and pusher != PusherConfig():
+        from pushctl.evaluation.trials import check_pusher as check_all
+
+        check_all((controller,))
 
 
 def check_plant(name: str) -> None:

@@ -53,9 +53,10 @@ episodes."""
 
 def warm(report: Callable[[str], None] | None = None) -> None:
     """Compile every kernel a command calls: a :data:`WARM_DURATION` push of each object on
-    the ``sim`` and ``proxy`` plants with each controller (the shipped policy for ``rl``),
-    and one short training episode. A second call finds them cached: a few seconds.
-    ``report`` is told each step as it starts (``step 2 of 6: …``) and the total at the end."""
+    the ``sim`` and ``proxy`` plants with each registered controller (the shipped policy
+    for ``rl``), and one short training episode. A second call finds them cached: a few
+    seconds. ``report`` is told each step as it starts (``step 2 of 7: …``) and the total
+    at the end."""
     import time
 
     started = time.perf_counter()
@@ -71,6 +72,7 @@ def warm(report: Callable[[str], None] | None = None) -> None:
     say("loading the simulator")
     from pushctl.cli.simulate_steps import push, simulate_scenario
     from pushctl.control import load_gains
+    from pushctl.controllers import controller_names
     from pushctl.rl.warm_up import compile_kernels
     from pushctl.task.env_config import EnvConfig
 
@@ -83,7 +85,7 @@ def warm(report: Callable[[str], None] | None = None) -> None:
                 object_name, "chirp", None, 0, False, unchanged, WARM_DURATION,
                 "kinova-gen2-7dof", plant,
             )  # fmt: skip
-            for controller in ("pd", "feedback", "rl"):
+            for controller in controller_names():
                 push(scenario, controller, gains, None, plant)
     for base_law in ("none", "feedback"):
         say(f"a training episode on base law {base_law}")

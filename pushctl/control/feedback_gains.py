@@ -80,7 +80,7 @@ class FeedbackGains:
     the pose deviation √(e_x² + e_y² + (gate_length·e_θ)²) at or below which it outputs zero
     and leaves its state alone, ``catchup_gate`` [m] during the catch-up and
     ``gate_threshold`` after; the environment's gate must then be open
-    (:func:`~pushctl.evaluation.controllers.feedback_config` opens it)."""
+    (:func:`~pushctl.controllers.feedback.feedback_config` opens it)."""
 
     k: float = 0.5
     k_i: float = 0.0

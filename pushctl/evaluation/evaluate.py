@@ -15,7 +15,7 @@ docs/evaluation.md for the columns) are written only once every trial has run.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -25,12 +25,12 @@ import pandas as pd
 import torch
 
 from pushctl.config import PusherConfig
-from pushctl.control.feedback import FeedbackGains, load_feedback_gains
 from pushctl.control.gains import PDGains, load_gains
+from pushctl.controllers import PushSetup, entries
+from pushctl.controllers.drive import build_controllers
 from pushctl.episode.metrics import EpisodeMetrics
 from pushctl.errors import ConfigError
 from pushctl.evaluation.columns import STEP_COLUMNS, STEPS_FILE, TRIAL_COLUMNS, TRIALS_FILE
-from pushctl.evaluation.controllers import feedback_config
 from pushctl.evaluation.trials import (
     Job,
     TrialResult,
@@ -107,34 +107,38 @@ def evaluate(
     workers: int = 1,
     env_config: EnvConfig | None = None,
     on_trial: OnTrial | None = None,
-    feedback_gains: FeedbackGains | None = None,
+    controller_gains: Mapping[str, Any] | None = None,
     start: dict[str, Any] | None = None,
     keep: Callable[[Callable[[], dict[str, Any]]], None] | None = None,
 ) -> Evaluation:
     """Run every trial of ``spec`` and gather the tables.
 
-    ``policy``: needed when ``spec.controllers`` holds ``rl``; its environment settings
-    (push duration, step, residual path, scale, gate) are RL's, and its push (duration,
-    step) everyone's. Several policies (a sequence, see :func:`policy_seeds`) each push
-    every trial and add their own ``rl`` rows; PD-only and feedback still run once. Without
-    one, ``env_config`` (default :class:`EnvConfig`'s) sets the push. ``gains``: the PD
-    baseline's (default ``pushctl/defaults/pd_gains.toml``).
-    ``feedback_gains``: the feedback law's (default ``pushctl/defaults/feedback_gains.toml``,
-    read only when ``feedback`` runs); it pushes with today's default residual settings
-    (:func:`~pushctl.evaluation.controllers.feedback_config`). ``workers``: 1 … 8 processes.
+    ``policy``: needed when ``spec.controllers`` holds one that pushes with a policy
+    (``rl``); its environment settings (push duration, step, residual path, scale, gate)
+    are RL's, and its push (duration, step) everyone's. Several policies (a sequence, see
+    :func:`policy_seeds`) each push every trial and add their own ``rl`` rows; the other
+    controllers still run once. Without one, ``env_config`` (default :class:`EnvConfig`'s)
+    sets the push. ``gains``: the PD baseline's (default ``pushctl/defaults/pd_gains.toml``).
+    ``controller_gains``: controllers' own gains by name (default: each registered
+    controller's ``load_gains()``, read only when it runs; the feedback law's is
+    ``pushctl/defaults/feedback_gains.toml``). ``workers``: 1 … 8 processes.
     ``keep`` is handed, after each job, a function returning what the jobs so far gathered
     (plain values and tensors, for ``torch.save``); ``start``, such a state, makes a resumed
     evaluation run only the jobs after it, to the same bytes as one run straight through.
     """
     check_workers(workers)
     none = policy is None or (not isinstance(policy, TrainedPolicy) and len(policy) == 0)
-    if "rl" in spec.controllers and none:
+    needing = [entry for entry in entries(spec.controllers) if entry.needs_policy]
+    if needing and none:
+        others = "|".join(entry.name for entry in entries() if not entry.needs_policy)
         raise ConfigError(
-            "RL-assisted trials need a policy: pass --policy or --controller pd|feedback"
+            f"{needing[0].label} trials need a policy: pass --policy or --controller {others}"
         )
     gains = gains if gains is not None else load_gains()
-    if "feedback" in spec.controllers and feedback_gains is None:
-        feedback_gains = load_feedback_gains()
+    own_gains = dict(controller_gains or {})
+    for entry in entries(spec.controllers):
+        if entry.load_gains is not None and entry.name not in own_gains:
+            own_gains[entry.name] = entry.load_gains()
     policies: list[TrainedPolicy]
     if policy is None:
         policies = []
@@ -142,19 +146,14 @@ def evaluate(
         policies = [policy]
     else:
         policies = list(policy)
-    several = not (policy is None or isinstance(policy, TrainedPolicy))
     seeds = policy_seeds(policies)
-    first = policies[0] if policies else None
-    config = first.env if first is not None else (env_config or EnvConfig())
-    actor_state = (
-        tuple(portable(p.actor.state()) for p in policies)
-        if several
-        else (portable(first.actor.state()) if first is not None else None)
+    config = policies[0].env if policies else (env_config or EnvConfig())
+    actor_states = tuple(
+        (portable(p.actor.state()), seed) for p, seed in zip(policies, seeds, strict=True)
     )
-    policy_seed = tuple(seeds) if several else (seeds[0] if seeds else None)
     setup = (
-        config, gains, actor_state, spec.plants, spec.controllers, feedback_gains, policy_seed,
-        spec.pusher, spec.stream,
+        config, gains, actor_states, spec.plants, spec.controllers, own_gains, spec.pusher,
+        spec.stream,
     )  # fmt: skip
     jobs = spec.jobs()
     gathered = _Gathered(spec) if start is None else _Gathered.restored(spec, start, len(jobs))
@@ -230,55 +229,35 @@ def summary(trials: pd.DataFrame) -> pd.DataFrame:
 
 
 class _Context:
-    """What a process needs to run jobs: an environment per plant and the actor."""
+    """What a process needs to run jobs: per plant, the environment each trial resets and
+    the controllers built once from the registry."""
 
     def __init__(
         self,
         config: EnvConfig,
         gains: PDGains,
-        actor_state: dict[str, Any] | tuple[dict[str, Any], ...] | None,
+        actor_states: tuple[tuple[dict[str, Any], int | None], ...],
         plants: tuple[str, ...],
         controllers: tuple[str, ...],
-        feedback_gains: FeedbackGains | None = None,
-        policy_seed: int | None | tuple[int | None, ...] = None,
+        controller_gains: Mapping[str, Any],
         pusher: PusherConfig | None = None,
         stream: str = "evaluation",
     ) -> None:
         self.pusher = pusher
-        self.envs = {
-            plant: PushEnv(replace(config, stream=stream, plant=plant), gains) for plant in plants
-        }
-        self.feedback = {}
-        if "feedback" in controllers:
-            assert feedback_gains is not None
-            for plant in plants:
-                own = feedback_config(replace(config, stream=stream, plant=plant), feedback_gains)
-                self.feedback[plant] = (PushEnv(own, gains), feedback_gains)
-        if isinstance(actor_state, tuple):  # several policies: (actor, seed) pairs
-            assert isinstance(policy_seed, tuple)
-            actors = [ActorPolicy.from_state(tensors(state)) for state in actor_state]
-            self.policies: tuple | None = tuple(zip(actors, policy_seed, strict=True))
-            actor_state, policy_seed = None, None
-        else:
-            self.policies = None
-        self.actor = (
-            ActorPolicy.from_state(tensors(actor_state)) if actor_state is not None else None
+        actors = tuple(
+            (ActorPolicy.from_state(tensors(state)), seed) for state, seed in actor_states
         )
-        self.controllers = controllers
-        assert not isinstance(policy_seed, tuple)  # several policies: in self.policies
-        self.policy_seed = policy_seed
+        self.envs: dict[str, PushEnv] = {}
+        self.controllers = {}
+        for plant in plants:
+            setup = PushSetup(
+                replace(config, stream=stream, plant=plant), gains, actors, controller_gains
+            )
+            self.envs[plant] = PushEnv(setup.config, gains)
+            self.controllers[plant] = build_controllers(controllers, setup)
 
     def run(self, job: Job) -> TrialResult:
-        return run_trial(
-            self.envs[job.plant],
-            self.actor,
-            job,
-            self.controllers,
-            self.feedback.get(job.plant),
-            self.policy_seed,
-            self.policies,
-            self.pusher,
-        )
+        return run_trial(self.envs[job.plant], self.controllers[job.plant], job, self.pusher)
 
 
 def _results(jobs: list[Job], setup: tuple, workers: int) -> Iterator[TrialResult]:

@@ -10,32 +10,36 @@ trial i is ``pushctl simulate --seed i``'s scenario. The draw
 infeasible and counts them. The ``sim`` and ``proxy`` plants of one trial use the same seed:
 the same goal, their parameters from the same uniforms scaled to each plant's ranges.
 
-Paired: PD-only, feedback and RL-assisted push the same scenario with the same plan (and, on
-the proxy, the same camera noise), one after the other.
+Paired: the controllers (PD-only, feedback, RL-assisted, any registered one) push the same
+scenario with the same plan (and, on the proxy, the same camera noise), one after the other,
+through :func:`~pushctl.controllers.drive.push_controllers`.
 """
 
 from __future__ import annotations
 
-import copy
-from collections.abc import Callable
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from pushctl.config import PusherConfig
-from pushctl.control.feedback import FeedbackGains
+from pushctl.controllers import (
+    Controller,
+    controller_entry,
+    controller_names,
+    entries,
+    paper_controllers,
+)
+from pushctl.controllers.drive import push_controllers, reset
 from pushctl.episode.draw import draw_planned_scenario
 from pushctl.episode.landed import landed_force_error
 from pushctl.episode.metrics import compute_metrics
 from pushctl.episode.ranges import DEFAULT_PLANTS, PLANTS
 from pushctl.episode.trace import Trace
 from pushctl.errors import ConfigError
-from pushctl.evaluation.controllers import CONTROLLERS, FeedbackActor
 from pushctl.objects import OBJECT_NAMES, resolve_object
 from pushctl.planning import PROFILE_NAMES
-from pushctl.rl.networks import ActorPolicy
-from pushctl.rl.policy import finish_with_policy, pd_only_episode
 from pushctl.task.env import PushEnv
 
 SEEDS_PER_EVALUATION = 100_000
@@ -48,11 +52,12 @@ STREAMS_EVALUATED = ("evaluation", "tuning")
 @dataclass(frozen=True)
 class TrialSpec:
     """Which trials run: distinct names from :data:`OBJECT_NAMES`, :data:`PROFILE_NAMES`,
-    :data:`PLANTS` and :data:`CONTROLLERS` (the outputs keep the order given), ``trials``
-    per object × profile (1 … :data:`SEEDS_PER_EVALUATION`) and the evaluation ``seed`` >= 0.
+    :data:`PLANTS` and the registered controllers (default: the paper's three; the outputs
+    keep the order given), ``trials`` per object × profile (1 … :data:`SEEDS_PER_EVALUATION`)
+    and the evaluation ``seed`` >= 0.
     An object may also be a TOML object file (``experiments/objects/hexagon.toml``).
     ``pusher``: the plate and prongs of every trial (a pusher file's; None: the paper's),
-    for PD-only and feedback only: a policy was trained for the paper's pusher.
+    for controllers that push with any pusher only (a policy was trained for the paper's).
     ``stream``: where the scenarios are drawn: ``evaluation`` (the held-out targets), or
     ``tuning`` for looking around (other pushers and shapes, gains) without touching them.
     ConfigError (one line) for anything else."""
@@ -60,7 +65,7 @@ class TrialSpec:
     objects: tuple[str, ...] = OBJECT_NAMES
     profiles: tuple[str, ...] = PROFILE_NAMES
     plants: tuple[str, ...] = DEFAULT_PLANTS
-    controllers: tuple[str, ...] = CONTROLLERS
+    controllers: tuple[str, ...] = field(default_factory=paper_controllers)
     trials: int = 50
     seed: int = 0
     pusher: PusherConfig | None = None
@@ -79,7 +84,7 @@ class TrialSpec:
             ("object", self.objects, OBJECT_NAMES + files),
             ("profile", self.profiles, PROFILE_NAMES),
             ("plant", self.plants, PLANTS),
-            ("controller", self.controllers, CONTROLLERS),
+            ("controller", self.controllers, controller_names()),
         ):
             bad = [name for name in chosen if name not in accepted]
             if bad or not chosen:
@@ -95,11 +100,8 @@ class TrialSpec:
             )
         if not _is_int(self.seed) or self.seed < 0:
             raise ConfigError(f"--seed must be an integer >= 0, got {self.seed!r}")
-        if self.pusher is not None and "rl" in self.controllers and self.pusher != PusherConfig():
-            raise ConfigError(
-                "--pusher runs with --controller pd or feedback: the policy was trained for "
-                "the paper's two-prong pusher"
-            )
+        if self.pusher is not None and self.pusher != PusherConfig():
+            check_pusher(self.controllers)
 
     def scenario_seed(self, trial: int) -> int:
         """The evaluation-stream seed of trial ``trial`` (the same in every cell and plant)."""
@@ -153,27 +155,20 @@ class TrialResult:
 
 def run_trial(
     env: PushEnv,
-    actor: ActorPolicy | None,
+    controllers: Mapping[str, Controller],
     job: Job,
-    controllers: tuple[str, ...],
-    feedback: tuple[PushEnv, FeedbackGains] | None = None,
-    policy_seed: int | None = None,
-    policies: tuple[tuple[ActorPolicy, int | None], ...] | None = None,
     pusher: PusherConfig | None = None,
 ) -> TrialResult:
-    """Run ``controllers`` (a subset of :data:`CONTROLLERS`) on ``job``'s scenario.
+    """Run ``controllers`` (built from the registry) on ``job``'s scenario, paired.
 
     ``env``: a :class:`PushEnv` on the evaluation stream with ``job.plant``'s ranges (it
-    draws, plans and, for RL, pushes); ``actor``: the residual policy (None only without
-    ``rl``); ``feedback``: the environment the feedback law pushes in (the same stream and
-    plant, its own residual settings) and its gains (None only without ``feedback``);
-    ``policy_seed``: the policy's training seed, for the ``rl`` row; ``policies``: several
-    (actor, training seed) pairs instead of ``actor`` and ``policy_seed``, each pushing the
-    same scenario (from a copy of the environment as the reset left it) and adding its own
-    ``rl`` row; ``rl``'s per-step quantities are then their mean. The reset draws the
-    scenario even when only PD runs, so PD-only's rows are the same with and without the
-    others. ``pusher``: the trial's plate and prongs (None: the paper's); the scenario of
-    ``job.seed`` is then drawn here as the environment would draw it, with that pusher.
+    draws and plans; a policy pushes in it); every controller pushes from its reset
+    (:func:`~pushctl.controllers.drive.push_controllers`). The reset draws the scenario
+    whichever controllers run, so each one's rows are the same with and without the
+    others. A controller with several runs (one per policy) adds a row per run, and its
+    per-step quantities are their mean. ``pusher``: the trial's plate and prongs (None: the
+    paper's); the scenario of ``job.seed`` is then drawn here as the environment would draw
+    it, with that pusher.
     """
     options: dict[str, Any] = {
         "object": job.object, "profile": job.profile, "scenario_seed": job.seed
@@ -186,61 +181,30 @@ def run_trial(
             plant=config.plant, duration=config.duration, dt=config.dt, pusher=pusher,
         )  # fmt: skip
         options = {"scenario": scenario}
-    traces: dict[str, tuple[Trace, float]] = {}
-    _, info = env.reset(options=options)
-    assert env.episode is not None
-    # Every controller starts from the end of the same approach: PD-only pushes from a copy
-    # of the episode as the reset left it (9 % of a trial's CPU time saved; the same trace
-    # as a fresh Episode's run(), tested).
-    pd_episode = pd_only_episode(env) if "pd" in controllers else None
-    rl_runs: list[tuple[int | None, tuple[Trace, float]]] = []
-    runs = (policies or ((actor, policy_seed),)) if "rl" in controllers else ()
-    # The feedback law takes the reset over (PushEnv.reset_from) where its environment
-    # builds episodes as the policy's does; else it resets to the same scenario itself.
-    hand_over = feedback is not None and feedback[0].episodes_differ(env) is None
-    # Each further policy, and the feedback law, push from a copy of the environment as the
-    # reset left it: the same episode, approach and generators as a second reset with the
-    # same options (tested to the byte), without drawing, planning and approaching again.
-    start = copy.deepcopy(env) if len(runs) > 1 or (runs and hand_over) else env
-    if "rl" in controllers:
-        for k, (one, seed) in enumerate(runs):
-            if one is None:
-                raise ConfigError("RL-assisted trials need a policy")
-            pushing = env if start is env or k == 0 else copy.deepcopy(start)
-            rl_runs.append((seed, _push_with(pushing, one)))
-        traces["rl"] = rl_runs[0][1]
-    if "feedback" in controllers:
-        if feedback is None:
-            raise ConfigError("feedback trials need the feedback law's gains")
-        feedback_env, gains = feedback
-        if hand_over:
-            feedback_env.reset_from(start, int(info["goals_redrawn"]))
-        else:
-            feedback_env.reset(options=options)  # the same scenario: the options fix the draw
-        traces["feedback"] = _push_with(feedback_env, FeedbackActor(feedback_env, gains))
-    if pd_episode is not None:
-        traces["pd"] = (pd_episode.finish(), 0.0)
-    redrawn = int(info["goals_redrawn"]) if redrawn is None else redrawn
+    start = reset(env, options)
+    runs = push_controllers(controllers, start)
+    redrawn = start.redrawn if redrawn is None else redrawn
     rows, steps = [], {}
-    for controller in CONTROLLERS:
-        if controller == "rl" and rl_runs:
-            for seed, (trace, gate_share) in rl_runs:
-                rows.append(_row(env, job, "rl", redrawn, gate_share, trace, seed))
-            steps["rl"] = np.mean([step_quantities(run[0]) for _, run in rl_runs], axis=0)
-        elif controller in traces:
-            trace, gate_share = traces[controller]
-            rows.append(_row(env, job, controller, redrawn, gate_share, trace))
-            steps[controller] = step_quantities(trace)
-    t = next(iter(traces.values()))[0].t
+    for name in (name for name in controller_names() if name in runs):
+        for run in runs[name]:
+            rows.append(_row(env, job, name, redrawn, run.gate_share, run.trace, run.policy_seed))
+        quantities = [step_quantities(run.trace) for run in runs[name]]
+        steps[name] = quantities[0] if len(quantities) == 1 else np.mean(quantities, axis=0)
+    t = next(iter(runs.values()))[0].trace.t
     return TrialResult(job, tuple(rows), steps, np.asarray(t, dtype=float), redrawn)
 
 
-def _push_with(env: PushEnv, actor: Callable[[np.ndarray], np.ndarray]) -> tuple[Trace, float]:
-    """The push of the episode ``env`` was just reset to, with the deterministic ``actor``
-    (a policy or the feedback law), and the share of its steps the gate was open."""
-    assert env.episode is not None
-    opened = finish_with_policy(env, actor)
-    return env.episode.trace(), opened / max(env.episode.n_steps, 1)
+def check_pusher(controllers: tuple[str, ...]) -> None:
+    """ConfigError for a pusher other than the paper's with a controller that pushes with
+    the paper's only (a policy's observation has a row per prong)."""
+    bound = [entry.name for entry in entries(controllers) if not entry.any_pusher]
+    if bound:
+        free = [entry.name for entry in entries() if entry.any_pusher]
+        raise ConfigError(
+            f"--pusher runs with --controller {' or '.join(free)}: the "
+            f"{controller_entry(bound[0]).label} controller's policy was trained for the "
+            "paper's two-prong pusher"
+        )
 
 
 def _row(

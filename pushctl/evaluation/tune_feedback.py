@@ -12,7 +12,7 @@ The procedure:
    reference offset; with everything a reset draws there (goal, parameters and the plant
    unknowns the planner cannot see). Each is reset once; every candidate pushes from a copy
    of the episode as the approach left it, so all candidates see the same pushes.
-2. The push: the feedback law (:class:`~pushctl.evaluation.controllers.FeedbackActor`)
+2. The push: the feedback law (:class:`~pushctl.task.feedback_actor.FeedbackActor`)
    through the environment's gate, action scale and residual path: today's defaults of
    :class:`~pushctl.task.env_config.EnvConfig`, the settings ``pushctl evaluate`` runs it with.
 3. Objective: the mean over the tuning set of translation error % + angle error %
@@ -36,10 +36,10 @@ import numpy as np
 from pushctl.control.feedback import FeedbackGains
 from pushctl.episode.metrics import compute_metrics
 from pushctl.errors import ConfigError, PushctlError
-from pushctl.evaluation.controllers import FeedbackActor
 from pushctl.rl.policy import finish_with_policy, pd_only_episode
 from pushctl.task.env import PushEnv
 from pushctl.task.env_config import EnvConfig
+from pushctl.task.feedback_actor import FeedbackActor
 
 GRID = {"k": (0.1, 0.2, 0.35, 0.5), "k_i": (0.0, 0.02, 0.05, 0.1)}
 """The coarse grid: k [1/s] × k_i [1/s²], 16 candidates (docs/design.md §5's prototype: k = 0.5 /s

@@ -15,18 +15,18 @@ import shlex
 
 import pandas as pd
 
-from pushctl.errors import DamagedFileError
+from pushctl.controllers import controller_entry, paper_controllers
+from pushctl.errors import ConfigError, DamagedFileError
 
 ALL_OBJECTS = ("cube", "wedge")
 ALL_PROFILES = ("constant", "trapezoid", "chirp")
-ALL_CONTROLLERS = ("pd", "feedback", "rl")
 ALL_PLANTS = ("sim", "proxy", "mujoco")
 BOTH_PLANTS = ("sim", "proxy")
 _DIMENSIONS = (
     ("object", "--object", {"all": ALL_OBJECTS}),
     ("profile", "--profile", {"all": ALL_PROFILES}),
     ("plant", "--plant", {"all": ALL_PLANTS, "both": BOTH_PLANTS}),
-    ("controller", "--controller", {"all": ALL_CONTROLLERS}),
+    ("controller", "--controller", {"all": paper_controllers}),  # read when checking
 )
 
 
@@ -51,7 +51,8 @@ def named_options(made_by: str | None) -> dict[str, list[str]]:
 
 def check_complete(path: object, frame: pd.DataFrame, made_by: str | None) -> None:
     """DamagedFileError (one line) if a cell ``made_by`` names has fewer rows in ``frame``
-    (the checked trials) than the trials it names (times the policies, for ``rl``)."""
+    (the checked trials) than the trials it names (times the policies, for a controller that
+    pushes with them: ``rl``)."""
     options = named_options(made_by)
     if not options:
         return
@@ -60,7 +61,8 @@ def check_complete(path: object, frame: pd.DataFrame, made_by: str | None) -> No
         value = (options.get(option) or [""])[0]
         found = tuple(dict.fromkeys(frame[column]))
         if value in groups:
-            cells.append(groups[value])
+            named = groups[value]
+            cells.append(named() if callable(named) else named)
         elif value and not value.lower().endswith(".toml"):
             cells.append(tuple(value.split(",")))
         else:
@@ -72,7 +74,7 @@ def check_complete(path: object, frame: pd.DataFrame, made_by: str | None) -> No
     policies = max(1, len(options.get("--policy", [])))
     counts = frame.groupby(["object", "profile", "plant", "controller"]).size()
     for cell in itertools.product(*cells):
-        expected = trials * (policies if cell[3] == "rl" else 1)
+        expected = trials * (policies if _by_policy(cell[3]) else 1)
         have = int(counts.get(cell, 0))
         if trials and have < expected:
             raise DamagedFileError(
@@ -80,3 +82,11 @@ def check_complete(path: object, frame: pd.DataFrame, made_by: str | None) -> No
                 f"{'/'.join(cell)}, it holds {have} of the {expected} rows; rerun "
                 "`pushctl evaluate` to remake it"
             )
+
+
+def _by_policy(name: str) -> bool:
+    """Whether controller ``name`` adds a row per policy (an unknown name: no)."""
+    try:
+        return controller_entry(name).needs_policy
+    except ConfigError:
+        return False

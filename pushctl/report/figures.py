@@ -10,7 +10,9 @@
   trials, PD-only against RL-assisted, ``sim`` against ``proxy``; one column per profile,
   two rows per object.
 
-Colours follow the paper: desired green, PD-only blue, RL-assisted red. Each function takes
+Colours follow the paper: desired green, PD-only blue, RL-assisted red; each controller's
+colour, line width and legend label are its registry entry's
+(:mod:`pushctl.controllers`). Each function takes
 the checked frames of :mod:`pushctl.report.inputs` and returns a bare
 :class:`matplotlib.figure.Figure` (no pyplot, no global state); the caller saves it.
 """
@@ -23,20 +25,15 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
+from pushctl.controllers import controller_entry, controller_names
 from pushctl.report.plan_figure import FONT
 from pushctl.report.tables import OBJECT_ORDER, PROFILE_ORDER, ordered_names
 
 DESIRED = "#2ca02c"
-PD = "#1f77b4"
-RL = "#d62728"
+PD = controller_entry("pd").colour
+RL = controller_entry("rl").colour
 PD_PROXY = "#7fb8e6"
 RL_PROXY = "#f29a4a"
-FEEDBACK = "#9467bd"
-CONTROLLER_COLOURS = {"pd": PD, "feedback": FEEDBACK, "rl": RL}
-CONTROLLER_NAMES = {"pd": "PD-only", "feedback": "feedback (PD + PI)", "rl": "RL-assisted"}
-CONTROLLER_WIDTHS = {"pd": 2.6, "feedback": 1.8, "rl": 1.2}
-"""Line widths [pt]: PD-only wide underneath, RL-assisted narrow on top, so where the two
-coincide (a residual that never acts) both stay visible."""
 OBJECT_STYLES = ("-", "--", ":", "-.")
 """Line style of each object, in :data:`OBJECT_ORDER` (others after)."""
 LOG_SPAN = 100.0
@@ -105,7 +102,7 @@ def training_figure(curve: pd.DataFrame, window: int = 100) -> Figure:
             episode = rows["episode"].to_numpy(float)
             values = MILLI * rows[f"{controller}_{metric}"].to_numpy(float)
             counts[controller] = len(rows)
-            colour = CONTROLLER_COLOURS[controller]
+            colour = controller_entry(controller).colour
             alpha = 0.45 if controller == "pd" else 0.2
             ax.plot(episode, values, ".", ms=3, color=colour, alpha=alpha, mew=0, zorder=1)
             ax.plot(episode, rolling_mean(episode, values, window), color=colour, lw=1.8, zorder=3)
@@ -116,7 +113,7 @@ def training_figure(curve: pd.DataFrame, window: int = 100) -> Figure:
     axes[-1].set_xlabel("training episode")
     handles = []
     for controller in ("pd", "rl"):
-        colour, name = CONTROLLER_COLOURS[controller], CONTROLLER_NAMES[controller]
+        colour, name = controller_entry(controller).colour, controller_entry(controller).label
         raw = f"{name}, one episode ({counts[controller]} episodes)"
         handles.append(Line2D([], [], ls="none", marker=".", color=colour, alpha=0.5, label=raw))
         handles.append(Line2D([], [], color=colour, lw=1.8, label=f"{name}, rolling mean"))
@@ -210,31 +207,32 @@ def tracking_figure(steps: pd.DataFrame, plant: str = "sim") -> Figure:
 def _draw_tracking(
     ax: Axes, cell: pd.DataFrame, actual: str, desired: str | None, style: str
 ) -> None:
-    """One object's PD-only, feedback and RL-assisted ``actual`` curves (and the ``desired``
-    one, if named, once) in ``ax``."""
-    for controller in ("pd", "feedback", "rl"):
+    """One object's ``actual`` curve of each controller, in the registry's order (PD-only
+    wide underneath, RL-assisted narrow on top; and the ``desired`` one, if named, once)
+    in ``ax``."""
+    for controller in controller_names():
         line = cell[cell["controller"] == controller].sort_values("step")
         if line.empty:
             continue
         if desired is not None and controller == _first_controller(cell):
             ax.plot(line["t"], line[desired], color=DESIRED, lw=4.5, ls=style, alpha=0.45)
-        colour, width = CONTROLLER_COLOURS[controller], CONTROLLER_WIDTHS[controller]
-        ax.plot(line["t"], line[actual], color=colour, lw=width, ls=style)
+        entry = controller_entry(controller)
+        ax.plot(line["t"], line[actual], color=entry.colour, lw=entry.width, ls=style)
 
 
 def _first_controller(cell: pd.DataFrame) -> str:
     """The controller whose rows draw the desired curve (every controller tracks the same
-    paired plans): the first present of PD-only, feedback, RL-assisted."""
+    paired plans): the first present in the registry's order."""
     present = set(cell["controller"])
-    return next(c for c in ("pd", "feedback", "rl") if c in present)
+    return next(c for c in controller_names() if c in present)
 
 
 def _tracking_handles(styles: dict[str, str], controllers: set[str]) -> list[Line2D]:
     handles = [Line2D([], [], color=DESIRED, lw=4.5, alpha=0.45, label="desired")]
     handles += [
-        Line2D([], [], color=CONTROLLER_COLOURS[c], lw=CONTROLLER_WIDTHS[c], label=name)
-        for c, name in CONTROLLER_NAMES.items()
-        if c in controllers
+        Line2D([], [], color=entry.colour, lw=entry.width, label=entry.label)
+        for entry in map(controller_entry, controller_names())
+        if entry.name in controllers
     ]
     handles += [Line2D([], [], color="0.3", ls=s, lw=1.3, label=o) for o, s in styles.items()]
     return handles
@@ -276,7 +274,7 @@ def _force_panel(ax: Axes, cell: pd.DataFrame, metric: str, smooth: float) -> No
         line = line[line["step"] > 0].sort_values("step")
         t, values = line["t"].to_numpy(float), MILLI * line[metric].to_numpy(float)
         ax.plot(t, values, color=colour, lw=0.5, alpha=0.3)
-        width = CONTROLLER_WIDTHS[controller]
+        width = controller_entry(controller).width
         ax.plot(t, _smooth(t, values, smooth), color=colour, ls=style, lw=width)
         drawn.append(values)
     _log_if_wide(ax, np.concatenate(drawn))
@@ -306,8 +304,8 @@ def force_error_figure(steps: pd.DataFrame, smooth: float = SMOOTH_S) -> Figure:
     for ax in axes.flat:
         _style_axes(ax)
     handles = [
-        Line2D([], [], color=c, ls=s, lw=CONTROLLER_WIDTHS[k], label=f"{CONTROLLER_NAMES[k]}, {p}")
-        for k, p, c, s in _SERIES
+        Line2D([], [], color=c, ls=s, lw=entry.width, label=f"{entry.label}, {p}")
+        for entry, p, c, s in ((controller_entry(k), p, c, s) for k, p, c, s in _SERIES)
         if p != "mujoco" or (steps["plant"] == "mujoco").any()
     ]
     handles.append(Line2D([], [], color="0.4", lw=0.5, alpha=0.5, label="each step (faint)"))

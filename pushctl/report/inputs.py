@@ -18,6 +18,7 @@ import csv
 import gzip
 import io
 import re
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -25,6 +26,7 @@ import numpy as np
 import pandas as pd
 
 from pushctl.config import PLANT_KINDS
+from pushctl.controllers import controller_names
 from pushctl.errors import ConfigError
 from pushctl.evaluation.columns import STEP_COLUMNS
 from pushctl.files.provenance import csv_digest_problem
@@ -35,7 +37,6 @@ STEPS = Path("evaluation") / "steps.csv"
 CURVE = Path("training") / "curve.csv"
 
 PLANTS = PLANT_KINDS  # pushctl.config: one definition for the simulator and the report
-CONTROLLERS = ("pd", "feedback", "rl")
 CURVE_METRICS = ("force_n_error", "force_t_error", "torque_error")
 """The per-episode errors of Fig. 5 [N, N, N·m], each as ``rl_<m>`` and ``pd_<m>``."""
 
@@ -53,13 +54,14 @@ class ResultsFileError(ConfigError):
 class CsvSpec:
     """The columns a results file must have: ``labels`` (non-empty text), ``numbers``
     (finite), ``optional_numbers`` (numbers or empty: NaN), ``choices`` (column → accepted
-    values) and ``key`` (columns no two rows may share)."""
+    values, or a function giving them when a file is read: the registered controllers) and
+    ``key`` (columns no two rows may share)."""
 
     what: str
     labels: tuple[str, ...]
     numbers: tuple[str, ...]
     optional_numbers: tuple[str, ...] = ()
-    choices: tuple[tuple[str, tuple[str, ...]], ...] = ()
+    choices: tuple[tuple[str, tuple[str, ...] | Callable[[], tuple[str, ...]]], ...] = ()
     key: tuple[str, ...] = ()
     if_present: tuple[str, ...] = ()
     """Numbers or empty, in files that have the column (older ones lack it); part of the
@@ -73,7 +75,7 @@ class CsvSpec:
 
 
 _GROUP = ("object", "profile", "plant", "controller")
-_CHOICES = (("plant", PLANTS), ("controller", CONTROLLERS))
+_CHOICES = (("plant", PLANTS), ("controller", controller_names))
 
 TRIALS_SPEC = CsvSpec(
     what="per-trial metrics from `pushctl evaluate`",
@@ -228,7 +230,8 @@ def _checked(path: Path, raw: pd.DataFrame, spec: CsvSpec) -> pd.DataFrame:
         values = frame[column].str.strip()
         _reject(path, column, values == "", values, "an empty value")
         frame[column] = values
-    for column, accepted in spec.choices:
+    for column, choices in spec.choices:
+        accepted = choices() if callable(choices) else choices
         bad = ~frame[column].isin(accepted)
         _reject(path, column, bad, frame[column], f"not one of {'|'.join(accepted)}")
     for column in spec.numbers + spec.optional_numbers:

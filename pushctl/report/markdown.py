@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 
+from pushctl.controllers import entries
 from pushctl.report import paper_values
 from pushctl.report.seeds import PAIRED_METRICS, SeedTables, seeds_markdown
 from pushctl.report.tables import ResultTable
@@ -84,7 +85,9 @@ def _value_table(
 ) -> list[str]:
     """Rows of object, profile, n, then per (column, heading, paper heading): ours ± CI and
     the paper's value (formatted with ``paper_format``, as printed in the paper; no paper
-    column where the paper heading is None: the feedback baseline)."""
+    column where the paper heading is None: the feedback baseline). Any other controller
+    in ``table`` follows, ours only (:func:`_with_others`)."""
+    columns = _with_others(table, columns)
     header = ["object", "profile", "n"]
     for _, heading, paper_heading in columns:
         header += [heading] if paper_heading is None else [heading, paper_heading]
@@ -98,6 +101,20 @@ def _value_table(
                 row.append(_paper(published.get(column, math.nan) * scale, paper_format))
         rows.append(row)
     return _grid(header, rows)
+
+
+def _with_others(
+    table: ResultTable, columns: list[tuple[str, str, str | None]]
+) -> list[tuple[str, str, str | None]]:
+    """``columns``, then PD-only's of them for each registered controller outside the
+    paper's comparison that ``table`` has, headed by its label (no paper column)."""
+    others = []
+    for entry in entries():
+        for column, heading, _ in columns:
+            mine = column.replace("_pd", f"_{entry.name}", 1)
+            if not entry.paper and "PD-only" in heading and mine in table.values.columns:
+                others.append((mine, heading.replace("PD-only", entry.label), None))
+    return columns + others
 
 
 def _paper(value: float, spec: str) -> str:

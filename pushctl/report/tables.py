@@ -22,6 +22,8 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
+from pushctl.controllers import controller_entry, entries
+
 OBJECT_ORDER = ("cube", "wedge")
 PROFILE_ORDER = ("constant", "trapezoid", "chirp")
 CONFIDENCE = 0.95
@@ -37,45 +39,58 @@ INTERVALS_NOTE = (
 )
 """The tables' second comment line: what their intervals are across."""
 
-CONTROLLER_ORDER = ("pd", "feedback", "rl")
-"""The tables' controllers: PD-only, PD + the PI feedback law, RL-assisted."""
+FORCE_METRICS = ("force_error", "force_error_landed", "force_error_plan", "torque_error")
+"""Table IV's metrics: force against the plant's needs with the prongs at the plan's spot and
+where they landed, and against the nominal plan [N]; torque [N·m]."""
+BEHAVIOUR_METRICS = ("slip_fraction", "contact_loss_fraction", "gate_open_fraction")
 
 
-def _tracking_columns(plant: str) -> dict[str, Source]:
+def tabled_controllers(trials: pd.DataFrame | None = None) -> tuple[str, ...]:
+    """The tables' controllers, in the registry's order: the paper's comparison (PD-only,
+    feedback, RL-assisted; there whether they ran or not), then any other registered
+    controller that has rows in ``trials``."""
+    ran = set() if trials is None else set(trials["controller"])
+    return tuple(entry.name for entry in entries() if entry.paper or entry.name in ran)
+
+
+def tracking_columns(plant: str, controllers: tuple[str, ...]) -> dict[str, Source]:
     """Table III's columns (translation and angle error [%] per controller) on ``plant``."""
     return {
         f"{name}_error_{controller}": (f"{name}_error_pct", plant, controller)
         for name in ("translation", "angle")
-        for controller in CONTROLLER_ORDER
+        for controller in controllers
     }
 
 
-TABLE3_COLUMNS: dict[str, Source] = _tracking_columns("sim")
-"""Columns of ``table3.csv`` [%] and where each comes from."""
+def force_columns(controllers: tuple[str, ...]) -> dict[str, Source]:
+    """Table IV's columns (:data:`FORCE_METRICS` per controller on ``sim`` and ``proxy``)."""
+    return {
+        f"{metric}_{controller}_{plant}": (metric, plant, controller)
+        for metric in FORCE_METRICS
+        for controller in controllers
+        for plant in ("sim", "proxy")
+    }
 
-TABLE4_COLUMNS: dict[str, Source] = {
-    f"{metric}_{controller}_{plant}": (metric, plant, controller)
-    for metric in ("force_error", "force_error_landed", "force_error_plan", "torque_error")
-    for controller in CONTROLLER_ORDER
-    for plant in ("sim", "proxy")
-}
-"""Columns of ``table4.csv`` (force against the plant's needs with the prongs at the plan's
-spot and where they landed, and against the nominal plan [N]; torque [N·m]) and where each
-comes from."""
 
-TABLE3_PROXY_COLUMNS: dict[str, Source] = _tracking_columns("proxy")
-"""Columns of ``table3_proxy.csv`` [%]: Table III on the reality proxy."""
+def behaviour_columns(controllers: tuple[str, ...]) -> dict[str, Source]:
+    """``behaviour.csv``'s columns [share of the push's steps]: with a slipping prong, with a
+    prong out of contact, and (a controller with a gate) with the gate open, per controller
+    and plant: where PD-only never slips or loses contact, a residual has little to fix
+    (docs/design.md §6)."""
+    return {
+        f"{metric}_{controller}_{plant}": (metric, plant, controller)
+        for metric in BEHAVIOUR_METRICS
+        for controller in controllers
+        for plant in ("sim", "proxy")
+        if metric != "gate_open_fraction" or controller_entry(controller).has_gate
+    }
 
-BEHAVIOUR_COLUMNS: dict[str, Source] = {
-    f"{metric}_{controller}_{plant}": (metric, plant, controller)
-    for metric in ("slip_fraction", "contact_loss_fraction", "gate_open_fraction")
-    for controller in CONTROLLER_ORDER
-    for plant in ("sim", "proxy")
-    if metric != "gate_open_fraction" or controller != "pd"
-}
-"""Columns of ``behaviour.csv`` [share of the push's steps]: with a slipping prong, with a
-prong out of contact, and (``feedback``, ``rl``) with the gate open, per controller and plant:
-where PD-only never slips or loses contact, a residual has little to fix (docs/design.md §6)."""
+
+TABLE3_COLUMNS: dict[str, Source] = tracking_columns("sim", tabled_controllers())
+"""Columns of ``table3.csv`` [%] for the paper's controllers, and where each comes from."""
+
+TABLE4_COLUMNS: dict[str, Source] = force_columns(tabled_controllers())
+"""Columns of ``table4.csv`` for the paper's controllers, and where each comes from."""
 
 
 @dataclass(frozen=True)
@@ -164,24 +179,26 @@ def _mujoco_columns(trials: pd.DataFrame, columns: dict[str, Source]) -> dict[st
 
 
 def table3(trials: pd.DataFrame) -> ResultTable:
-    """The paper's Table III from ``trials``: translation and angle error [%], PD-only,
-    feedback and RL-assisted, ``sim`` plant (and ``mujoco``, ``…_mujoco`` columns, if it
-    was run)."""
-    return summarise(trials, TABLE3_COLUMNS | _mujoco_columns(trials, TABLE3_COLUMNS))
+    """The paper's Table III from ``trials``: translation and angle error [%] of each of
+    :func:`tabled_controllers` (PD-only, feedback, RL-assisted, …), ``sim`` plant (and
+    ``mujoco``, ``…_mujoco`` columns, if it was run)."""
+    columns = tracking_columns("sim", tabled_controllers(trials))
+    return summarise(trials, columns | _mujoco_columns(trials, columns))
 
 
 def table3_proxy(trials: pd.DataFrame) -> ResultTable:
-    """Table III's errors on the ``proxy`` plant: :data:`TABLE3_PROXY_COLUMNS`."""
-    return summarise(trials, TABLE3_PROXY_COLUMNS)
+    """Table III's errors on the ``proxy`` plant (``table3_proxy.csv`` [%])."""
+    return summarise(trials, tracking_columns("proxy", tabled_controllers(trials)))
 
 
 def behaviour_table(trials: pd.DataFrame) -> ResultTable:
-    """Slip, contact-loss and gate-open shares per cell: :data:`BEHAVIOUR_COLUMNS`."""
-    return summarise(trials, BEHAVIOUR_COLUMNS)
+    """Slip, contact-loss and gate-open shares per cell: :func:`behaviour_columns`."""
+    return summarise(trials, behaviour_columns(tabled_controllers(trials)))
 
 
 def table4(trials: pd.DataFrame) -> ResultTable:
-    """The paper's Table IV from ``trials``: force error [N] and torque error [N·m],
-    PD-only, feedback and RL-assisted, ``sim`` and ``proxy`` plants (and ``mujoco`` if it
-    was run)."""
-    return summarise(trials, TABLE4_COLUMNS | _mujoco_columns(trials, TABLE4_COLUMNS))
+    """The paper's Table IV from ``trials``: force error [N] and torque error [N·m] of each
+    of :func:`tabled_controllers`, ``sim`` and ``proxy`` plants (and ``mujoco`` if it was
+    run)."""
+    columns = force_columns(tabled_controllers(trials))
+    return summarise(trials, columns | _mujoco_columns(trials, columns))

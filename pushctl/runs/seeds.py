@@ -26,7 +26,6 @@ from dataclasses import astuple, dataclass
 from pathlib import Path
 from typing import Any
 
-
 from pushctl.control.gains import PDGains
 from pushctl.distributed.engine import cluster_cpus, run_tasks, session
 from pushctl.errors import ConfigError

@@ -24,10 +24,10 @@ import pandas as pd
 import torch
 
 from pushctl.control.gains import load_gains
-from pushctl.runs.seeds import JobResult, TrainJob
-from pushctl.runs.sweep_config import Sweep
 from pushctl.rl.train import POLICY, Trainer
 from pushctl.rl.validate import ValidationScore, Validator
+from pushctl.runs.seeds import JobResult, TrainJob
+from pushctl.runs.sweep_config import Sweep
 
 TRIALS_FILE = "trials.csv"
 SUMMARY_FILE = "summary.csv"

@@ -29,10 +29,10 @@ from typing import Any
 
 import numpy as np
 
-from pushctl.runs.seeds import parse_seeds
 from pushctl.errors import ConfigError
-from pushctl.rl.presets import PRESET_NAMES, Preset, load_preset
 from pushctl.files.toml import check_keys, read_toml
+from pushctl.rl.presets import PRESET_NAMES, Preset, load_preset
+from pushctl.runs.seeds import parse_seeds
 
 SEARCHES = ("grid", "random")
 SECTIONS = ("train", "env", "ddpg")

@@ -245,9 +245,9 @@ def test_the_tuned_law_cuts_pd_onlys_error_under_placement_and_mounting_error() 
     import copy
 
     from pushctl.episode.metrics import compute_metrics
-    from pushctl.evaluation.controllers import FeedbackActor
     from pushctl.evaluation.tune_feedback import tuning_env
     from pushctl.rl.policy import finish_with_policy
+    from pushctl.task.feedback_actor import FeedbackActor
 
     env = tuning_env()
     env.reset(options={"object": "cube", "profile": "constant", "scenario_seed": 1})

@@ -110,7 +110,7 @@ def test_the_named_gains_files() -> None:
 
 
 def test_the_feedback_environment_opens_its_gate_for_a_law_with_its_own() -> None:
-    from pushctl.evaluation.controllers import feedback_config
+    from pushctl.controllers.feedback import feedback_config
     from pushctl.task.env_config import EnvConfig
 
     config = EnvConfig()

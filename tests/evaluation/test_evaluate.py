@@ -12,13 +12,13 @@ import pandas as pd
 import pytest
 
 from pushctl.control.feedback import FeedbackGains
+from pushctl.controllers.feedback import feedback_config
 from pushctl.episode.metrics import EpisodeMetrics, compute_metrics
 from pushctl.episode.ranges import load_ranges
 from pushctl.episode.scenario import STREAMS
 from pushctl.episode.unknowns import unknowns_rng
 from pushctl.errors import ConfigError
 from pushctl.evaluation.columns import STEP_COLUMNS, TRIAL_COLUMNS, UNKNOWN_COLUMNS
-from pushctl.evaluation.controllers import feedback_config
 from pushctl.evaluation.evaluate import (
     STEPS_FILE,
     TRIALS_FILE,
@@ -230,9 +230,8 @@ def test_a_zero_feedback_law_is_the_pd_from_its_landing_and_rl_rows_name_the_pol
     env = EnvConfig(duration=DURATION, gate_threshold=0.0)
     write_policy(path, agent.actor_state(), env, "# made by: x; seed 5 (training stream)")
     spec = _spec(controllers=("pd", "feedback", "rl"), plants=("sim", "proxy"))
-    result = evaluate(
-        spec, load_evaluation_policy(path), feedback_gains=FeedbackGains(0.0, 0.0, seek_rate=0.0)
-    )
+    zero = FeedbackGains(0.0, 0.0, seek_rate=0.0)
+    result = evaluate(spec, load_evaluation_policy(path), controller_gains={"feedback": zero})
     trials = result.trials
     assert list(trials["controller"]) == ["pd", "feedback", "rl"] * 2
     assert [None if pd.isna(s) else s for s in trials["policy_seed"]] == [None, None, 5] * 2

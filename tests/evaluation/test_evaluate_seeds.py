@@ -71,7 +71,7 @@ def test_each_policy_adds_its_own_rl_rows_and_pd_and_feedback_run_once(
 ) -> None:
     loaded = [load_evaluation_policy(p) for p in policies]
     gains = FeedbackGains(20.0, 40.0)
-    both = evaluate(_spec(), loaded, feedback_gains=gains).trials
+    both = evaluate(_spec(), loaded, controller_gains={"feedback": gains}).trials
     # per plant: pd's trials, feedback's, then rl's, each trial's policies in the order given
     plant = ["pd"] * 2 + ["feedback"] * 2 + ["rl"] * 4
     assert list(both["controller"]) == plant * 2
@@ -86,7 +86,7 @@ def test_each_policy_adds_its_own_rl_rows_and_pd_and_feedback_run_once(
     )
     # every policy's rows, and PD-only's and feedback's, are those of a run of it alone
     for k, policy in enumerate(loaded):
-        alone = evaluate(_spec(), policy, feedback_gains=gains).trials
+        alone = evaluate(_spec(), policy, controller_gains={"feedback": gains}).trials
         mine = both[(both["controller"] != "rl") | (both["policy_seed"] == policy.seed)]
         pd.testing.assert_frame_equal(
             mine.reset_index(drop=True),

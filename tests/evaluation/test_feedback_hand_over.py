@@ -12,9 +12,10 @@ import pytest
 
 from pushctl.control.feedback import load_feedback_gains
 from pushctl.control.gains import load_gains
+from pushctl.controllers import PushSetup, paper_controllers
+from pushctl.controllers.drive import build_controllers
 from pushctl.errors import ConfigError, StateError
-from pushctl.evaluation.controllers import feedback_config
-from pushctl.evaluation.trials import CONTROLLERS, Job, run_trial
+from pushctl.evaluation.trials import Job, run_trial
 from pushctl.rl.policy import load_policy
 from pushctl.task.env import PushEnv
 from pushctl.task.env_config import EnvConfig
@@ -22,18 +23,18 @@ from pushctl.task.env_config import EnvConfig
 POLICY = Path(__file__).resolve().parents[2] / "results" / "training" / "seed-2" / "policy.pt"
 
 
-def _envs(plant: str) -> tuple[PushEnv, PushEnv]:
-    """The policy's environment and the feedback law's, as `pushctl evaluate` builds them
-    (the feedback law's generator seeded, so two can be compared after their resets)."""
+def _envs(plant: str) -> tuple[PushEnv, dict]:
+    """The policy's environment and the controllers, as `pushctl evaluate` builds them (the
+    feedback law's generator seeded, so two can be compared after their resets)."""
     # today's landing whatever the shipped policy's (a policy trained before the re-landing
     # pushes from the approach's, and its trials are then not handed over)
-    config = replace(
-        load_policy(POLICY).env, stream="evaluation", plant=plant, landing=EnvConfig().landing
-    )
+    policy = load_policy(POLICY)
+    config = replace(policy.env, stream="evaluation", plant=plant, landing=EnvConfig().landing)
     gains = load_gains()
-    feedback_env = PushEnv(feedback_config(config), gains)
-    feedback_env.np_random = np.random.default_rng(5)
-    return PushEnv(config, gains), feedback_env
+    setup = PushSetup(config, gains, ((policy.actor, 2),), {"feedback": load_feedback_gains()})
+    controllers = build_controllers(paper_controllers(), setup)
+    controllers["feedback"].env.np_random = np.random.default_rng(5)
+    return PushEnv(config, gains), controllers
 
 
 @pytest.mark.parametrize(("plant", "obj", "profile"), [
@@ -42,17 +43,17 @@ def _envs(plant: str) -> tuple[PushEnv, PushEnv]:
 def test_the_hand_over_gives_the_trial_of_a_fresh_reset_to_the_byte(
     plant: str, obj: str, profile: str, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    actor = load_policy(POLICY).actor
-    feedback_gains = load_feedback_gains()
     job = Job(obj, profile, plant, trial=0, seed=3)
-    env, feedback_env = _envs(plant)
+    env, controllers = _envs(plant)
+    feedback_env = controllers["feedback"].env
     assert feedback_env.episodes_differ(env) is None  # the shipped policy's env: handed over
-    handed = run_trial(env, actor, job, CONTROLLERS, (feedback_env, feedback_gains), 2)
+    handed = run_trial(env, controllers, job)
     after_hand_over = feedback_env.np_random.integers(2**31 - 1)
 
-    env, feedback_env = _envs(plant)
+    env, controllers = _envs(plant)
+    feedback_env = controllers["feedback"].env
     monkeypatch.setattr(PushEnv, "episodes_differ", lambda self, other: "forced")
-    fresh = run_trial(env, actor, job, CONTROLLERS, (feedback_env, feedback_gains), 2)
+    fresh = run_trial(env, controllers, job)
     assert feedback_env.np_random.integers(2**31 - 1) == after_hand_over
     assert len(handed.rows) == len(fresh.rows) == 3
     for mine, theirs in zip(handed.rows, fresh.rows, strict=True):
@@ -62,7 +63,8 @@ def test_the_hand_over_gives_the_trial_of_a_fresh_reset_to_the_byte(
 
 
 def test_reset_from_refuses_an_advanced_episode_and_other_episode_settings() -> None:
-    policy_env, feedback_env = _envs("sim")
+    policy_env, controllers = _envs("sim")
+    feedback_env = controllers["feedback"].env
     with pytest.raises(StateError, match="just reset"):
         feedback_env.reset_from(policy_env)
     policy_env.reset(options={"object": "cube", "profile": "constant", "scenario_seed": 1})

@@ -12,11 +12,12 @@ import numpy as np
 import pytest
 
 from pushctl.control.feedback import load_feedback_gains
+from pushctl.controllers.feedback import feedback_config
 from pushctl.errors import ConfigError
-from pushctl.evaluation.controllers import FeedbackActor, feedback_config
 from pushctl.rl.policy import finish_with_policy
 from pushctl.task.env import PushEnv
 from pushctl.task.env_config import EnvConfig
+from pushctl.task.feedback_actor import FeedbackActor
 
 ZERO = np.zeros(3)
 

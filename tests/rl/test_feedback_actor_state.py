@@ -12,10 +12,11 @@ import numpy as np
 import pytest
 
 from pushctl.control.feedback import load_feedback_gains
-from pushctl.evaluation.controllers import FeedbackActor, feedback_config
+from pushctl.controllers.feedback import feedback_config
 from pushctl.rl.policy import finish_with_policy
 from pushctl.task.env import PushEnv
 from pushctl.task.env_config import EnvConfig
+from pushctl.task.feedback_actor import FeedbackActor
 
 
 def _feedback_env(plant: str) -> PushEnv:

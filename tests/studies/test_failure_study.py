@@ -89,9 +89,9 @@ def test_the_lagged_law_keeps_contact_on_mujoco() -> None:
 
     from pushctl.control.feedback import load_feedback_gains
     from pushctl.episode.metrics import compute_metrics
-    from pushctl.evaluation.controllers import FeedbackActor
     from pushctl.evaluation.tune_feedback import BELIEVED, reset_pushes, tuning_env
     from pushctl.rl.policy import finish_with_policy
+    from pushctl.task.feedback_actor import FeedbackActor
 
     reset = reset_pushes(
         tuning_env(plant="mujoco", config=BELIEVED), 1000, ("cube",), ("constant",), 1
