@@ -190,6 +190,53 @@ def settle(
 
 
 @njit(cache=True)
+def fixed_problem(
+    contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
+    support_points, friction_limits, slip_directions, sliding, h, stabilisation, tie_break,
+    mu_contact, ground_compliance,
+):  # fmt: skip
+    """:func:`~pushctl.contact.compiled.assembly.assemble`'s MLCP for ground friction fixed
+    to the table (the world's ``polygon`` and ``axis_box`` models: ``slip_directions`` the
+    rows' table directions, ``sliding`` all False so both rows of a pair carry the bound),
+    with the relative diagonal term ``ground_compliance`` on the ground rows."""
+    arm = arm_part(contacts, jacobians, M, nle, v_arm, tau, joint_damping, h)
+    problem = assemble_on(
+        arm, contacts, pose, velocity, obj_mass_inv, support_points, friction_limits,
+        slip_directions, sliding, h, stabilisation, tie_break, mu_contact,
+    )  # fmt: skip
+    D = problem[0]
+    for i in range(2 * contacts.shape[0], D.shape[0]):
+        D[i, i] *= 1.0 + ground_compliance
+    return problem
+
+
+@njit(cache=True)
+def fixed_step(
+    contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
+    support_points, friction_limits, slip_directions, sliding, h, stabilisation, tie_break,
+    mu_contact, ground_compliance, guess, has_guess, tol, max_pivots, out_v_arm, out_v_obj,
+    out_forces, out_p, out_pose,
+):  # fmt: skip
+    """A whole (sub)step with ground friction fixed to the table (:func:`fixed_problem`):
+    one solve from ``guess`` (m,) if ``has_guess``, nothing to refine. Writes the outputs
+    as :func:`slip_step`. Returns ``(status, warm, residual, pivots)``: :data:`SETTLED` or
+    :data:`NEEDS_PROXQP` (then ``pivots`` are the failed pivoting's and nothing is
+    written), whether the solve was a warm start, its residual and pivots."""
+    problem = fixed_problem(
+        contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
+        support_points, friction_limits, slip_directions, sliding, h, stabilisation,
+        tie_break, mu_contact, ground_compliance,
+    )  # fmt: skip
+    how, p, residual, pivots, va, vo, f = solve_on(
+        problem, velocity, h, guess, has_guess, tol, max_pivots
+    )
+    if how == UNVERIFIED:
+        return NEEDS_PROXQP, 0, 0.0, pivots
+    _write(va, vo, f, p, pose, h, out_v_arm, out_v_obj, out_forces, out_p, out_pose)
+    return SETTLED, int(counts_as_warm(how, has_guess)), residual, pivots
+
+
+@njit(cache=True)
 def _write(va, vo, f, p, pose, h, out_v_arm, out_v_obj, out_forces, out_p, out_pose):
     """The kept solve's velocities and forces, the next warm start ``p`` and the pose after
     the step (semi-implicit Euler with the kept ``vo``) into the caller's arrays."""
