@@ -122,9 +122,14 @@ def arm_part(contacts, jacobians, M, nle, v_arm, tau, joint_damping, h):
     the friction boxes changes only the ground rows): ``(A_arm (2p, nv), v_arm_free (nv,),
     Minv_At_arm (nv, 2p), A_arm Minv_At_arm (2p, 2p), A_arm v_arm_free (2p,))`` (arguments
     as in :func:`assemble`). The step's loops compute it once, not once per solve: it was
-    more than half of a solve's assembly."""
+    more than half of a solve's assembly.
+
+    With no arm (``M`` (0, 0)) and prongs in contact, ``v_arm`` (2p,) holds the prongs'
+    prescribed velocities and the part is :func:`prescribed_part`'s (nv = 2p)."""
     n_contacts, nv = contacts.shape[0], M.shape[0]
     n_prong = 2 * n_contacts
+    if nv == 0 and n_contacts and v_arm.shape[0] == n_prong:
+        return prescribed_part(contacts, v_arm)
     A_arm = np.zeros((n_prong, nv))
     for i in range(n_contacts):
         nx, ny = contacts[i, 1], contacts[i, 2]
@@ -147,6 +152,26 @@ def arm_part(contacts, jacobians, M, nle, v_arm, tau, joint_damping, h):
             arm_D = matmul(A_arm, Minv_At_arm)
             arm_b = matvec(A_arm, v_arm_free)
     return A_arm, v_arm_free, Minv_At_arm, arm_D, arm_b
+
+
+@njit(cache=True)
+def prescribed_part(contacts, prong_velocity):
+    """:func:`arm_part` for prongs whose motion is prescribed (a pusher with no arm): the
+    velocities ``prong_velocity`` (2p,) [m/s] of the p prongs in contact, (x, y) per prong,
+    world frame, are the pusher's free velocity and no impulse changes them (no inverse
+    mass). The rows' pusher part maps them to −(e_n·v_i) and −(e_t·v_i), so the rows measure
+    the object's contact point's velocity relative to the prong, as with an arm."""
+    n_contacts = contacts.shape[0]
+    n_prong = 2 * n_contacts
+    A = np.zeros((n_prong, n_prong))
+    for i in range(n_contacts):
+        nx, ny = contacts[i, 1], contacts[i, 2]
+        row = 2 * i
+        A[row, row], A[row, row + 1] = -nx, -ny
+        A[row + 1, row], A[row + 1, row + 1] = ny, -nx
+    v_free = prong_velocity.copy()
+    zeros = np.zeros((n_prong, n_prong))
+    return A, v_free, zeros, zeros.copy(), matvec(A, v_free)
 
 
 @njit(cache=True)
