@@ -227,10 +227,19 @@ class StepSolver:
         outputs: tuple[np.ndarray, ...],
     ) -> SolvedStep:
         """:meth:`solve` for ground friction fixed to the table: one solve, no refinement;
-        ProxQP only where the compiled pivoting verifies nothing."""
+        ProxQP only where the compiled pivoting verifies nothing. When the prongs in contact
+        changed, the last ground impulses still start the solve (the prongs' at 0); with
+        none, :meth:`_sliding_guess`. The pivots are cheap here (the rows at a bound are
+        eliminated): up to one per row from each start before ProxQP."""
+        ground = 2 * len(self.model.support_points)
+        if guess is None and self.last_p is not None and len(self.last_p) >= ground:
+            guess = np.concatenate((np.zeros(2 * len(prongs)), self.last_p[-ground:]))
+        elif guess is None:
+            guess = self._sliding_guess(state, len(prongs))
+        budget = max(self.pivot_budget, ground + 2 * len(prongs))
         status, warm, residual, pivots = fixed_step(
             *state, *self.model, GROUND_COMPLIANCE, _NO_GUESS if guess is None else guess,
-            guess is not None, DEFAULT_TOL, self.pivot_budget, *outputs,
+            guess is not None, DEFAULT_TOL, budget, *outputs,
         )  # fmt: skip
         converged = True
         if status == NEEDS_PROXQP:
@@ -245,6 +254,22 @@ class StepSolver:
         v_arm, v_obj, forces, last_p, next_pose = outputs
         self.last_prongs, self.last_p = prongs, last_p
         return SolvedStep(v_arm, v_obj, next_pose, forces, residual, converged, pivots)
+
+    def _sliding_guess(self, state: StepState, n_prongs: int) -> np.ndarray:
+        """A first guess (m,) of the fixed models' impulses with no earlier step to start
+        from: the prongs pressing and sticking, every ground row at the bound that opposes
+        a translation at the prongs' mean velocity (at rest without prongs: the object's
+        velocity), free where the row is nearly across it. Only its active set is used."""
+        velocity = state[4].reshape(-1, 2).mean(axis=0) if n_prongs else state[8][:2]
+        directions = self.model.slip_directions
+        along = directions @ velocity
+        across = directions[:, 1] * velocity[0] * -1.0 + directions[:, 0] * velocity[1]
+        speed = float(np.hypot(*velocity))
+        rows = np.column_stack((along, across)).reshape(-1)
+        bounds = np.repeat(self.model.friction_limits * self.model.h, 2)
+        ground = np.where(np.abs(rows) > 1e-3 * speed, -np.sign(rows) * bounds, 0.0)
+        prongs = np.tile([1.0, 0.0], n_prongs)
+        return np.ascontiguousarray(np.concatenate((prongs, ground)))
 
     def _with_proxqp(self, state, guess, attempt, failed, first, outputs):
         """Finish a step whose solve at loop index ``attempt`` (−1: the first, from

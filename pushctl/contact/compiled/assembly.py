@@ -20,7 +20,7 @@ import numpy as np
 from numba import njit
 
 from pushctl.contact.compiled.algebra import matmul, matvec, plus_diagonal, spd_solve
-from pushctl.contact.compiled.pivoting import lu_or_min_norm
+from pushctl.contact.compiled.pivoting import lu_or_min_norm, solve_reduced
 
 SLIP_SPEED = 1e-6
 """A support point moving slower than this [m/s] counts as sticking: both its friction rows
@@ -30,7 +30,15 @@ so the box is isotropic in the plane and does not lock the yaw of a sliding obje
 
 @njit(cache=True)
 def active_set_step(D, b, lo, hi, findex, mu, guess, threshold):
-    """Solve the box-friction MLCP on the active set that ``guess`` (n,) implies, and verify.
+    """:func:`active_set_step_with` solving the active set in full."""
+    return active_set_step_with(D, b, lo, hi, findex, mu, guess, threshold, False)
+
+
+@njit(cache=True)
+def active_set_step_with(D, b, lo, hi, findex, mu, guess, threshold, reduce):
+    """Solve the box-friction MLCP on the active set that ``guess`` (n,) implies, and verify;
+    with ``reduce`` the rows at a fixed bound are eliminated first
+    (:func:`~pushctl.contact.compiled.pivoting.solve_reduced`).
 
     Same definitions as :func:`pushctl.contact.active_set.labels_at`, ``solve_labels`` and
     ``evaluate``: a row within 1e-9·max(1, ‖guess‖∞) of a bound is at it (lower first);
@@ -41,6 +49,9 @@ def active_set_step(D, b, lo, hi, findex, mu, guess, threshold):
     """
     n = b.shape[0]
     atol = 1e-9 * max(1.0, np.max(np.abs(guess)))
+    if reduce:
+        p = _reduced_at(D, b, lo, hi, findex, mu, guess, atol)
+        return _verified(D, b, lo, hi, findex, mu, p, threshold)
     A = np.zeros((n, n))
     rhs = np.zeros(n)
     for i in range(n):
@@ -64,6 +75,34 @@ def active_set_step(D, b, lo, hi, findex, mu, guess, threshold):
             A[i, i] = 1.0
             rhs[i] = lo[i] if label < 0 else hi[i]
     p = lu_or_min_norm(A, rhs)
+    return _verified(D, b, lo, hi, findex, mu, p, threshold)
+
+
+@njit(cache=True)
+def _reduced_at(D, b, lo, hi, findex, mu, guess, atol):
+    """:func:`active_set_step_with`'s labels of ``guess``, solved by ``solve_reduced``."""
+    n = b.shape[0]
+    labels = np.zeros(n, dtype=np.int64)
+    lo_f, hi_f, mu_f = lo.copy(), hi.copy(), np.zeros(n)
+    fi = np.zeros(n, dtype=np.int64)
+    for i in range(n):
+        f = findex[i]
+        width = mu[i] * abs(guess[f]) if f >= 0 else 0.0
+        if f >= 0:
+            lo_f[i], hi_f[i], mu_f[i], fi[i] = 0.0, 0.0, mu[i], f
+        lower = -width if f >= 0 else lo[i]
+        upper = width if f >= 0 else hi[i]
+        if guess[i] <= lower + atol:
+            labels[i] = -1
+        elif guess[i] >= upper - atol:
+            labels[i] = 1
+    return solve_reduced(D, b, lo_f, hi_f, mu_f, fi, labels)
+
+
+@njit(cache=True)
+def _verified(D, b, lo, hi, findex, mu, p, threshold):
+    """(p, w = D p + b, the natural map's ∞-norm, whether it is ≤ ``threshold``)."""
+    n = b.shape[0]
     w = matvec(D, p) + b
     residual = 0.0
     for i in range(n):
