@@ -2,19 +2,22 @@
 calibration split, every test push scored with its own group's fit (docs/realdata.md §5).
 
 Run as ``python -m studies.realdata_per_shape --data DIR --out per_shape.csv
-[--split-seed 0] [--friction-model polygon] [--facets 8] [--force]``. Per (surface, shape)
-the calibration pushes of that shape (both speeds) are fitted with ``pushctl realdata
-fit``'s grids (μ_c, the rim weight, μ_g); the test pushes of the group are replayed with
-that fit. The CSV has one row per (surface, shape, speed) group of the test split with the
-fit, our NMSE and Zhou's on the same pushes, then a row ``all`` (means over groups); the
-Markdown table printed is docs/realdata.md's.
+[--split-seed 0] [--friction-model polygon] [--facets 8] [--start fit.toml] [--force]``.
+Per (surface, shape) the calibration pushes of that shape (both speeds) are fitted with
+``pushctl realdata fit``'s grids (μ_c, the rim weight, μ_g): from scratch as that command
+does, or, with ``--start``, from that surface's parameters in a ``realdata fit`` file
+(rim weight first, then μ_c, then ±1 and ±0.05 around them, then μ_g), so a shape's fit is
+never worse on its calibration pushes than its surface's. The test pushes of the group are
+replayed with that fit. The CSV has one row per (surface, shape, speed) group of the test
+split with the fit, our NMSE and Zhou's on the same pushes, then a row ``all`` (means over
+groups); the Markdown table printed is docs/realdata.md's.
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
-from dataclasses import asdict
+from dataclasses import asdict, replace
 from pathlib import Path
 
 import pandas as pd
@@ -23,15 +26,20 @@ from pushctl.errors import ConfigError
 from pushctl.output_guard import refuse_existing_files
 from pushctl.provenance import provenance_line, write_csv
 from pushctl.realdata.data import calibration_mask, load_pushes
-from pushctl.realdata.fit import FitGrids, ReplayCache, fit_surfaces
+from pushctl.realdata.fit import FitGrids, ReplayCache, fit_surfaces, read_friction
 from pushctl.realdata.metrics import COMPONENTS, group_scores, overall, zhou_end
-from pushctl.realdata.replay import ReplaySettings
+from pushctl.realdata.replay import ReplaySettings, SurfaceParameters
 
 
 def per_shape_scores(
-    data_dir: Path, seed: int, settings: ReplaySettings, grids: FitGrids | None = None
+    data_dir: Path,
+    seed: int,
+    settings: ReplaySettings,
+    grids: FitGrids | None = None,
+    start: dict[str, SurfaceParameters] | None = None,
 ) -> pd.DataFrame:
-    """One row per test group: its shape's fit on that surface, our and Zhou's scores."""
+    """One row per test group: its shape's fit on that surface (from scratch, or refined
+    from ``start``'s parameters of that surface), our and Zhou's scores."""
     grids = grids or FitGrids()
     data = load_pushes(data_dir)
     pushes = data.pushes
@@ -41,8 +49,12 @@ def per_shape_scores(
     for (surface, _), index in sorted(pushes.groupby(["surface", "shape"]).groups.items()):
         group = pushes.loc[index]
         own = calibration[pushes.index.get_indexer(index)]
-        fit = fit_surfaces(group[own].reset_index(drop=True), data.shapes, settings,
-                           grids=grids, cache=cache)[surface]  # fmt: skip
+        calibration_pushes = group[own].reset_index(drop=True)
+        if start is None:
+            fit = fit_surfaces(calibration_pushes, data.shapes, settings, grids=grids,
+                               cache=cache)[surface]  # fmt: skip
+        else:
+            fit = refine(calibration_pushes, surface, start[surface], grids, cache)
         test = group[~own].reset_index(drop=True)
         ends = cache.ends(test, surface, fit["parameters"])
         ours = group_scores(test, ends)
@@ -56,6 +68,38 @@ def per_shape_scores(
     last = {"surface": "all", "shape": "all", "n": int(table["n"].sum()), **mean,
             "zhou_nmse": float(table["zhou_nmse"].mean())}  # fmt: skip
     return pd.concat([table, pd.DataFrame([last])], ignore_index=True)
+
+
+def refine(
+    pushes: pd.DataFrame,
+    surface: str,
+    start: SurfaceParameters,
+    grids: FitGrids,
+    cache: ReplayCache,
+) -> dict:
+    """Coordinate search from ``start`` on ``pushes`` (one shape on ``surface``): the rim
+    weight over its grid and ``start``'s, μ_c over its grid, both ±1 / ±0.05, then μ_g;
+    each line keeps the current point when nothing beats it. As ``fit_surfaces``' result."""
+    scores: dict[SurfaceParameters, float] = {}
+
+    def score(params: SurfaceParameters) -> float:
+        if params not in scores:
+            ends = cache.ends(pushes, surface, params)
+            scores[params] = float(group_scores(pushes, ends)["nmse"].mean())
+        return scores[params]
+
+    def line(best: SurfaceParameters, name: str, values) -> SurfaceParameters:
+        candidates = [best] + [replace(best, **{name: float(v)}) for v in values
+                               if v > 0 or name == "rim_weight"]  # fmt: skip
+        return min(candidates, key=score)
+
+    best = line(start, "rim_weight", grids.rim_weight)
+    best = line(best, "mu_contact", grids.mu_contact)
+    best = line(best, "rim_weight", (best.rim_weight - 1.0, best.rim_weight + 1.0))
+    mu = best.mu_contact
+    best = line(best, "mu_contact", (round(mu - 0.05, 3), round(mu + 0.05, 3)))
+    best = line(best, "mu_ground", grids.mu_ground)
+    return {"parameters": best, "calibration_nmse": score(best), "evaluations": len(scores)}
 
 
 def markdown(table: pd.DataFrame) -> str:
@@ -81,12 +125,14 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--split-seed", type=int, default=0)
     parser.add_argument("--friction-model", default="polygon")
     parser.add_argument("--facets", type=int, default=8)
+    parser.add_argument("--start", type=Path, default=None, help="a realdata fit file")
     parser.add_argument("--force", action="store_true", help="overwrite an existing --out")
     args = parser.parse_args(argv)
     try:
         refuse_existing_files("--out", (args.out,), args.force)
         settings = ReplaySettings(friction_model=args.friction_model, facets=args.facets)
-        table = per_shape_scores(args.data, args.split_seed, settings)
+        start = None if args.start is None else read_friction(args.start)[0]
+        table = per_shape_scores(args.data, args.split_seed, settings, start=start)
     except ConfigError as error:
         parser.exit(2, f"error: {error}\n")
     options = sys.argv[1:] if argv is None else argv

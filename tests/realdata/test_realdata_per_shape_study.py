@@ -23,3 +23,21 @@ def test_each_shape_gets_its_own_fit_and_the_test_split_is_scored(synthetic_data
     total = table[table["surface"] == "all"].iloc[0]
     assert total["nmse"] == pytest.approx(groups["nmse"].mean())
     assert total["nmse"] < 0.2 and "| felt | tri |" in markdown(table)
+
+
+def test_a_refined_fit_is_no_worse_than_its_start_on_the_calibration_pushes(synthetic_data):
+    from pushctl.realdata.data import calibration_mask, load_pushes
+    from pushctl.realdata.fit import ReplayCache
+    from pushctl.realdata.metrics import group_scores
+    from pushctl.realdata.replay import SurfaceParameters
+    from studies.realdata_per_shape import refine
+
+    data = load_pushes(synthetic_data)
+    pushes = data.pushes[calibration_mask(data.pushes, 0) & (data.pushes["shape"] == "tri")]
+    pushes = pushes.reset_index(drop=True)
+    cache = ReplayCache(data.shapes, ReplaySettings())
+    start = SurfaceParameters(mu_contact=0.1, mu_ground=0.3, rim_weight=4.0)
+    fit = refine(pushes, "felt", start, GRIDS, cache)
+    at_start = float(group_scores(pushes, cache.ends(pushes, "felt", start))["nmse"].mean())
+    assert fit["calibration_nmse"] <= at_start
+    assert fit["parameters"] != start
