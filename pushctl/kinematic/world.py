@@ -9,8 +9,8 @@ per prong within reach of the footprint, a unilateral normal row (signed distanc
 polygon minus the prong's radius; a gap may close within the step) and a tangential row
 with |p_t| ≤ μ_c p_n, the prong's prescribed velocity in the rows' free velocity; per
 support point j (load N_j from the pressure prior), ground friction of bound h μ_g N_j in
-one of the world's models (:data:`FRICTION_MODELS`): the slip-aligned box, the polygon
-fixed to the table, or the box along the table's axes.
+one of the world's models (:data:`~pushctl.contact.world_config.FRICTION_MODELS`): the
+slip-aligned box, the polygon fixed to the table, or the box along the table's axes.
 """
 
 from __future__ import annotations
@@ -68,13 +68,16 @@ class Friction:
     """Friction coefficients and the ground model.
 
     - ``mu_contact``: prong–object μ_c [-]; ``mu_ground``: object–table μ_g [-].
-    - ``model``: one of :data:`FRICTION_MODELS` (the world's; ``slip_box`` its default);
-      ``facets``: the polygon's sides (a multiple of 4, >= 8).
+    - ``model``: one of the world's
+      :data:`~pushctl.contact.world_config.FRICTION_MODELS`; ``polygon`` by default (the
+      world's own default, ``slip_box``, does not settle when friction stops the slider
+      within a step, as in slow pushes with long steps: docs/model.md); ``facets``: the
+      polygon's sides (a multiple of 4, >= 8).
     """
 
     mu_contact: float = 0.25
     mu_ground: float = 0.3
-    model: str = "slip_box"
+    model: str = "polygon"
     facets: int = 8
 
     def __post_init__(self) -> None:
