@@ -38,6 +38,8 @@ def make_world(
     friction_field: FrictionField | None = None,
     engine: str = "ours",
     slip_iterations: int = MAX_SLIP_ITERATIONS,
+    friction_model: str = "slip_box",
+    facets: int = 8,
 ) -> World | MujocoWorld:
     """Build a world. Every argument is validated; bad ones raise a ``ConfigError``.
 
@@ -59,6 +61,9 @@ def make_world(
         ``substeps`` are then MuJoCo steps per ``dt``; see docs/mujoco.md).
     slip_iterations: re-solves of a step for its ground friction directions (our engine;
         see :class:`WorldConfig`). The default, 6, is what ``results/`` was made with.
+    friction_model, facets: the ground friction model of our engine (``slip_box``, the
+        default and what ``results/`` was made with; ``polygon`` with ``facets`` sides;
+        ``axis_box``; see :class:`WorldConfig`). MuJoCo accepts only the default.
     """
     if engine not in ENGINES:
         raise ConfigError(f"unknown engine {engine!r}; choose one of {', '.join(ENGINES)}")
@@ -69,6 +74,8 @@ def make_world(
         substeps=substeps,
         gravity=gravity,
         slip_iterations=slip_iterations,
+        friction_model=friction_model,
+        facets=facets,
     )
     if isinstance(object, ObjectSpec):
         spec = object if object_mass is None else with_masses(object, mass=object_mass)
@@ -100,6 +107,11 @@ def _build(
     MuJoCo steps per dt, its other settings the measured defaults; its ground friction is
     uniform, so a ``friction_field`` is refused there)."""
     if engine == "mujoco":
+        if config.friction_model != "slip_box":
+            raise ConfigError(
+                f"friction_model {config.friction_model!r} is not available on the mujoco "
+                "engine; accepted there: slip_box (MuJoCo's own friction)"
+            )
         if friction_field is not None:
             raise ConfigError(
                 "a ground friction field is not available on the mujoco engine; "

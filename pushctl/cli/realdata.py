@@ -34,7 +34,9 @@ RIM_HELP = "the rim-weight grid the fit searches first, comma-separated (then +-
 DataOption = Annotated[Path, typer.Option(help=DATA_HELP)]
 OutDirOption = Annotated[Path, typer.Option(help="output directory (created if missing)")]
 SplitSeedOption = Annotated[int, typer.Option(help="seed of the calibration split")]
-FrictionModelOption = Annotated[str, typer.Option(help="ground friction: polygon or box")]
+FrictionModelOption = Annotated[
+    str, typer.Option(help="ground friction: polygon, slip_box or axis_box")
+]
 RimWeightsOption = Annotated[str, typer.Option(help=RIM_HELP)]
 RIM_WEIGHTS = "-2,0,2,4,6,8"
 """The rim-weight grid ``fit`` and ``loso`` search first by default."""

@@ -16,11 +16,18 @@ from typing import NamedTuple, TypeAlias
 import numpy as np
 
 from pushctl.contact.compiled.assembly import apply_impulses, assemble, slip_state
-from pushctl.contact.compiled.step import NEEDS_PROXQP, UNSETTLED, resume_step, slip_step
+from pushctl.contact.compiled.step import (
+    NEEDS_PROXQP,
+    UNSETTLED,
+    fixed_problem,
+    fixed_step,
+    resume_step,
+    slip_step,
+)
 from pushctl.contact.ground_field import FrictionField
 from pushctl.contact.mlcp import DEFAULT_TOL, MLCPResult, cold_pivot_budget, solve_after_pivoting
 from pushctl.contact.recycle import ArrayRecycler
-from pushctl.contact.world_config import WorldConfig
+from pushctl.contact.world_config import GROUND_COMPLIANCE, WorldConfig
 from pushctl.objects import ObjectSpec
 from pushctl.types import ContactProblem, WorldStats
 
@@ -62,9 +69,11 @@ class ContactModel(NamedTuple):
     makes μ vary over the table)."""
     slip_directions: np.ndarray
     """(S, 2) each support point's friction box direction (unit), world frame; updated in
-    place by the kernels."""
+    place by the kernels (``slip_box``); fixed to the table for the other models, whose
+    arrays hold each support point once per row pair (:func:`fixed_rows`)."""
     sliding: np.ndarray
-    """(S,) bool: whether each support point slides (its box has no cross bound)."""
+    """(S,) bool: whether each support point slides (its box has no cross bound); always
+    False for the fixed models."""
     h: float
     """The (sub)step [s]."""
     stabilisation: float
@@ -107,9 +116,14 @@ class StepSolver:
         self.friction_field = friction_field
         self.stats = stats
         self.pivot_budget = cold_pivot_budget()
-        self._uniform_limits = uniform_limits
         self._bounds_at: tuple[FrictionField, bytes] | None = None
         support_points = np.ascontiguousarray(obj.support_points, dtype=float)
+        self._fixed_directions: np.ndarray | None = None
+        if config.friction_model != "slip_box":
+            support_points, uniform_limits, self._fixed_directions = fixed_rows(
+                support_points, uniform_limits, config.friction_model, config.facets
+            )
+        self._uniform_limits = uniform_limits
         self.model = ContactModel(
             obj_mass_inv=np.array([1.0 / obj.mass, 1.0 / obj.mass, 1.0 / obj.inertia_z]),
             support_points=support_points,
@@ -126,8 +140,11 @@ class StepSolver:
 
     def reset(self, theta: float) -> None:
         """No warm start; the boxes of an object at rest at heading ``theta`` [rad] (along
-        its e_n until a slip direction is seen)."""
-        self.model.slip_directions[:] = (math.cos(theta), math.sin(theta))
+        its e_n until a slip direction is seen; the fixed models' stay on the table)."""
+        if self._fixed_directions is None:
+            self.model.slip_directions[:] = (math.cos(theta), math.sin(theta))
+        else:
+            self.model.slip_directions[:] = self._fixed_directions
         self.model.sliding[:] = False
         self.last_prongs: tuple[int, ...] | None = None
         self.last_p: np.ndarray | None = None
@@ -149,7 +166,9 @@ class StepSolver:
             self._update_friction_bounds(pose)
         guess = self.last_p if prongs == self.last_prongs else None
         n_rows = 2 * len(prongs) + 2 * len(self.model.support_points)
-        outputs = self._take_outputs(state[2].shape[0], len(prongs), n_rows)
+        outputs = self._take_outputs(state[4].shape[0], len(prongs), n_rows)
+        if self._fixed_directions is not None:
+            return self._solve_fixed(state, prongs, guess, outputs)
         config = self.config
         status, attempt, solves, warm, worst, iterations, residual, pivots, failed = slip_step(
             *state, *self.model, _NO_GUESS if guess is None else guess, guess is not None,
@@ -177,9 +196,11 @@ class StepSolver:
         """The MLCP the next (sub)step would solve first, without solving it (the boxes and
         bounds are left as they were)."""
         model = self.model
-        directions, sliding = model.slip_directions.copy(), model.sliding.copy()
         if self.friction_field is not None:
             self._update_friction_bounds(state[7])
+        if self._fixed_directions is not None:
+            return self._problem(state, prongs)
+        directions, sliding = model.slip_directions.copy(), model.sliding.copy()
         slip_state(state[7], state[8], model.support_points, model.slip_directions,
                    model.sliding)  # fmt: skip
         problem = self._problem(state, prongs)
@@ -188,12 +209,67 @@ class StepSolver:
 
     def _problem(self, state: StepState, prongs: tuple[int, ...]) -> ContactProblem:
         """The MLCP of ``state`` with the current boxes."""
-        assembled = assemble(*state, *self.model)
+        if self._fixed_directions is None:
+            assembled = assemble(*state, *self.model)
+        else:
+            assembled = fixed_problem(*state, *self.model, GROUND_COMPLIANCE)
         D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, A_arm = assembled
         h = self.model.h
         return ContactProblem(
             h, D, b, lo, hi, findex, mu, prongs, A_arm, v_arm_free, Minv_At_arm, Minv_At_obj
         )
+
+    def _solve_fixed(
+        self,
+        state: StepState,
+        prongs: tuple[int, ...],
+        guess: np.ndarray | None,
+        outputs: tuple[np.ndarray, ...],
+    ) -> SolvedStep:
+        """:meth:`solve` for ground friction fixed to the table: one solve, no refinement;
+        ProxQP only where the compiled pivoting verifies nothing. When the prongs in contact
+        changed, the last ground impulses still start the solve (the prongs' at 0); with
+        none, :meth:`_sliding_guess`. The pivots are cheap here (the rows at a bound are
+        eliminated): up to one per row from each start before ProxQP."""
+        ground = 2 * len(self.model.support_points)
+        if guess is None and self.last_p is not None and len(self.last_p) >= ground:
+            guess = np.concatenate((np.zeros(2 * len(prongs)), self.last_p[-ground:]))
+        elif guess is None:
+            guess = self._sliding_guess(state, len(prongs))
+        budget = max(self.pivot_budget, ground + 2 * len(prongs))
+        status, warm, residual, pivots = fixed_step(
+            *state, *self.model, GROUND_COMPLIANCE, _NO_GUESS if guess is None else guess,
+            guess is not None, DEFAULT_TOL, budget, *outputs,
+        )  # fmt: skip
+        converged = True
+        if status == NEEDS_PROXQP:
+            result, va, vo, f = self._proxqp_solve(state, guess, pivots)
+            self._record(result)
+            residual, converged, pivots = result.residual, result.converged, result.iterations
+            v_arm, v_obj, forces, last_p, next_pose = outputs
+            v_arm[:], v_obj[:], forces[:], last_p[:] = va, vo, f, result.p
+            next_pose[:] = state[7] + self.model.h * vo
+        else:
+            self._count(1, warm, residual, 0)
+        v_arm, v_obj, forces, last_p, next_pose = outputs
+        self.last_prongs, self.last_p = prongs, last_p
+        return SolvedStep(v_arm, v_obj, next_pose, forces, residual, converged, pivots)
+
+    def _sliding_guess(self, state: StepState, n_prongs: int) -> np.ndarray:
+        """A first guess (m,) of the fixed models' impulses with no earlier step to start
+        from: the prongs pressing and sticking, every ground row at the bound that opposes
+        a translation at the prongs' mean velocity (at rest without prongs: the object's
+        velocity), free where the row is nearly across it. Only its active set is used."""
+        velocity = state[4].reshape(-1, 2).mean(axis=0) if n_prongs else state[8][:2]
+        directions = self.model.slip_directions
+        along = directions @ velocity
+        across = directions[:, 1] * velocity[0] * -1.0 + directions[:, 0] * velocity[1]
+        speed = float(np.hypot(*velocity))
+        rows = np.column_stack((along, across)).reshape(-1)
+        bounds = np.repeat(self.model.friction_limits * self.model.h, 2)
+        ground = np.where(np.abs(rows) > 1e-3 * speed, -np.sign(rows) * bounds, 0.0)
+        prongs = np.tile([1.0, 0.0], n_prongs)
+        return np.ascontiguousarray(np.concatenate((prongs, ground)))
 
     def _with_proxqp(self, state, guess, attempt, failed, first, outputs):
         """Finish a step whose solve at loop index ``attempt`` (−1: the first, from
@@ -285,6 +361,25 @@ class StepSolver:
             self.last_p,
         )  # fmt: skip
         self._bounds_at = (field, key)
+
+
+def fixed_rows(
+    support_points: np.ndarray, limits: np.ndarray, model: str, facets: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Support points (S·c, 2), their bounds (S·c,) [N] and row directions (S·c, 2) for a
+    friction model fixed to the table: each of the S points ``support_points`` (S, 2) with
+    bound ``limits`` (S,) once per row pair (c pairs: a direction and its normal, as the
+    slip box's rows). ``axis_box``: one pair along the table's axes at the full bound;
+    ``polygon``: facets/4 pairs along kπ/(facets/2), each row at π/facets of the bound."""
+    if model == "axis_box":
+        pairs, share = 1, 1.0
+    else:
+        pairs, share = facets // 4, math.pi / facets
+    angles = np.arange(pairs) * math.pi / (2 * pairs)
+    directions = np.stack((np.cos(angles), np.sin(angles)), 1)
+    points = np.ascontiguousarray(np.repeat(support_points, pairs, axis=0))
+    bounds = np.repeat(limits * share, pairs)
+    return points, bounds, np.ascontiguousarray(np.tile(directions, (len(support_points), 1)))
 
 
 _NO_GUESS = np.zeros(0)

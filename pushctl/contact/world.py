@@ -1,23 +1,21 @@
 """The world step: arm + pusher + planar object + table, one box-friction MLCP per step.
 
-Generalised velocity ``v = [q̇_arm (nv); v_obj (3)]`` with ``v_obj = (vx, vy, ω)`` in the world
+Generalised velocity ``v = [q̇_arm (nv); v_obj (3)]``, ``v_obj = (vx, vy, ω)`` in the world
 frame. Per step of length h (docs/design.md §3, the paper's eq. 6–8):
 
 1. arm terms at (q, q̇): M (with armature), c + g, prong positions and Jacobians;
 2. free velocity with implicit joint damping: ``(M + h K_d) q̇_free = M q̇ + h (τ − c − g)``,
-   where K_d is the physical viscous damping plus any ``implicit_kv`` the controller hands
-   over (its K_v, so a stiff PD stays stable at h = 0.01 s); the object has no applied
-   force besides contact and friction, so ``v_obj,free = v_obj``;
+   K_d the physical damping plus any ``implicit_kv`` the controller hands over (its K_v);
+   the object has no applied force besides contact and friction: ``v_obj,free = v_obj``;
 3. contact rows A (m, nv + 3) from :mod:`pushctl.contact.rows`: a normal row (unilateral,
-   position-stabilised) and a tangential row (box friction |p_t| ≤ μ_c p_n) per prong within
-   ``contact_margin`` of the footprint, then two ground-friction rows per support point;
+   position-stabilised) and a tangential row (|p_t| ≤ μ_c p_n) per prong within
+   ``contact_margin`` of the footprint, then the ground friction rows of each support point
+   (``WorldConfig.friction_model``);
 4. ``D = A M̃⁻¹ Aᵀ``, ``b = A v_free + stabilisation``; :func:`solve_box_mlcp` for the
    impulses p = h λ; ``v⁺ = v_free + M̃⁻¹ Aᵀ p``; positions integrated with v⁺.
 
-Contact geometry is planar: a prong is a point, tested against the object's footprint
-polygon in the table plane (its height is held by the controller, not by the contact).
-Joint limits are not constraints of the world: keeping the arm inside them is the
-controller's job.
+Without an arm, prongs on a prescribed path take its place (:meth:`World.push`). Contact is
+planar (prong heights are the controller's job, and so are joint limits).
 """
 
 from __future__ import annotations
@@ -32,6 +30,7 @@ from pushctl.checks import finite_vector
 from pushctl.config import GRAVITY
 from pushctl.contact.compiled.step_end import arm_moved, native_arm_moved, native_arm_moved_nominal
 from pushctl.contact.ground_field import FrictionField
+from pushctl.contact.prescribed import push_substeps
 from pushctl.contact.recycle import ArrayRecycler
 from pushctl.contact.rows import PRONG_ROWS, edge_array, mask_indices, prong_contacts
 from pushctl.contact.step_solver import SLIP_COS_TOLERANCE, StepSolver, StepState
@@ -64,12 +63,13 @@ _NO_ARM_MATRIX = np.zeros((0, 0))
 
 
 class World:
-    """Arm (optional) + pusher + one object on the table. Build it with
-    :func:`pushctl.engines.make_world`.
+    """Arm (optional) + pusher + one object on the table (:func:`pushctl.engines.make_world`).
 
-    The state, the step's integration and the contact geometry live here; the contact
-    solve of each (sub)step in :attr:`solver` (a
-    :class:`~pushctl.contact.step_solver.StepSolver`)."""
+    The state, the step's integration and the contact geometry live here; each (sub)step's
+    contact solve in :attr:`solver` (a :class:`~pushctl.contact.step_solver.StepSolver`).
+    The pusher is an arm driven by joint torques (:meth:`step`) or prongs on a prescribed
+    path (:meth:`push`, no arm): the same rows and ground friction. ``obj``: an ObjectSpec
+    or a body with the same mass properties (a kinematic ``Slider``)."""
 
     def __init__(
         self,
@@ -192,6 +192,18 @@ class World:
         self.stats.steps += 1
         forces = forces / n_sub if n_sub > 1 else forces
         return self._result(forces, residual, converged, iterations)
+
+    def push(self, prong_positions, prong_velocities, radius: float = 0.0) -> StepResult:
+        """One step ``dt`` without an arm, pushed by prongs of ``radius`` [m] at
+        ``prong_positions`` (k, 2) [m] moving at ``prong_velocities`` (k, 2) [m/s]
+        (:func:`pushctl.contact.prescribed.push_substeps`)."""
+        if self.arm is not None:
+            raise StateError("push() moves prescribed prongs: this world has an arm (step)")
+        state = push_substeps(self.solver, self._edges, self.object_pose, self.object_velocity,
+                              prong_positions, prong_velocities, radius, self.config)  # fmt: skip
+        self.object_pose, self.object_velocity, forces, residual, converged, pivots, gaps = state
+        self._gaps, self.stats.steps = gaps, self.stats.steps + 1
+        return self._result(forces, residual, converged, pivots)
 
     def contact_problem(self, tau=None, implicit_kv=None) -> ContactProblem:
         """The MLCP the next (sub)step would solve, without stepping: for inspection and

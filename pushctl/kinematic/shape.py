@@ -92,6 +92,21 @@ class Slider:
             loads=loads,
         )
 
+    @property
+    def inertia_z(self) -> float:
+        """Polar inertia about the centroid [kg·m²] (the name a world reads)."""
+        return self.inertia
+
+    @property
+    def support_points(self) -> np.ndarray:
+        """(S, 2) support points about the centroid [m] (the name a world reads)."""
+        return self.supports
+
+    @property
+    def support_loads(self) -> np.ndarray:
+        """(S,) loads [N] at :attr:`support_points`, summing to m g (the name a world reads)."""
+        return self.loads
+
     def centroid_pose(self, pose: ArrayLike) -> np.ndarray:
         """(…, 3) pose-frame poses → the centroid's (x, y, θ) [m, m, rad]."""
         pose = np.asarray(pose, dtype=float)

@@ -34,8 +34,9 @@ class SurfaceParameters:
 @dataclass(frozen=True)
 class ReplaySettings:
     """How pushes are simulated: ``step_length`` [m] the tip moves per step (dt follows
-    from each push's speed), the ground ``friction_model`` (with ``facets`` sides for the
-    polygon) and ``support_count``."""
+    from each push's speed), the ground ``friction_model`` (the world's,
+    :data:`pushctl.contact.world.FRICTION_MODELS`, with ``facets`` sides for the polygon)
+    and ``support_count``."""
 
     step_length: float = 2e-3
     friction_model: str = "polygon"
@@ -107,6 +108,8 @@ def _replay_chunk(
         params.mu_contact, params.mu_ground, settings.friction_model, settings.facets
     )
     out = np.empty((len(rows), 3))
+    worlds: dict[float, KinematicPushWorld] = {}  # one per step length [s], reset per push
+    pusher = Pusher(((0.0, 0.0),), TIP_RADIUS)
     for i, (x0, y0, th0, tx0, ty0, tx1, ty1, speed) in enumerate(rows.tolist()):
         dt = settings.step_length / (speed * 1e-3)
         length = math.hypot(tx1 - tx0, ty1 - ty0)
@@ -116,7 +119,9 @@ def _replay_chunk(
         path = np.column_stack(
             (tx0 + s * (tx1 - tx0), ty0 + s * (ty1 - ty0), np.full_like(s, heading))
         )
-        world = KinematicPushWorld(slider, Pusher(((0.0, 0.0),), TIP_RADIUS), friction, dt)
+        world = worlds.get(dt)
+        if world is None:
+            world = worlds[dt] = KinematicPushWorld(slider, pusher, friction, dt)
         world.reset((x0, y0, th0))
         for k in range(steps):
             world.step(path[k], path[k + 1])

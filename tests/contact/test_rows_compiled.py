@@ -79,12 +79,12 @@ def test_step_state_and_contact_model_name_the_kernels_parameters():
     import inspect
 
     from pushctl.contact.compiled.assembly import assemble
-    from pushctl.contact.compiled.step import resume_step, slip_step
+    from pushctl.contact.compiled.step import fixed_problem, fixed_step, resume_step, slip_step
     from pushctl.contact.step_solver import STEP_STATE, ContactModel
 
     names = list(STEP_STATE) + list(ContactModel._fields)
     assert len(names) == 18
-    for kernel in (assemble, slip_step, resume_step):
+    for kernel in (assemble, slip_step, resume_step, fixed_step, fixed_problem):
         parameters = list(inspect.signature(kernel.py_func).parameters)
         assert parameters[:18] == names, kernel.py_func.__name__
     assert list(inspect.signature(assemble.py_func).parameters) == names

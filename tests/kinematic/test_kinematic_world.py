@@ -34,7 +34,7 @@ def _push(pusher, path, friction, dt=0.05, shape=SQUARE, pose=(0.0, 0.0, 0.0)):
     return world, reports
 
 
-@pytest.mark.parametrize("model", ["polygon", "box"])
+@pytest.mark.parametrize("model", ["slip_box", "polygon", "axis_box"])
 def test_centred_push_slides_straight_at_mu_g_m_g(model):
     pusher = Pusher.row(2, 0.04, 4.75e-3)
     start = -0.045 - 4.75e-3
@@ -52,8 +52,9 @@ def test_centred_push_slides_straight_at_mu_g_m_g(model):
     assert push_force == pytest.approx(expected, rel=0.01)
 
 
+@pytest.mark.parametrize("model", [("polygon", 16), ("polygon", 32)])
 @pytest.mark.parametrize("offset", [0.03, -0.025])
-def test_off_centre_push_turns_as_the_ellipsoidal_limit_surface_predicts(offset):
+def test_off_centre_push_turns_as_the_ellipsoidal_limit_surface_predicts(offset, model):
     a, v, heading = 0.045, 0.01, math.radians(10.0)
     slider = Slider.from_vertices(SQUARE, MASS)
     # c = m_max / f_max for this support: the load-weighted mean lever arm
@@ -63,7 +64,7 @@ def test_off_centre_push_turns_as_the_ellipsoidal_limit_surface_predicts(offset)
     turn = np.array([[c_h, -s_h], [s_h, c_h]])
     start, end = turn @ (-a - 4.75e-3, offset), turn @ (-a + 0.005, offset)
     path = straight_path((*start, heading), (*end, heading), v, dt=0.1)
-    slider_world = KinematicPushWorld(slider, Pusher(), Friction(1.0, 0.3, "polygon", 16), 0.1)
+    slider_world = KinematicPushWorld(slider, Pusher(), Friction(1.0, 0.3, *model), 0.1)
     slider_world.reset((0.0, 0.0, heading))
     rates = []
     for p0, p1 in zip(path[:-2], path[1:-1], strict=True):
@@ -75,14 +76,15 @@ def test_off_centre_push_turns_as_the_ellipsoidal_limit_surface_predicts(offset)
     assert rate == pytest.approx(predicted_rate, rel=0.3)
 
 
-def test_prong_sticks_inside_the_cone_and_slides_at_its_edge():
+@pytest.mark.parametrize("model", ["polygon"])
+def test_prong_sticks_inside_the_cone_and_slides_at_its_edge(model):
     pusher = Pusher.row(2, 0.04, 4.75e-3)
     start = np.array((-0.045 - 4.75e-3, 0.0, 0.0))
     for slope, mu, sticks in ((0.1, 0.5, True), (1.0, 0.3, False)):
         end = start + (0.02, 0.02 * slope, 0.0)
         path = straight_path(start, end, speed=0.02, dt=0.05)
         slider = Slider.from_vertices(SQUARE, MASS)
-        world = KinematicPushWorld(slider, pusher, Friction(mu, 0.3, "polygon"), 0.05)
+        world = KinematicPushWorld(slider, pusher, Friction(mu, 0.3, model), 0.05)
         world.reset((0.0, 0.0, 0.0))
         ratios, along_face = [], []
         for k, (a, b) in enumerate(zip(path[:-1], path[1:], strict=True)):
@@ -145,6 +147,8 @@ def test_bad_arguments_raise_config_errors():
         Friction(model="cone")
     with pytest.raises(ConfigError):
         Friction(facets=6)
+    with pytest.raises(ConfigError):
+        Friction(model="polygon", facets=10)
     with pytest.raises(ConfigError):
         push_along(SQUARE, np.zeros((1, 3)), object_pose=(0, 0, 0), dt=0.05)
     with pytest.raises(ConfigError):

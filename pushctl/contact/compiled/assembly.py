@@ -20,7 +20,7 @@ import numpy as np
 from numba import njit
 
 from pushctl.contact.compiled.algebra import matmul, matvec, plus_diagonal, spd_solve
-from pushctl.contact.compiled.pivoting import lu_or_min_norm
+from pushctl.contact.compiled.pivoting import lu_or_min_norm, solve_reduced
 
 SLIP_SPEED = 1e-6
 """A support point moving slower than this [m/s] counts as sticking: both its friction rows
@@ -30,7 +30,15 @@ so the box is isotropic in the plane and does not lock the yaw of a sliding obje
 
 @njit(cache=True)
 def active_set_step(D, b, lo, hi, findex, mu, guess, threshold):
-    """Solve the box-friction MLCP on the active set that ``guess`` (n,) implies, and verify.
+    """:func:`active_set_step_with` solving the active set in full."""
+    return active_set_step_with(D, b, lo, hi, findex, mu, guess, threshold, False)
+
+
+@njit(cache=True)
+def active_set_step_with(D, b, lo, hi, findex, mu, guess, threshold, reduce):
+    """Solve the box-friction MLCP on the active set that ``guess`` (n,) implies, and verify;
+    with ``reduce`` the rows at a fixed bound are eliminated first
+    (:func:`~pushctl.contact.compiled.pivoting.solve_reduced`).
 
     Same definitions as :func:`pushctl.contact.active_set.labels_at`, ``solve_labels`` and
     ``evaluate``: a row within 1e-9·max(1, ‖guess‖∞) of a bound is at it (lower first);
@@ -41,6 +49,9 @@ def active_set_step(D, b, lo, hi, findex, mu, guess, threshold):
     """
     n = b.shape[0]
     atol = 1e-9 * max(1.0, np.max(np.abs(guess)))
+    if reduce:
+        p = _reduced_at(D, b, lo, hi, findex, mu, guess, atol)
+        return _verified(D, b, lo, hi, findex, mu, p, threshold)
     A = np.zeros((n, n))
     rhs = np.zeros(n)
     for i in range(n):
@@ -64,6 +75,34 @@ def active_set_step(D, b, lo, hi, findex, mu, guess, threshold):
             A[i, i] = 1.0
             rhs[i] = lo[i] if label < 0 else hi[i]
     p = lu_or_min_norm(A, rhs)
+    return _verified(D, b, lo, hi, findex, mu, p, threshold)
+
+
+@njit(cache=True)
+def _reduced_at(D, b, lo, hi, findex, mu, guess, atol):
+    """:func:`active_set_step_with`'s labels of ``guess``, solved by ``solve_reduced``."""
+    n = b.shape[0]
+    labels = np.zeros(n, dtype=np.int64)
+    lo_f, hi_f, mu_f = lo.copy(), hi.copy(), np.zeros(n)
+    fi = np.zeros(n, dtype=np.int64)
+    for i in range(n):
+        f = findex[i]
+        width = mu[i] * abs(guess[f]) if f >= 0 else 0.0
+        if f >= 0:
+            lo_f[i], hi_f[i], mu_f[i], fi[i] = 0.0, 0.0, mu[i], f
+        lower = -width if f >= 0 else lo[i]
+        upper = width if f >= 0 else hi[i]
+        if guess[i] <= lower + atol:
+            labels[i] = -1
+        elif guess[i] >= upper - atol:
+            labels[i] = 1
+    return solve_reduced(D, b, lo_f, hi_f, mu_f, fi, labels)
+
+
+@njit(cache=True)
+def _verified(D, b, lo, hi, findex, mu, p, threshold):
+    """(p, w = D p + b, the natural map's ∞-norm, whether it is ≤ ``threshold``)."""
+    n = b.shape[0]
     w = matvec(D, p) + b
     residual = 0.0
     for i in range(n):
@@ -122,9 +161,14 @@ def arm_part(contacts, jacobians, M, nle, v_arm, tau, joint_damping, h):
     the friction boxes changes only the ground rows): ``(A_arm (2p, nv), v_arm_free (nv,),
     Minv_At_arm (nv, 2p), A_arm Minv_At_arm (2p, 2p), A_arm v_arm_free (2p,))`` (arguments
     as in :func:`assemble`). The step's loops compute it once, not once per solve: it was
-    more than half of a solve's assembly."""
+    more than half of a solve's assembly.
+
+    With no arm (``M`` (0, 0)) and prongs in contact, ``v_arm`` (2p,) holds the prongs'
+    prescribed velocities and the part is :func:`prescribed_part`'s (nv = 2p)."""
     n_contacts, nv = contacts.shape[0], M.shape[0]
     n_prong = 2 * n_contacts
+    if nv == 0 and n_contacts and v_arm.shape[0] == n_prong:
+        return prescribed_part(contacts, v_arm)
     A_arm = np.zeros((n_prong, nv))
     for i in range(n_contacts):
         nx, ny = contacts[i, 1], contacts[i, 2]
@@ -147,6 +191,26 @@ def arm_part(contacts, jacobians, M, nle, v_arm, tau, joint_damping, h):
             arm_D = matmul(A_arm, Minv_At_arm)
             arm_b = matvec(A_arm, v_arm_free)
     return A_arm, v_arm_free, Minv_At_arm, arm_D, arm_b
+
+
+@njit(cache=True)
+def prescribed_part(contacts, prong_velocity):
+    """:func:`arm_part` for prongs whose motion is prescribed (a pusher with no arm): the
+    velocities ``prong_velocity`` (2p,) [m/s] of the p prongs in contact, (x, y) per prong,
+    world frame, are the pusher's free velocity and no impulse changes them (no inverse
+    mass). The rows' pusher part maps them to −(e_n·v_i) and −(e_t·v_i), so the rows measure
+    the object's contact point's velocity relative to the prong, as with an arm."""
+    n_contacts = contacts.shape[0]
+    n_prong = 2 * n_contacts
+    A = np.zeros((n_prong, n_prong))
+    for i in range(n_contacts):
+        nx, ny = contacts[i, 1], contacts[i, 2]
+        row = 2 * i
+        A[row, row], A[row, row + 1] = -nx, -ny
+        A[row + 1, row], A[row + 1, row + 1] = ny, -nx
+    v_free = prong_velocity.copy()
+    zeros = np.zeros((n_prong, n_prong))
+    return A, v_free, zeros, zeros.copy(), matvec(A, v_free)
 
 
 @njit(cache=True)

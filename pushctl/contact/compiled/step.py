@@ -22,14 +22,14 @@ import numpy as np
 from numba import njit
 
 from pushctl.contact.compiled.assembly import (
-    active_set_step,
+    active_set_step_with,
     apply_impulses,
     arm_part,
     assemble_on,
     refine_slip,
     slip_state,
 )
-from pushctl.contact.compiled.pivoting import cold_pivot
+from pushctl.contact.compiled.pivoting import cold_pivot_with
 
 HELD, FROM_WARM, PIVOTED, EMPTY, UNVERIFIED = 0, 1, 2, 3, -1
 """How :func:`solve_on` solved: the warm start's active set held, or the pivoting from it
@@ -43,14 +43,16 @@ its first solve (the caller restores its boxes); a solve the pivoting did not ve
 
 
 @njit(cache=True)
-def solve_on(problem, velocity, h, guess, has_guess, tol, max_pivots):
+def solve_on(problem, velocity, h, guess, has_guess, tol, max_pivots, reduce):
     """The MLCP of the :func:`~pushctl.contact.compiled.assembly.assemble_on` output
     ``problem`` from ``guess`` (m,) if ``has_guess``: its active set, then at most
     ``max_pivots`` pivots from each of three starts; the impulses applied.
 
     Returns ``(how, p (m,), residual, pivots, v_arm (nv,), v_obj (3,), forces (k, 2) [N])``
     with ``how`` one of :data:`HELD`, :data:`FROM_WARM`, :data:`PIVOTED`, :data:`EMPTY`,
-    :data:`UNVERIFIED` (then p is the pivoting's best point, not a solution)."""
+    :data:`UNVERIFIED` (then p is the pivoting's best point, not a solution). ``reduce``:
+    solve each active set with its rows at a fixed bound eliminated first (the fixed
+    friction models; the slip box solves in full)."""
     D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, _ = problem
     n = b.shape[0]
     if n == 0:
@@ -59,13 +61,15 @@ def solve_on(problem, velocity, h, guess, has_guess, tol, max_pivots):
         return EMPTY, p, 0.0, 0, va, vo, f
     threshold = tol * max(1.0, np.max(np.abs(b)))
     if has_guess:
-        p, _, residual, verified = active_set_step(D, b, lo, hi, findex, mu, guess, threshold)
+        p, _, residual, verified = active_set_step_with(
+            D, b, lo, hi, findex, mu, guess, threshold, reduce
+        )
         if verified:
             va, vo, f = apply_impulses(p, v_arm_free, Minv_At_arm, velocity, Minv_At_obj, h)
             return HELD, p, residual, 0, va, vo, f
     start = guess if has_guess else np.zeros(n)
-    p, _, residual, verified, pivots, which = cold_pivot(
-        D, b, lo, hi, findex, mu, start, has_guess, threshold, max_pivots
+    p, _, residual, verified, pivots, which = cold_pivot_with(
+        D, b, lo, hi, findex, mu, start, has_guess, threshold, max_pivots, reduce
     )
     how = UNVERIFIED
     if verified:
@@ -108,7 +112,7 @@ def slip_step(
         slip_directions, sliding, h, stabilisation, tie_break, mu_contact,
     )  # fmt: skip
     how, p, residual, pivots, va, vo, f = solve_on(
-        problem, velocity, h, guess, has_guess, tol, max_pivots
+        problem, velocity, h, guess, has_guess, tol, max_pivots, False
     )
     if how == UNVERIFIED:
         return NEEDS_PROXQP, -1, 0, 0, 0.0, 0, 0.0, 0, pivots
@@ -172,7 +176,7 @@ def settle(
             slip_directions, sliding, h, stabilisation, tie_break, mu_contact,
         )  # fmt: skip
         how, new_p, new_residual, new_pivots, new_va, new_vo, new_f = solve_on(
-            problem, velocity, h, p, True, tol, max_pivots
+            problem, velocity, h, p, True, tol, max_pivots, False
         )
         if how == UNVERIFIED:
             _write(first_va, first_vo, first_f, p, pose, h, out_v_arm, out_v_obj, out_forces,
@@ -187,6 +191,53 @@ def settle(
            out_pose)  # fmt: skip
     return UNSETTLED, max_iterations, solves, warm, worst, iterations, first_residual, \
         first_pivots, 0  # fmt: skip
+
+
+@njit(cache=True)
+def fixed_problem(
+    contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
+    support_points, friction_limits, slip_directions, sliding, h, stabilisation, tie_break,
+    mu_contact, ground_compliance,
+):  # fmt: skip
+    """:func:`~pushctl.contact.compiled.assembly.assemble`'s MLCP for ground friction fixed
+    to the table (the world's ``polygon`` and ``axis_box`` models: ``slip_directions`` the
+    rows' table directions, ``sliding`` all False so both rows of a pair carry the bound),
+    with the relative diagonal term ``ground_compliance`` on the ground rows."""
+    arm = arm_part(contacts, jacobians, M, nle, v_arm, tau, joint_damping, h)
+    problem = assemble_on(
+        arm, contacts, pose, velocity, obj_mass_inv, support_points, friction_limits,
+        slip_directions, sliding, h, stabilisation, tie_break, mu_contact,
+    )  # fmt: skip
+    D = problem[0]
+    for i in range(2 * contacts.shape[0], D.shape[0]):
+        D[i, i] *= 1.0 + ground_compliance
+    return problem
+
+
+@njit(cache=True)
+def fixed_step(
+    contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
+    support_points, friction_limits, slip_directions, sliding, h, stabilisation, tie_break,
+    mu_contact, ground_compliance, guess, has_guess, tol, max_pivots, out_v_arm, out_v_obj,
+    out_forces, out_p, out_pose,
+):  # fmt: skip
+    """A whole (sub)step with ground friction fixed to the table (:func:`fixed_problem`):
+    one solve from ``guess`` (m,) if ``has_guess``, nothing to refine. Writes the outputs
+    as :func:`slip_step`. Returns ``(status, warm, residual, pivots)``: :data:`SETTLED` or
+    :data:`NEEDS_PROXQP` (then ``pivots`` are the failed pivoting's and nothing is
+    written), whether the solve was a warm start, its residual and pivots."""
+    problem = fixed_problem(
+        contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
+        support_points, friction_limits, slip_directions, sliding, h, stabilisation,
+        tie_break, mu_contact, ground_compliance,
+    )  # fmt: skip
+    how, p, residual, pivots, va, vo, f = solve_on(
+        problem, velocity, h, guess, has_guess, tol, max_pivots, True
+    )
+    if how == UNVERIFIED:
+        return NEEDS_PROXQP, 0, 0.0, pivots
+    _write(va, vo, f, p, pose, h, out_v_arm, out_v_obj, out_forces, out_p, out_pose)
+    return SETTLED, int(counts_as_warm(how, has_guess)), residual, pivots
 
 
 @njit(cache=True)
