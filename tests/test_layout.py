@@ -44,6 +44,7 @@ LAYERS = {
     "pushctl": 12,  # only the package's own __init__: its API re-exports from every layer
     "pushctl.cli": 11,
     "pushctl.report": 10,  # tables and figures from the evaluation's results
+    "pushctl.reproduce": 10,  # make reproduce-tables: the other commands in turn, a manifest
     "pushctl.runs": 9,  # several training runs: seeds, sweeps
     "pushctl.evaluation": 8,
     "pushctl.realdata": 8,  # recorded pushes replayed and scored

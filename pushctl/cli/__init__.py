@@ -8,7 +8,7 @@ only when the command runs, so ``pushctl --help`` stays fast.
   (:mod:`pushctl.cli.train_steps`; ``--seeds``: :mod:`pushctl.cli.train_seeds`),
   ``evaluate`` (:mod:`pushctl.cli.evaluate_steps`), ``report``
   (:mod:`pushctl.cli.report_steps`), ``sweep`` and ``reproduce``
-  (:mod:`pushctl.cli.reproduce_steps`: ``make reproduce-tables``, which runs the others);
+  (:mod:`pushctl.reproduce.steps`: ``make reproduce-tables``, which runs the others);
 - :mod:`pushctl.cli.common`: consoles, the one-line failure, provenance, atomic writes.
 
 The core never imports this package: imports flow cli → report → runs → evaluation →

@@ -1,5 +1,5 @@
 """``pushctl reproduce`` (``make reproduce-tables``): train, evaluate, report and bench, timed,
-with a manifest; the work is in :mod:`pushctl.cli.reproduce_steps`.
+with a manifest; the work is in :mod:`pushctl.reproduce.steps`.
 
 Run from the checkout's root. ``--seeds 0``: other training seeds, e.g. one. ``--quick``: the
 ``quick`` preset, 4 trials, no bench, everything under ``results-quick/`` and ``runs/quick``
@@ -47,9 +47,9 @@ def reproduce_command(
 ) -> None:
     """Make the shipped results again: train, evaluate, report, bench (about 2 h on two
     cores: docs/performance.md)."""
-    from pushctl.cli.reproduce_manifest import minutes
-    from pushctl.cli.reproduce_plan import MANIFEST, check_owned
-    from pushctl.cli.reproduce_steps import choose_setup, reproduce
+    from pushctl.reproduce.manifest import minutes
+    from pushctl.reproduce.plan import MANIFEST, check_owned
+    from pushctl.reproduce.steps import choose_setup, reproduce
 
     try:
         setup = choose_setup(quick, force, seeds, preset)

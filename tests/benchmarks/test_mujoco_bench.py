@@ -3,7 +3,7 @@
 import pytest
 
 from benchmarks import engines as bench_engines
-from pushctl.cli.reproduce_manifest import MJ_STEP_ROW
+from pushctl.reproduce.manifest import MJ_STEP_ROW
 
 
 def test_engine_rows_time_both_engines_and_give_their_ratio():

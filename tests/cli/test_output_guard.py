@@ -13,10 +13,10 @@ from synthetic_results import write_results
 from typer.testing import CliRunner
 
 from pushctl.cli import app
-from pushctl.cli import reproduce_plan as plan
-from pushctl.cli import reproduce_steps as reproduce
-from pushctl.cli.reproduce_plan import MANIFEST, QUICK
 from pushctl.control.gains import PDGains, gains_toml
+from pushctl.reproduce import plan as plan
+from pushctl.reproduce import steps as reproduce
+from pushctl.reproduce.plan import MANIFEST, QUICK
 
 runner = CliRunner()
 

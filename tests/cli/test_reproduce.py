@@ -14,11 +14,11 @@ import pytest
 from typer.testing import CliRunner
 
 from pushctl.cli import app
-from pushctl.cli import reproduce_manifest as manifests
-from pushctl.cli import reproduce_plan as plan
-from pushctl.cli import reproduce_steps as reproduce
-from pushctl.cli.reproduce_plan import FULL, MANIFEST, QUICK, TRAINING_FILES, Setup
 from pushctl.machine import machine_description
+from pushctl.reproduce import manifest as manifests
+from pushctl.reproduce import plan as plan
+from pushctl.reproduce import steps as reproduce
+from pushctl.reproduce.plan import FULL, MANIFEST, QUICK, TRAINING_FILES, Setup
 
 runner = CliRunner()
 

@@ -14,7 +14,7 @@ Each step is the ``pushctl`` command a user would type, run as a subprocess:
 4. the bench (``python -m benchmarks.suite``, run from the checkout's root) into
    ``results/bench.csv``, when the checkout's ``benchmarks/`` is there.
 
-Between them :mod:`pushctl.cli.reproduce_steps` copies the training files and compresses
+Between them :mod:`pushctl.reproduce.steps` copies the training files and compresses
 the evaluation's steps. Nothing it did not make is overwritten (:func:`check_owned`).
 """
 

@@ -16,7 +16,9 @@ from dataclasses import dataclass
 from datetime import datetime
 from pathlib import Path
 
-from pushctl.cli.reproduce_plan import (
+from pushctl.files.provenance import git_commit, write_atomic
+from pushctl.machine import machine_description, usable_cores
+from pushctl.reproduce.plan import (
     FULL,
     MANIFEST,
     QUICK,
@@ -26,8 +28,6 @@ from pushctl.cli.reproduce_plan import (
     run_line,
     seed_run,
 )
-from pushctl.files.provenance import git_commit, write_atomic
-from pushctl.machine import machine_description, usable_cores
 from pushctl.version import VERSION
 
 MJ_STEP_ROW = "world step arm+cube [mujoco mj_step alone]"

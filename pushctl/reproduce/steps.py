@@ -1,6 +1,6 @@
 """The work of ``pushctl reproduce`` (``make reproduce-tables``): run each step of
-:mod:`pushctl.cli.reproduce_plan` in order, timed, with the manifest
-(:mod:`pushctl.cli.reproduce_manifest`) written before, between and after.
+:mod:`pushctl.reproduce.plan` in order, timed, with the manifest
+(:mod:`pushctl.reproduce.manifest`) written before, between and after.
 
 Between the steps it copies each training seed's ``policy.pt``, ``policy_last.pt``,
 ``curve.csv`` and ``validation.csv`` to ``results/training/seed-K/`` (the first seed's also
@@ -21,8 +21,10 @@ from dataclasses import replace
 from datetime import datetime, timezone
 from pathlib import Path
 
-from pushctl.cli.reproduce_manifest import write_manifest
-from pushctl.cli.reproduce_plan import (
+from pushctl.evaluation.columns import STEPS_FILE
+from pushctl.files.provenance import write_atomic
+from pushctl.reproduce.manifest import write_manifest
+from pushctl.reproduce.plan import (
     FULL,
     QUICK,
     TRAINING_FILES,
@@ -31,8 +33,6 @@ from pushctl.cli.reproduce_plan import (
     seed_run,
     steps,
 )
-from pushctl.evaluation.columns import STEPS_FILE
-from pushctl.files.provenance import write_atomic
 
 
 def choose_setup(quick: bool, force: bool, seeds: str | None, preset: str | None) -> Setup:
