@@ -50,9 +50,13 @@ def reproduce_command(
     from pushctl.cli.reproduce_manifest import minutes
     from pushctl.cli.reproduce_plan import MANIFEST, check_owned
     from pushctl.cli.reproduce_steps import choose_setup, reproduce
+    from pushctl.output_guard import hold
 
     try:
         setup = choose_setup(quick, force, seeds, preset)
+        if setup.results.exists() and not setup.results.is_dir():
+            raise ConfigError(f"{setup.results} is a file; give a directory")
+        hold("the results directory", setup.results, directory=True)  # one at a time
         refusal = check_owned(setup)
         if refusal is not None:
             raise ConfigError(refusal)
