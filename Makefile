@@ -31,7 +31,7 @@ $(NATIVE): $(STAMP) $(wildcard pushctl/native/*.cpp)
 # in its disk cache: compiled here, showing each step, the first command starts at once
 # (pushctl/cli/warm.py).
 $(WARM): $(STAMP) $(NATIVE) $(shell find pushctl -name '*.py')
-	$(PY) -m pushctl.cli.warm
+	$(PY) -c "from pushctl.cli.warm import main; main()"
 	touch $(WARM)
 
 test: install

@@ -94,10 +94,6 @@ def warm(report: Callable[[str], None] | None = None) -> None:
 
 
 def main() -> None:
-    """``python -m pushctl.cli.warm`` (``make install``): :func:`warm`, saying each step."""
+    """``make install``'s last step: :func:`warm`, saying each step."""
     print("compiling the simulator's kernels, once (5-11 min on two cores):", flush=True)
     warm(report=lambda line: print(f"  {line}", flush=True))
-
-
-if __name__ == "__main__":
-    main()
