@@ -158,8 +158,8 @@ def evaluate(
     )  # fmt: skip
     jobs = spec.jobs()
     gathered = _Gathered(spec) if start is None else _Gathered.restored(spec, start, len(jobs))
-    first = gathered.done
-    for done, result in enumerate(_results(jobs[first:], setup, workers), start=first + 1):
+    kept = gathered.done  # a resumed evaluation's jobs already gathered
+    for done, result in enumerate(_results(jobs[kept:], setup, workers), start=kept + 1):
         gathered.add(result)
         if on_trial is not None:
             on_trial(result, done, len(jobs))
