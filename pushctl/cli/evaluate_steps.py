@@ -26,7 +26,7 @@ from pushctl.arm.pusher_file import resolve_pusher
 from pushctl.cli.policy_kind import describe_policy, read_validation
 from pushctl.controllers import controller_names, entries, paper_controllers
 from pushctl.episode.ranges import DEFAULT_PLANTS, PLANTS
-from pushctl.errors import ConfigError
+from pushctl.errors import ConfigError, PushctlError
 from pushctl.evaluation.evaluate import (
     DEFAULT_POLICY,
     Evaluation,
@@ -292,7 +292,10 @@ class Keeper:
     def __call__(self, snapshot: Callable[[], dict[str, Any]]) -> None:
         self.snapshot = snapshot
         if time.monotonic() - self.saved >= KEEP_EVERY:
-            self.save()
+            try:
+                self.save()
+            except (OSError, PushctlError):  # a full disk: the trials go on, kept next time
+                self.saved = time.monotonic()
 
     def save(self) -> int:
         """Write the trials gathered so far; the number kept (0: none, nothing written)."""

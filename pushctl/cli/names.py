@@ -18,6 +18,8 @@ PLANTS = ("sim", "proxy", "mujoco")
 """:data:`pushctl.config.PLANT_KINDS`; ``both`` and ``all`` select several."""
 STREAMS = ("evaluation", "tuning")
 """:data:`pushctl.evaluation.trials.STREAMS_EVALUATED`."""
+MAX_TRIALS = 100_000
+""":data:`pushctl.evaluation.trials.SEEDS_PER_EVALUATION`: trials per cell at most."""
 PRESETS = ("quick", "paper")
 """:data:`pushctl.rl.presets.PRESET_NAMES`; a preset .toml file is accepted too."""
 
@@ -42,8 +44,8 @@ def check_evaluate_options(
     _names("--controller", controller, controller_names(), "all")
     if plant not in (*PLANTS, "both", "all"):
         raise ConfigError(f"unknown --plant {plant!r}; accepted: {', '.join(PLANTS)}, both or all")
-    if not 1 <= trials <= 100_000:  # SEEDS_PER_EVALUATION (pushctl.evaluation.trials)
-        raise ConfigError(f"--trials must be an integer in 1 … 100000, got {trials!r}")
+    if not 1 <= trials <= MAX_TRIALS:
+        raise ConfigError(f"--trials must be an integer in 1 … {MAX_TRIALS}, got {trials!r}")
     if scenario_block < 0:
         raise ConfigError(f"--scenario-block must be an integer >= 0, got {scenario_block}")
     if stream not in STREAMS:

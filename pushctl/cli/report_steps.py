@@ -19,13 +19,10 @@ import pandas as pd
 from matplotlib.figure import Figure
 from rich.table import Table
 
+from pushctl.controllers import controller_entry, controller_names
 from pushctl.errors import ConfigError
 from pushctl.files.provenance import provenance_line, write_atomic, write_csv
-from pushctl.report.figures import (
-    force_error_figure,
-    tracking_figure,
-    training_figure,
-)
+from pushctl.report.figures import force_error_figure, tracking_figure, training_figure
 from pushctl.report.inputs import CURVE, ReportInputs, ResultsTable, read_report_inputs, summary
 from pushctl.report.markdown import tables_markdown
 from pushctl.report.seeds import across_seeds, seed_tables
@@ -77,6 +74,30 @@ class Report:
         return [TABLE3_FILE, TABLE4_FILE, *more, *seeds, MARKDOWN_FILE, *self.figures]
 
 
+def hidden_lines(steps: pd.DataFrame) -> str | None:
+    """Which controller's lines in Figs. 6 and 8 lie exactly on another's (equal values at
+    every step of every cell, so only the one drawn last shows), or None."""
+    keys = ["object", "profile", "plant", "step"]
+    values = [c for c in steps.columns if c not in (*keys, "controller", "t")]
+    frames = {
+        name: group.set_index(keys)[values].sort_index()
+        for name, group in steps.groupby("controller", sort=False)
+    }
+    pairs = []
+    names = [n for n in controller_names() if n in frames]
+    for i, under in enumerate(names):
+        for over in names[i + 1 :]:
+            a, b = frames[under], frames[over]
+            if a.index.equals(b.index) and a.equals(b):
+                pairs.append(
+                    f"{controller_entry(over).label}'s lie exactly on "
+                    f"{controller_entry(under).label}'s"
+                )
+    if not pairs:
+        return None
+    return f"in Figs. 6 and 8, {'; '.join(pairs)} (equal values): one line shows for both"
+
+
 def unmatched_training(inputs: ReportInputs) -> str | None:
     """Why Fig. 5's training run is not the one whose policy the tables evaluated (the
     trials' provenance names each evaluated policy's own line, the curve's run has one), or
@@ -119,6 +140,9 @@ def make_report(in_dir: Path, command: str, trust_undigested: bool = False) -> R
         (FIG8_FILE, force_error_figure(inputs.steps.frame), inputs.steps),
     ]
     notes, warnings = [], []
+    hidden = hidden_lines(inputs.steps.frame)
+    if hidden is not None:
+        notes.append(hidden)
     other_run = unmatched_training(inputs)
     if other_run is not None:
         warnings.append(other_run)
@@ -129,7 +153,8 @@ def make_report(in_dir: Path, command: str, trust_undigested: bool = False) -> R
     figures = {}
     for name, figure, source in drawings:
         title = " ".join(figure.get_suptitle().split())
-        figures[name] = _png(figure, f"{title}. {made_by}; input: {_source(source)}")
+        hides = f" Note: {hidden}." if hidden is not None and name != FIG5_FILE else ""
+        figures[name] = _png(figure, f"{title}.{hides} {made_by}; input: {_source(source)}")
     return Report(
         table3=three,
         table4=four,

@@ -47,12 +47,16 @@ def reproduce_command(
 ) -> None:
     """Make the shipped results again: train, evaluate, report, bench (about 2 h on two
     cores: docs/performance.md)."""
+    from pushctl.files.output_guard import hold
     from pushctl.reproduce.manifest import minutes
     from pushctl.reproduce.plan import MANIFEST, check_owned
     from pushctl.reproduce.steps import choose_setup, reproduce
 
     try:
         setup = choose_setup(quick, force, seeds, preset)
+        if setup.results.exists() and not setup.results.is_dir():
+            raise ConfigError(f"{setup.results} is a file; give a directory")
+        hold("the results directory", setup.results, directory=True)  # one at a time
         refusal = check_owned(setup)
         if refusal is not None:
             raise ConfigError(refusal)

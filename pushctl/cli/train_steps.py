@@ -51,7 +51,7 @@ def prepare_trainer(
         raise ConfigError(f"--out {directory} is a file; give a directory")
     hold("--out", directory, directory=True)  # one command at a time, until this one ends
     if resume:
-        trainer = Trainer.resume(directory, trust_undigested=trust_undigested)
+        trainer = Trainer.resume(directory, trust=trust_undigested)
         saved = trainer.preset.name, trainer.seed
         if (preset is not None and preset != saved[0]) or (seed is not None and seed != saved[1]):
             raise ConfigError(

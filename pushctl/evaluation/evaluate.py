@@ -157,8 +157,8 @@ def evaluate(
     )  # fmt: skip
     jobs = spec.jobs()
     gathered = _Gathered(spec) if start is None else _Gathered.restored(spec, start, len(jobs))
-    skip = gathered.done  # the jobs a resumed evaluation has already gathered
-    for done, result in enumerate(_results(jobs[skip:], setup, workers), start=skip + 1):
+    kept = gathered.done  # a resumed evaluation's jobs already gathered
+    for done, result in enumerate(_results(jobs[kept:], setup, workers), start=kept + 1):
         gathered.add(result)
         if on_trial is not None:
             on_trial(result, done, len(jobs))

@@ -57,7 +57,9 @@ def load_pushes(data_dir: Path) -> PushData:
     shapes_table = _read_csv(data_dir / "mit" / "shapes.csv")
     missing = [c for c in PUSH_COLUMNS if c not in pushes.columns]
     if missing:
-        raise ConfigError(f"{data_dir / 'mit' / 'pushes.csv'}: missing columns {missing}")
+        raise ConfigError(
+            f"{data_dir / 'mit' / 'pushes.csv'}: missing columns {', '.join(missing)}"
+        )
     for column in ("shape", "vertex", "x", "y"):
         if column not in shapes_table.columns:
             raise ConfigError(f"{data_dir / 'mit' / 'shapes.csv'}: missing column {column!r}")
@@ -75,7 +77,7 @@ def load_pushes(data_dir: Path) -> PushData:
     }
     unknown = sorted(set(pushes["shape"].astype(str)) - set(shapes))
     if unknown:
-        raise ConfigError(f"pushes name shapes not in shapes.csv: {unknown}")
+        raise ConfigError(f"pushes name shapes not in shapes.csv: {', '.join(unknown)}")
     pushes = pushes.astype({"shape": str, "surface": str, "push_id": str})
     return PushData(pushes.reset_index(drop=True), shapes)
 

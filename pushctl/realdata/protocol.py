@@ -33,7 +33,7 @@ def calibration_split(data: PushData, seed: int, exclude: Sequence[str]) -> np.n
     """The calibration mask (N,) of a fit: the seeded 20 % minus the excluded shapes."""
     unknown = sorted(set(exclude) - set(data.pushes["shape"]))
     if unknown:
-        raise ConfigError(f"--exclude-shape: no pushes of {unknown} in the data")
+        raise ConfigError(f"--exclude-shape: no pushes of {', '.join(unknown)} in the data")
     return calibration_mask(data.pushes, seed) & ~data.pushes["shape"].isin(exclude).to_numpy()
 
 
@@ -115,7 +115,7 @@ def run_score(
     if only_shapes:
         unknown = sorted(set(only_shapes) - set(pushes["shape"]))
         if unknown:
-            raise ConfigError(f"--shapes: no pushes of {unknown} in the data")
+            raise ConfigError(f"--shapes: no pushes of {', '.join(unknown)} in the data")
         pushes = pushes[pushes["shape"].isin(only_shapes)]
     pushes = pushes.reset_index(drop=True)
     start = time.perf_counter()

@@ -60,7 +60,9 @@ def replay_pushes(
     ``params`` maps each surface in ``pushes`` to its parameters."""
     missing = sorted(set(pushes["surface"]) - set(params))
     if missing:
-        raise ConfigError(f"no fitted parameters for surface(s) {missing}")
+        raise ConfigError(
+            f"the friction fit has no parameters for surface(s) {', '.join(missing)} of the data"
+        )
     columns = ["x0", "y0", "theta0", "tip_x0", "tip_y0", "tip_x1", "tip_y1", "speed_mm_s"]
     jobs = []
     for (surface, shape), index in sorted(pushes.groupby(["surface", "shape"]).groups.items()):

@@ -24,6 +24,8 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
+from pushctl.files.output_guard import occupied
+
 SEED = 0
 """The evaluation's seed."""
 SEEDS = (0, 1, 2)
@@ -155,7 +157,7 @@ def check_owned(setup: Setup) -> str | None:
         return None
     if not results.is_dir():
         return f"{results} is a file; give a directory"
-    if not any(results.iterdir()) or own_manifest(setup):
+    if not occupied(results) or own_manifest(setup):  # its own lock file is no result
         return None
     return (
         f"{results} holds files that no earlier `make reproduce-tables` made (no {MANIFEST} "

@@ -21,7 +21,7 @@ from pushctl.episode.runner import Episode
 from pushctl.episode.trace import Trace
 from pushctl.errors import ConfigError, StateError, reason
 from pushctl.files.provenance import one_line
-from pushctl.rl.checkpoint import load_checked, nonfinite_entry, save_checked
+from pushctl.rl.checkpoint import content_digest, load_checked, nonfinite_entry, save_checked
 from pushctl.rl.networks import ActorPolicy
 from pushctl.task.env import PushEnv
 from pushctl.task.env_config import EnvConfig
@@ -61,6 +61,19 @@ def write_policy(path: Path, actor_state: dict[str, Any], env: EnvConfig, made_b
         "made_by": made_by,
     }
     save_atomic(path, state)
+
+
+def holds_actor(path: Path, actor_state: dict[str, Any], made_by: str) -> bool:
+    """Whether the policy file ``path`` holds ``actor_state`` (``DDPGAgent.actor_state()``)
+    under the provenance line ``made_by``: False if it is missing or damaged."""
+    if not path.is_file():
+        return False
+    try:
+        state = load_checked(path, "policy file")
+    except ConfigError:
+        return False
+    same = content_digest(state.get("actor")) == content_digest(actor_state)
+    return same and state.get("made_by") == made_by
 
 
 def load_policy(path: str | Path, *, trust_undigested: bool = False) -> TrainedPolicy:

@@ -35,13 +35,13 @@ from pushctl.control.feedback import load_feedback_gains
 from pushctl.control.gains import PDGains, load_gains
 from pushctl.errors import ConfigError, reason
 from pushctl.files.provenance import write_csv
-from pushctl.rl.checkpoint import CHECKPOINT_FORMAT, content_digest, load_checked, read_checkpoint
+from pushctl.rl.checkpoint import CHECKPOINT_FORMAT, read_checkpoint
 from pushctl.rl.collect import Behaviour, EpisodeRecord, curve_row, portable
 from pushctl.rl.collectors import Collector
 from pushctl.rl.critic_side import critic_warmup_due, n_step_rows, warm_critic
 from pushctl.rl.ddpg import DDPGAgent, configure_torch
 from pushctl.rl.networks import ActorPolicy
-from pushctl.rl.policy import save_atomic, write_policy
+from pushctl.rl.policy import holds_actor, save_atomic, write_policy
 from pushctl.rl.presets import Preset
 from pushctl.rl.validate import Metrics, Validator
 from pushctl.task.spaces import observation_entries, scales
@@ -88,9 +88,7 @@ class Trainer:
         self.validation: list[dict[str, Any]] = []
         self.best_actor: dict[str, Any] | None = None
         self.made_by = ""
-        self.episodes: int | None = None
-        """The run's target, the episodes asked for (kept in the checkpoint): a bare resume
-        continues to it (None: a checkpoint written before it was kept; the preset's)."""
+        self.episodes: int | None = None  # the episodes asked for, kept in the checkpoint
         self.collectors = preset.train.workers
         """Collector processes this session (no result depends on it; see TrainConfig)."""
         self._validator: Validator | None = None
@@ -100,12 +98,10 @@ class Trainer:
         return cls(preset, seed, out, gains if gains is not None else load_gains())
 
     @classmethod
-    def resume(
-        cls, out: Path, gains: PDGains | None = None, *, trust_undigested: bool = False
-    ) -> Trainer:
+    def resume(cls, out: Path, gains: PDGains | None = None, *, trust: bool = False) -> Trainer:
         """The run stopped in ``out``; ConfigError (one line) if there is no checkpoint or it
-        is corrupt, of another format, or without its digest (unless ``trust_undigested``)."""
-        state = read_checkpoint(out / CHECKPOINT, trust_undigested=trust_undigested)
+        is corrupt, of another format, or without its digest (unless ``trust``)."""
+        state = read_checkpoint(out / CHECKPOINT, trust_undigested=trust)
         try:
             preset = Preset.from_dict(state["preset"])
             trainer = cls(preset, int(state["seed"]), out, gains or load_gains())
@@ -114,15 +110,14 @@ class Trainer:
             trainer.pending_updates = int(state["pending_updates"])
             trainer.rows = [dict(row) for row in state["rows"]]
             trainer.made_by = str(state["made_by"])
-            stored = state.get("episodes")
-            trainer.episodes = None if stored is None else int(stored)
+            trainer.episodes = state.get("episodes")
             trainer.validation = [dict(row) for row in state["validation"]]
             trainer.best_actor = state["best_actor"]
         except ConfigError as exc:
             raise ConfigError(f"checkpoint {out / CHECKPOINT} is incompatible: {exc}") from None
         except (KeyError, TypeError, ValueError, RuntimeError) as exc:
             raise ConfigError(
-                f"checkpoint {out / CHECKPOINT} is incompatible: {reason(exc)[:160]}"
+                f"checkpoint {out / CHECKPOINT} is incompatible: {reason(exc)}"
             ) from None
         return trainer
 
@@ -184,44 +179,25 @@ class Trainer:
                 made_by += "; shipped: the base law (no actor beat it in the paired test)"
             else:
                 env = replace(env, base_law="none")
-        write_policy(self.out / POLICY, chosen, env, made_by)
-        # the last actor last: :meth:`finished` reads it as the mark of a written end
+        write_policy(self.out / POLICY, chosen, env, made_by)  # the last actor last: finished()
         write_policy(self.out / LAST_POLICY, last, self.preset.env, self.made_by)
 
     # ------------------------------------------------------------------ checkpoints
 
     def target(self, episodes: int | None = None) -> int:
-        """The episodes to train to: ``episodes`` if given, else the run's own target
-        (:attr:`episodes`, kept in the checkpoint), else the preset's."""
-        if episodes is not None:
-            return episodes
-        return self.episodes if self.episodes is not None else self.preset.train.episodes
+        """``episodes`` if given, else the run's own (:attr:`episodes`), else the preset's."""
+        return episodes or self.episodes or self.preset.train.episodes
 
     def finished(self, episodes: int) -> bool:
-        """Whether ``episodes`` are done and the run's end is written: both policies of
-        this checkpoint's actor and, when the preset validates, the last actor's score. A
-        run killed after its last checkpoint has the episodes but not its end (no policies,
-        or an earlier target's); :meth:`run` then writes just that."""
+        """Whether ``episodes`` are done and the run's end is written: both policies of this
+        checkpoint's actor and, when the preset validates, the last actor's score. A run killed
+        after its last checkpoint lacks that end (or has an earlier target's): run() writes it."""
         if self.next_episode < episodes:
             return False
-        shipped = (self.out / POLICY).is_file() and self._last_policy_current()
+        last = holds_actor(self.out / LAST_POLICY, self.agent.actor_state(), self.made_by)
+        shipped = (self.out / POLICY).is_file() and last
         return shipped and (
             not self.preset.train.validate_every or self.next_episode in self._validated
-        )
-
-    def _last_policy_current(self) -> bool:
-        """Whether ``policy_last.pt`` holds this checkpoint's actor and provenance line:
-        written last (:meth:`run`), it marks both policies as this run's end."""
-        path = self.out / LAST_POLICY
-        if not path.is_file():
-            return False
-        try:
-            state = load_checked(path, "policy file")
-        except ConfigError:
-            return False  # damaged: written again
-        saved = content_digest(state.get("actor"))
-        return saved == content_digest(self.agent.actor_state()) and (
-            state.get("made_by") == self.made_by
         )
 
     def state_dict(self) -> dict[str, Any]:

@@ -46,7 +46,7 @@ def test_a_typo_is_refused_before_the_core_is_imported(args):
 
 def test_the_early_names_are_the_cores():
     from pushctl.config import PLANT_KINDS
-    from pushctl.evaluation.trials import STREAMS_EVALUATED
+    from pushctl.evaluation.trials import SEEDS_PER_EVALUATION, STREAMS_EVALUATED
     from pushctl.objects import OBJECT_NAMES
     from pushctl.planning import PROFILE_NAMES
     from pushctl.rl.presets import PRESET_NAMES
@@ -54,3 +54,4 @@ def test_the_early_names_are_the_cores():
     assert names.OBJECTS == OBJECT_NAMES and names.PROFILES == PROFILE_NAMES
     assert names.PLANTS == PLANT_KINDS
     assert names.STREAMS == STREAMS_EVALUATED and names.PRESETS == PRESET_NAMES
+    assert names.MAX_TRIALS == SEEDS_PER_EVALUATION

@@ -162,3 +162,13 @@ def test_an_interrupted_evaluation_resumes_to_the_same_bytes(tmp_path, monkeypat
     for name in ("trials.csv", "steps.csv"):
         assert (out / name).read_bytes() == (whole / name).read_bytes(), name
     assert sorted(p.name for p in out.iterdir()) == ["steps.csv", "trials.csv"]
+
+
+def test_a_second_reproduction_is_refused_while_the_first_holds_its_results(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    results = tmp_path / "results-quick"
+    results.mkdir()
+    with lock_held_elsewhere(results / LOCK_NAME):
+        refused = runner.invoke(app, ["reproduce", "--quick"])
+        one_error_line(refused, "results-quick", "in use by another pushctl command")
+        assert sorted(p.name for p in results.iterdir()) == [LOCK_NAME]  # nothing written

@@ -93,12 +93,15 @@ def test_logs_replay(synthetic_data, tmp_path):
          "does not exist"),
         (["score", "--data", "{data}", "--friction", "{data}/mit/shapes.csv", "--out",
           "{tmp}/o"], "not valid TOML"),
+        (["score", "--data", "{data}", "--friction", "{tmp}/abs.toml", "--out", "{tmp}/o"],
+         "no parameters for surface(s) felt of the data"),
     ],
 )  # fmt: skip
 def test_bad_input_is_one_line_and_exit_2(args, message, synthetic_data, tmp_path):
     args = [a.format(data=synthetic_data, tmp=tmp_path) for a in args]
+    (tmp_path / "abs.toml").write_text("[surface.abs]\nmu_contact = 0.2\nmu_ground = 0.3\n")
     result = runner.invoke(app, ["realdata", *args])
     assert result.exit_code == 2
     assert result.output.startswith("error:") and message in result.output
-    assert len(result.output.strip().splitlines()) == 1
+    assert len(result.output.strip().splitlines()) == 1 and "['" not in result.output
     assert not (tmp_path / "o").exists()

@@ -61,3 +61,14 @@ def test_the_recorded_pushes_figures_label_their_axes_and_every_line():
     assert all(ax.get_xlabel() == "x [mm]" and ax.get_ylabel() == "y [mm]" for ax in fig.axes)
     labels = [text.get_text() for legend in fig.legends for text in legend.get_texts()]
     assert labels == ["start", "recorded end", "ours", "Zhou", "pusher tip"]
+
+
+def test_a_line_hidden_under_another_is_named():
+    from pushctl.cli.report_steps import hidden_lines
+
+    steps = steps_frame()
+    assert hidden_lines(steps) is None
+    feedback = steps[steps["controller"] == "feedback"]
+    same = pd.concat([steps[steps["controller"] != "rl"], feedback.assign(controller="rl")])
+    note = hidden_lines(same)
+    assert note is not None and "RL-assisted's lie exactly on feedback (PD + PI)'s" in note
