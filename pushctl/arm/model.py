@@ -131,7 +131,7 @@ class ArmModel:
         placement on its joint), so an arm with the same kinematics gets a copy of the
         answer an earlier one found: a reset builds three arms, two of them with the
         nominal pusher (the plan's and the controller's; only their masses differ), and the
-        IK was most of each arm's build (5 of 5.6 ms on an AMD EPYC)."""
+        IK was most of each arm's build."""
         frame = self.model.frames[self.pusher_frame_id]
         key = (
             self.spec.name,

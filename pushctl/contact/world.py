@@ -221,7 +221,7 @@ class World:
             forces = solved.forces
         else:
             forces = np.zeros((self._n_prongs, 2))
-            for row, prong in enumerate(prongs):  # a loop: 1 µs less than a list index
+            for row, prong in enumerate(prongs):  # a loop, not a list index
                 forces[prong] = solved.forces[row]
         # semi-implicit Euler: the pose moved with the new velocity (θ is not wrapped: the
         # plan and the metrics compare continuous angles)
@@ -246,8 +246,8 @@ class World:
         else:
             prongs, contacts = self._prongs, self._contacts
             jacobians = terms.prong_jacobians
-            if len(prongs) < self._n_prongs:  # take with a kept index array: 1.2 µs less
-                jacobians = jacobians.take(PRONG_ROWS[prongs], axis=0)  # than a list index
+            if len(prongs) < self._n_prongs:  # a kept index array, not a list
+                jacobians = jacobians.take(PRONG_ROWS[prongs], axis=0)
             M, nle = terms.M, terms.nle
         state = (contacts, jacobians, M, nle, self.v, tau, damping, self.object_pose,
                  self.object_velocity)  # fmt: skip
@@ -347,8 +347,8 @@ class World:
         if self.arm is None:
             return np.zeros(0), np.zeros(0)
         # Fast path for the usual float64 vector: the sum of its entries is finite unless an
-        # entry is NaN or ±inf (or the sum overflows: the full check then decides), 0.2 µs
-        # where a dot product with zeros took 0.6 and isfinite(...).all() 1.5 (measured).
+        # entry is NaN or ±inf (or the sum overflows: the full check then decides), cheaper
+        # than a dot product with zeros or isfinite(...).all().
         # The dtype is compared with ==, not `is`: an array made by a compiled kernel loaded
         # from numba's disk cache (the PD law's torque) has a float64 dtype of its own.
         # C-contiguous too: one compiled signature of the step's kernels.
@@ -376,8 +376,8 @@ class World:
                 self._kv_scalar = (implicit_kv, kv, self._damping + kv)
             return tau, self._kv_scalar[1]
         kv = finite_vector("implicit_kv", implicit_kv, self._nv)
-        # A gain array is the proxy's every step (its friction): the min of its list, 0.3 µs
-        # where kv.min() took 1.5 (finite, checked above, so the two agree).
+        # A gain array is the proxy's every step (its friction): the min of its list, not
+        # kv.min() (finite, checked above, so the two agree).
         if min(kv.tolist()) < 0.0:
             raise StateError(f"implicit_kv must be >= 0 N·m·s/rad, got {kv.tolist()}")
         return tau, kv

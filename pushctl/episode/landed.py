@@ -54,7 +54,7 @@ def landed_force_error(episode: Episode, trace: Trace) -> tuple[float, float]:
     """(where the prongs landed [m], ``force_error_landed`` [N]) of ``episode``'s finished
     push ``trace``: the mean over rows 1 … N and prongs of ‖F_landed,i − λ_i‖₂, where
     F_landed are the plant's needs (:meth:`Episode.plant_forces_at`) with the plate where
-    it landed (:func:`landed`). About 20 ms: one force distribution over the plan."""
+    it landed (:func:`landed`): one force distribution over the plan."""
     shift = landed(trace)
     rows = slice(1, trace.n_steps + 1)
     needed = episode.plant_forces_at(shift).forces[rows]  # (N, k, 2)

@@ -280,6 +280,14 @@ def _force_panel(ax: Axes, cell: pd.DataFrame, metric: str, smooth: float) -> No
     _log_if_wide(ax, np.concatenate(drawn))
 
 
+def _plants_named(steps: pd.DataFrame) -> str:
+    """The plants Fig. 8 draws, in its legend's order, for its title: "sim vs proxy",
+    "sim vs proxy vs MuJoCo" (only the plants ``steps`` has rows for)."""
+    shown = {"sim": "sim", "proxy": "proxy", "mujoco": "MuJoCo"}
+    present = set(steps["plant"])
+    return " vs ".join(name for plant, name in shown.items() if plant in present)
+
+
 def force_error_figure(steps: pd.DataFrame, smooth: float = SMOOTH_S) -> Figure:
     """Fig. 8 from ``steps`` (the columns of ``evaluation/steps.csv``): per-step force
     error [mN] and torque error [mN·m], mean over the trials, over t [s]; two rows per
@@ -318,8 +326,8 @@ def force_error_figure(steps: pd.DataFrame, smooth: float = SMOOTH_S) -> Figure:
     fig.suptitle(
         _fitted(
             fig,
-            "Fig. 8 · per-step force and torque tracking error, mean over the trials: sim vs "
-            f"proxy, PD-only vs RL-assisted (bold: {smooth:g} s rolling mean)",
+            "Fig. 8 · per-step force and torque tracking error, mean over the trials: "
+            f"{_plants_named(steps)}, PD-only vs RL-assisted (bold: {smooth:g} s rolling mean)",
         ),
         fontsize=FONT["title"],
     )

@@ -225,8 +225,8 @@ class DDPGAgent:
         Q(s, mu(s)) − action_penalty·‖z(s)‖², z the actor's output before its tanh, from the
         ``critic_burn_in``-th update on (before it the actor stays as it is): with the
         critic's weights frozen for its backward pass, and without the prior's forward pass
-        where the prior acts 0 (:meth:`_set_prior`): the same bits as without either, 3.51
-        against 3.68 ms an update in a shortened ``paper`` run. Targets: :func:`soft_update`
+        where the prior acts 0 (:meth:`_set_prior`): the same bits as without either, in less
+        time. Targets: :func:`soft_update`
         with ``tau``. Returns the critic loss, actor loss and mean Q of the batch.
         """
         cfg = self.config

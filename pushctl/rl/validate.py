@@ -197,9 +197,9 @@ def validation_metrics(
 
 class ValidationPushes:
     """A collector's validation pushes: :func:`validation_metrics`, bit for bit, with each
-    scenario's reset (draw, plan, plant force plan, world, approach: about 0.13 s, nearly
-    as long as the push after it) made once per process and every push of that scenario
-    started from a copy of it (1.4 ms), as the evaluation pushes each further policy
+    scenario's reset (draw, plan, plant force plan, world, approach: nearly as long as
+    the push after it) made once per process and every push of that scenario started
+    from a copy of it, as the evaluation pushes each further policy
     (:func:`~pushctl.evaluation.trials.run_trial`): a run scores its actor on the same set
     every ``validate_every`` episodes. A kept reset pickles to about 2 MB, so the 60
     scenarios of the ``paper`` preset's set hold about 120 MB in each collector."""

@@ -348,7 +348,7 @@ class PushEnv(EpisodeReadings, gym.Env[np.ndarray, np.ndarray]):
     def _advance(self, action: list[float] | None) -> np.ndarray | None:
         """:meth:`advance` with the action as three Python floats (or None). The clip and
         the scale are numpy's ``np.clip(scale * action, -1, 1)`` arithmetic, component by
-        component: the same floats, without the arrays (2 µs a step)."""
+        component: the same floats, without the arrays."""
         episode = self.episode
         assert episode is not None
         n = episode.step_index

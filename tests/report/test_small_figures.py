@@ -30,6 +30,15 @@ def test_a_one_cell_reports_titles_and_legends_fit_its_figures():
         assert all(_inside(fig, legend) for legend in fig.legends)
 
 
+def test_fig8s_title_names_the_plants_it_draws():
+    steps = steps_frame()
+    title = force_error_figure(steps)._suptitle.get_text()
+    assert "sim vs proxy," in title and "MuJoCo" not in title
+    mujoco = steps[steps["plant"] == "sim"].assign(plant="mujoco")
+    title = force_error_figure(pd.concat([steps, mujoco]))._suptitle.get_text()
+    assert "sim vs proxy vs MuJoCo," in title
+
+
 def test_a_short_runs_fig5_line_follows_its_episodes():
     curve = curve_frame().head(12)
     fig = training_figure(curve)

@@ -2,7 +2,7 @@
 ground refined against a solved step.
 
 At the sizes of one step (n ≈ 8–16 rows, nv = 7) a step costs the number of Python-level
-numpy calls, about 1 µs each, not the arithmetic, so the step's small dense algebra is done
+numpy calls, not the arithmetic, so the step's small dense algebra is done
 here in loops (:mod:`~pushctl.contact.compiled.algebra`). :func:`active_set_step` is the
 compiled twin of :mod:`pushctl.contact.active_set`'s ``labels_at``/``solve_labels``/
 ``evaluate`` (the tests compare the two).

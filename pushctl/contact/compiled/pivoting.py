@@ -4,7 +4,7 @@ When the last step's active set no longer holds (a prong starts or stops slippin
 contact opens), :func:`pivot_solve` searches for the new one by block principal pivoting —
 the same labels, linear systems, verification and moves as the plain-numpy reference
 :func:`pushctl.contact.active_set.finish` (see that module for the equations), compiled so
-that one pivot costs a few µs instead of ~50 µs of numpy calls. Its answer is a
+that one pivot is one call, not dozens of numpy calls. Its answer is a
 deterministic function of its inputs: the last bits do not depend on the process's heap
 history, as an iterative solver's (ProxQP's) do. :func:`pushctl.contact.mlcp.solve_box_mlcp`
 uses it first and falls back to the ProxQP fixed point only when it does not verify.
