@@ -58,7 +58,8 @@ FULL = Setup(
     bench=True,
     seeds=(0, 1, 2, 3, 4),
 )
-"""What the shipped ``results/`` are: the Push-v1 preset on five seeds (about 71 min here)."""
+"""What the shipped ``results/`` are: the Push-v1 preset on five seeds (wall times:
+docs/performance.md)."""
 QUICK = Setup("quick", Path("runs/quick"), 4, Path("results-quick"), bench=False)
 
 
