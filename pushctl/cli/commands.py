@@ -6,7 +6,7 @@ the ``pushctl`` command pins the CPU code first (:func:`pushctl.cli.main`)."""
 from __future__ import annotations
 
 import sys
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 
@@ -43,6 +43,7 @@ class _OneLineErrors(Group):
 
         STOPPED.update(terminated=False, said=False)
         try:
+            _refuse_repeated(self, sys.argv[1:] if args is None else list(args))
             code = super().main(args, prog_name, complete_var, False, **extra)
         except click.NoArgsIsHelpError:
             return super().main(args, prog_name, complete_var, True, **extra)  # the help
@@ -60,6 +61,28 @@ class _OneLineErrors(Group):
                 error_console.print(f"{word}: stopped", markup=False, highlight=False)
             sys.exit(143 if terminated else 130)
         sys.exit(code if isinstance(code, int) else 0)
+
+
+_LISTS = ("--controller", "--object", "--profile", "--plant")
+"""Options that take several names as one comma-separated value (``pd,feedback``)."""
+
+
+def _refuse_repeated(group: Any, args: list[str]) -> None:
+    """A UsageError if an option of :data:`_LISTS` is given twice: click keeps the last
+    value silently, so ``--controller pd --controller feedback`` would run feedback alone.
+    (Other options keep click's rule, the last value wins, so a command can be extended.)"""
+    seen: set[str] = set()
+    for token in args:
+        if token == "--":
+            break
+        name = token.split("=", 1)[0]
+        if name in _LISTS:
+            if name in seen:
+                raise click.UsageError(
+                    f"{name} was given twice; give several names as one comma-separated "
+                    f"value, e.g. {name} a,b"
+                )
+            seen.add(name)
 
 
 app = typer.Typer(

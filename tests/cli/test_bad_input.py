@@ -58,6 +58,8 @@ CASES: list[tuple[str, list[str], dict[str, object]]] = [
     ("plan-unknown-profile", ["plan", *GOAL, "--profile", "zigzag"], {}),
     ("plan-unknown-arm", ["plan", *GOAL, "--arm", "ur5"], {}),
     ("plan-start-bad", ["plan", *GOAL, "--start", "1,2"], {}),
+    ("evaluate-controller-twice", [*EVAL, "--controller", "pd", "--controller", "feedback"], {}),
+    ("evaluate-plant-twice", [*EVAL, "--plant", "proxy"], {}),
     ("plan-unknown-option", ["plan", *GOAL, "--speed", "3"], {}),
     ("unknown-command", ["push"], {}),
     ("simulate-unknown-controller", [*SIM, "--controller", "mpc"], {}),
