@@ -46,7 +46,7 @@ def push(
     plan, through the evaluation's driver (:func:`~pushctl.controllers.drive.push_scenario`).
     A controller that pushes with a policy (``rl``) takes the one at ``policy`` (default:
     the shipped one) and the settings it was trained with; the others today's defaults (the
-    feedback law its own residual settings and ``experiments/feedback_gains.toml``)."""
+    feedback law its own residual settings and ``pushctl/defaults/feedback_gains.toml``)."""
     from pushctl.controllers import PushSetup, controller_entry
     from pushctl.controllers.drive import push_scenario
 

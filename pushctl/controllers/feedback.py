@@ -1,6 +1,6 @@
 """``feedback``: PD plus the PI law on the object's pose error (docs/design.md §5,
 :class:`~pushctl.control.feedback.FeedbackLaw`), sent through the same gate, action scale
-and residual path as a policy; its gains: ``experiments/feedback_gains.toml``."""
+and residual path as a policy; its gains: ``pushctl/defaults/feedback_gains.toml``."""
 
 from __future__ import annotations
 
@@ -45,7 +45,7 @@ def feedback_config(config: EnvConfig, gains: FeedbackGains | None = None) -> En
 
 
 def load_gains() -> FeedbackGains:
-    """``experiments/feedback_gains.toml``'s law (ConfigError, one line, for a bad file)."""
+    """``pushctl/defaults/feedback_gains.toml``'s law (ConfigError, one line, for a bad file)."""
     from pushctl.control.feedback_gains import load_feedback_gains
 
     return load_feedback_gains()
