@@ -62,7 +62,7 @@ class Behaviour:
     demonstrator: FeedbackGains | None = None
     privileged: bool = False
     """Record each decision's privileged rows (``priv``, ``next_priv``) for an asymmetric
-    critic (:meth:`~pushctl.task.env_readings.EpisodeReadings.privileged_state`)."""
+    critic (:meth:`~pushctl.task.env.PushEnv.privileged_state`)."""
 
 
 @dataclass(frozen=True)

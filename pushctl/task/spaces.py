@@ -11,9 +11,13 @@ divides by it (``obs_scale``), and it is what a value of 1 means to the networks
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+
+from pushctl.errors import ConfigError
 
 
 @dataclass(frozen=True)
@@ -95,6 +99,48 @@ def clipped_action(x: float, y: float, w: float) -> tuple[float, float, float]:
     ``np.clip`` gives (a −0.0 kept), without an array (the environment and the feedback law
     clip every 10 ms step)."""
     return (min(max(x, -1.0), 1.0), min(max(y, -1.0), 1.0), min(max(w, -1.0), 1.0))
+
+
+def action_floats(action: Any) -> list[float]:
+    """step()'s ``action`` as three Python floats (a float32 entry converted exactly, as
+    ``np.asarray(action, dtype=float)`` does); ConfigError unless 3 finite numbers."""
+    # The usual float32 or float64 array: its list's sum is finite unless an entry is not
+    # (or the sum overflows: the full check then decides), without asarray and
+    # isfinite(...).all().
+    if type(action) is np.ndarray and action.shape == (3,) and action.dtype.char in "fd":
+        values = action.tolist()
+        if math.isfinite(sum(values)):
+            return values
+    array = np.asarray(action, dtype=float)
+    if array.shape != (3,) or not np.all(np.isfinite(array)):
+        raise ConfigError(f"action must be 3 finite numbers in [-1, 1], got {array!r}")
+    return array.tolist()
+
+
+PRIVILEGED_KEYS = (
+    "placement_along",
+    "placement_across",
+    "placement_theta",
+    "mount_yaw",
+    "prong_1_along",
+    "prong_1_across",
+    "prong_2_along",
+    "prong_2_across",
+    "pressure_n",
+    "pressure_t",
+    "ground_variation",
+)
+"""The plant unknowns a privileged critic sees (docs/plant-unknowns.md), in order; 0 where a
+scenario lacks one."""
+
+PRIVILEGED_SCALES = np.array(
+    [1e-3, 1e-3, 1e-2, 1e-2, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 0.1, 0.5, 0.5, 0.5]
+    + [1e-4, 1e-4, 2e-3]
+)
+"""The typical sizes [SI] the critic divides
+:meth:`~pushctl.task.env.PushEnv.privileged_state`'s rows by: the unknowns of docs/plant-unknowns.md (``placement_*``, ``mount_yaw``, the prongs'
+``*_along``/``*_across``, ``pressure_*``, ``ground_variation``), μ_ground, μ_contact, the
+object's mass [kg], and the exact pose error (e_x, e_y [m], e_θ [rad])."""
 
 
 def index(entries: tuple[Entry, ...]) -> dict[str, int]:
