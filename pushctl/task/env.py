@@ -89,7 +89,8 @@ Arguments
     ``[env]`` table of a preset. ``gains``: the PD baseline's (default
     ``pushctl/defaults/pd_gains.toml``). Step ``info`` besides the reward terms:
     ``residual_active`` (the gate), ``residual`` (3,) the world-frame twist applied
-    [m/s, m/s, rad/s], ``pose_deviation`` [m] the gate compared with its threshold.
+    [m/s, m/s, rad/s], ``action_applied`` (3,) the policy's action as applied (zeros when
+    the gate dropped it), ``pose_deviation`` [m] the gate compared with its threshold.
 
 Version history
     One id, ``Push-v0``, so far; behaviour changes are recorded here and in the saved settings
@@ -174,6 +175,8 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
     three weighted terms of eq. 17) and ``reward_pose`` (the optional pose term, 0 unless
     ``w_pose`` > 0), each ≤ 0, summing to the reward; ``residual_active``
     (the gate), ``residual`` (3,) the world-frame twist applied [m/s, m/s, rad/s],
+    ``action_applied`` (3,) the policy's action as the decision's first step applied it
+    (clipped to [−1, 1]; zeros when the gate dropped it: the action to learn from),
     ``pose_deviation`` [m] that the gate compared with its threshold.
     """
 
@@ -319,6 +322,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
             raise StateError("call reset() before step()")
         values = action_floats(action)
         deviation = self._error_deviation
+        applied = np.clip(values, -1.0, 1.0) if self.policy_acts else np.zeros(3)
         summed = dict.fromkeys(REWARD_TERMS, 0.0)
         first = None
         for held in range(self.config.action_repeat):
@@ -335,6 +339,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
             **summed,
             "residual_active": first is not None,
             "residual": np.zeros(3) if first is None else first,
+            "action_applied": applied,
             "pose_deviation": deviation,
         }
         reward = float(sum(summed.values()))  # the held steps' terms, summed term by term

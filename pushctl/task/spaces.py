@@ -138,9 +138,10 @@ PRIVILEGED_SCALES = np.array(
     + [1e-4, 1e-4, 2e-3]
 )
 """The typical sizes [SI] the critic divides
-:meth:`~pushctl.task.env.PushEnv.privileged_state`'s rows by: the unknowns of docs/plant-unknowns.md (``placement_*``, ``mount_yaw``, the prongs'
-``*_along``/``*_across``, ``pressure_*``, ``ground_variation``), μ_ground, μ_contact, the
-object's mass [kg], and the exact pose error (e_x, e_y [m], e_θ [rad])."""
+:meth:`~pushctl.task.env.PushEnv.privileged_state`'s rows by: the unknowns of
+docs/plant-unknowns.md (``placement_*``, ``mount_yaw``, the prongs' ``*_along``/``*_across``,
+``pressure_*``, ``ground_variation``), μ_ground, μ_contact, the object's mass [kg], and the
+exact pose error (e_x, e_y [m], e_θ [rad])."""
 
 
 def index(entries: tuple[Entry, ...]) -> dict[str, int]:
