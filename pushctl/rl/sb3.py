@@ -127,18 +127,17 @@ def _select(
     train, config = preset.train, preset.env
     per_cell = max(2, train.validation_per_cell)
     validator = Validator(config, gains, per_cell, rule="paired")
-    on_law = config.base_law != "none"
     zero = ActorPolicy.zero_residual(last)
     rows = []
     for episode, state in ((0, zero), (train.episodes, last)):
         metrics = validation_metrics(validator.env, state, validator.options)
         score = validator.score_metrics(metrics)
-        paired = validator.paired(episode, metrics, state, on_law)
+        paired = validator.paired(episode, metrics, state)
         kept = episode > 0 and score.beats_pd and paired.beats_law
         rows.append({"episode": episode, **_score_row(score), "kept": kept, **paired.as_row()})
     kept = rows[-1]["kept"]
     chosen = last if kept else zero
-    note = "" if kept else "; shipped: the base law (no actor beat it in the paired test)"
+    note = "" if kept else "; shipped: episode 0's zero residual (no actor beat it)"
     write_policy(out / "policy.pt", chosen, config, made_by + note)
     write_csv(out / "validation.csv", pd.DataFrame(rows), made_by)
     return rows[-1]
