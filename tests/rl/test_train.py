@@ -428,3 +428,33 @@ def test_every_run_validates_its_zero_residual_at_episode_0_and_pairs_against_it
     if not table["kept"].any():
         assert chosen.env == preset.env  # episode 0's actor under the run's settings
         np.testing.assert_array_equal(chosen.actor(np.linspace(-1.0, 1.0, 18)), np.zeros(3))
+
+
+def test_the_quick_presets_actor_moves_before_its_first_validation(tmp_path: Path) -> None:
+    """The ``quick`` preset's schedule in episodes (warm-up, critic burn-in, updates per
+    episode, validation every 30), with 2 s pushes and the decision counts scaled to them:
+    the actor validated at episode 30 has had actor updates, and scores other than episode
+    0's zero residual on the validation set."""
+    from dataclasses import replace
+
+    quick = load_preset("quick")
+    factor = 2.0 / quick.env.duration  # decisions per 2 s push / per preset push
+    ddpg = quick.ddpg
+    preset = replace(
+        quick,
+        env=replace(quick.env, duration=2.0, objects=("cube",), profiles=("trapezoid",)),
+        train=replace(quick.train, workers=0, validation_per_cell=2, pd_every=1000),
+        ddpg=replace(
+            ddpg,
+            warmup_steps=round(ddpg.warmup_steps * factor),
+            critic_burn_in=round(ddpg.critic_burn_in * factor),
+            batch_size=round(ddpg.batch_size * factor),
+        ),
+    )
+    first = preset.train.validate_every
+    trainer = Trainer.start(preset, 0, tmp_path / "run")
+    trainer.run(first + preset.train.episodes_per_round, made_by="# made by: test")
+    table = pd.read_csv(trainer.out / VALIDATION, comment="#").set_index("episode")
+    assert table.loc[first, "updates"] > preset.ddpg.critic_burn_in  # the actor has learned
+    columns = ["force_error", "translation_error_pct", "angle_error_pct"]
+    assert not table.loc[first, columns].equals(table.loc[0, columns])
