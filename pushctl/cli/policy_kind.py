@@ -1,8 +1,9 @@
 """Which actor a policy file holds, in one line for ``train`` and ``evaluate``.
 
-Training ships, when its preset validates, the best actor that beat PD-only (and, on a base
-law, was no worse than the law) on the validation set; when none did, it ships a zero
-residual: on a base law that is the law itself, else PD-only (:mod:`pushctl.rl.train`). A
+Training ships, when its preset validates, the best actor that beat PD-only and was no
+worse than episode 0's zero residual on the validation set; when none did, it ships that
+zero residual under the run's settings: on a base law the law itself, else the PD baseline
+(re-landed when the run re-lands) (:mod:`pushctl.rl.train`). A
 zero residual is an actor whose output layer is all zeros, so the file alone tells which
 case it is; the run's ``validation.csv``, when it is at hand, tells which episode's actor a
 trained one is.
@@ -34,7 +35,8 @@ def describe_policy(policy: TrainedPolicy, validation: pd.DataFrame | None = Non
     if is_zero_residual(policy):
         if law != "none":
             return f"no actor beat the law: this policy is the law, {LAW_NAMES.get(law, law)}"
-        return "no actor beat PD-only: this policy is PD-only (a zero residual)"
+        landed = ", re-landed" if policy.env.landing == "measured" else ""
+        return f"no actor beat the zero residual: this policy is PD-only{landed}"
     base = f"on {LAW_NAMES.get(law, law)}" if law != "none" else "on PD"
     kept = _kept_row(validation)
     if kept is None:

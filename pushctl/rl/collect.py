@@ -62,16 +62,17 @@ class Behaviour:
     demonstrator: FeedbackGains | None = None
     privileged: bool = False
     """Record each decision's privileged rows (``priv``, ``next_priv``) for an asymmetric
-    critic (:meth:`~pushctl.task.env_readings.EpisodeReadings.privileged_state`)."""
+    critic (:meth:`~pushctl.task.env.PushEnv.privileged_state`)."""
 
 
 @dataclass(frozen=True)
 class EpisodeRecord:
     """What episode ``episode`` left: its scenario's description, transitions (T rows:
-    ``obs`` (T, d), ``action`` (T, 3) the residual actually applied (0 while the gate was
-    shut), ``reward`` (T,), ``next_obs`` (T, d), ``done`` (T,)), its RL errors and, where
-    PD-only was pushed too (``collect_episodes``' ``pd_only``), PD-only's (keys
-    :data:`CURVE_METRICS`), and the seconds its RL push took (with its reset)."""
+    ``obs`` (T, d), ``action`` (T, 3) the policy's action as the environment applied it (0
+    where the gate dropped it, also under a base law that acts at every step), ``reward``
+    (T,), ``next_obs`` (T, d), ``done`` (T,)), its RL errors and, where PD-only was pushed
+    too (``collect_episodes``' ``pd_only``), PD-only's (keys :data:`CURVE_METRICS`), and the
+    seconds its RL push took (with its reset)."""
 
     episode: int
     scenario: dict[str, Any]
@@ -152,7 +153,7 @@ def collect_episodes(
             rows["next_priv"][n] = [env.privileged_state() for env in vector.envs]
         active = info["residual_active"]
         rows["obs"][n] = obs
-        rows["action"][n] = np.where(active[:, None], np.clip(action, -1.0, 1.0), 0.0)
+        rows["action"][n] = info["action_applied"]  # zeros where the gate dropped it
         rows["reward"][n] = reward
         rows["next_obs"][n] = next_obs
         rows["done"][n] = terminated

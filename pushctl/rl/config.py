@@ -99,7 +99,7 @@ class DDPGConfig:
       on top [updates].
     - ``privileged_critic`` [False]: an asymmetric critic (Pinto et al. 2017): besides the
       observation it sees the episode's plant unknowns, true parameters and exact pose error
-      (:meth:`~pushctl.task.env_readings.EpisodeReadings.privileged_state`) in training; the
+      (:meth:`~pushctl.task.env.PushEnv.privileged_state`) in training; the
       actor never does, so the policy deploys as before.
     - ``torch_threads`` [1]: intra-op torch threads, applied by the caller through
       :func:`pushctl.rl.ddpg.configure_torch` (process-wide, so not by the agent) [threads].

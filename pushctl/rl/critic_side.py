@@ -22,7 +22,7 @@ from torch import nn
 from pushctl.errors import ConfigError
 from pushctl.rl.config import DDPGConfig
 from pushctl.rl.networks import Critic, initialise
-from pushctl.task.env_readings import PRIVILEGED_SCALES
+from pushctl.task.spaces import PRIVILEGED_SCALES
 
 DDPGAgent = Any
 """A :class:`pushctl.rl.ddpg.DDPGAgent` (not imported: it imports this module)."""
@@ -31,7 +31,7 @@ DDPGAgent = Any
 def privileged_scale(config: DDPGConfig, priv_scale: np.ndarray | None) -> np.ndarray:
     """The divisors (p,) of the privileged rows the critic sees: none (0,) unless
     ``privileged_critic``; then ``priv_scale`` or the environment's
-    :data:`~pushctl.task.env_readings.PRIVILEGED_SCALES`."""
+    :data:`~pushctl.task.spaces.PRIVILEGED_SCALES`."""
     if not config.privileged_critic:
         return np.zeros(0)
     scale = np.asarray(PRIVILEGED_SCALES if priv_scale is None else priv_scale, dtype=float)

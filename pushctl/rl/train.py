@@ -14,8 +14,9 @@ size: no result depends on the number of collectors.
 Files in a run directory: ``checkpoint.pt`` (atomic, every ``checkpoint_every`` episodes and
 at the end), ``curve.csv`` (one row per episode, rewritten atomically with each checkpoint),
 ``policy.pt`` (the actor to evaluate: when the preset validates, the best of the actors
-that beat PD-only on the validation set, or PD-only if none did: the zero residual, with no
-``base_law`` under it; else the last),
+that beat PD-only and episode 0's actor on the validation set, or, if none did, episode 0's
+actor: the zero residual under the run's own settings, its base law and landing; else the
+last),
 ``policy_last.pt`` (the last actor) and ``validation.csv``.
 """
 
@@ -25,7 +26,7 @@ import math
 import time
 from collections.abc import Callable
 from concurrent.futures import Future
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -171,14 +172,11 @@ class Trainer:
             chosen = last
         elif self.best_actor is not None:
             chosen = self.best_actor
-        else:  # no actor beat PD-only on the validation set: ship PD-only, which is the
-            # zero residual on PD alone (on a base law the zero residual is that law, which
-            # did not beat PD-only either: it was scored as the first actors)
+        else:  # no actor qualified: ship episode 0's actor, the zero residual under the
+            # run's own settings (its base law, its landing), which every actor was scored
+            # against
             chosen = ActorPolicy.zero_residual(last)
-            if self.preset.train.select_on == "paired":  # no actor beat the law: ship it
-                made_by += "; shipped: the base law (no actor beat it in the paired test)"
-            else:
-                env = replace(env, base_law="none")
+            made_by += "; shipped: episode 0's zero residual (no actor beat it)"
         write_policy(self.out / POLICY, chosen, env, made_by)  # the last actor last: finished()
         write_policy(self.out / LAST_POLICY, last, self.preset.env, self.made_by)
 
@@ -250,19 +248,12 @@ class Trainer:
         return -(-round(env.duration / env.dt) // env.action_repeat)
 
     def _validate_due(self, episode: int) -> bool:
-        """A multiple of ``validate_every`` not yet validated. Episode 0's actor (with
-        ``actor_final_init`` 0, the presets', a zero residual) is scored only on a base law:
-        it is then the law, the start every kept actor must track no worse than
-        (:meth:`_record_validation`); on PD-only it is PD-only, whose errors every row of
-        ``validation.csv`` already holds."""
+        """A multiple of ``validate_every`` (episode 0 among them) not yet validated.
+        Episode 0's row scores the zero residual under exactly the conditions of the later
+        actors (the base law, or none, and the re-landing): the start every kept actor must
+        beat (:meth:`_record_validation`), and the policy shipped if none does."""
         every = self.preset.train.validate_every
-        first = 0 if self.preset.env.base_law != "none" else 1
-        return (
-            every > 0
-            and episode >= first
-            and episode % every == 0
-            and episode not in self._validated
-        )
+        return every > 0 and episode % every == 0 and episode not in self._validated
 
     @property
     def _validated(self) -> set[int]:
@@ -292,28 +283,33 @@ class Trainer:
                 self.preset.env, self.gains, train.validation_per_cell, rule=train.select_on
             )
         actor = self.agent.actor_state()
+        if episode == 0:  # the start: the zero residual, whatever the actor's initialisation
+            actor = ActorPolicy.zero_residual(actor)
         chunks = self._validator.chunks(3 * max(1, self.collectors))
         futures = [collector.validate(portable(actor), chunk) for chunk in chunks]
         return _PendingValidation(episode, self.agent.n_updates, actor, futures)
 
     def _record_validation(self, pending: _PendingValidation) -> None:
-        """Wait for a validation's results; keep its actor if it beats PD-only (the
-        selection rule's two errors), scores better than every actor kept before, and, on
-        a base law, is no worse on those two errors than episode 0's zero residual, the law
-        itself. A lower score alone could trade one error for another: on the feedback law
-        a quick run kept an actor with a 4 % lower score and a 21 % higher angle error,
-        which did not beat the law on the evaluation stream (docs/learning-the-residual.md
-        §6). A run whose actors never qualify keeps the zero residual it started with."""
+        """Wait for a validation's results; keep its actor (past episode 0) if it beats
+        PD-only (the selection rule's two errors), scores better than every actor kept
+        before, and is no worse on those two errors than episode 0's zero residual (the law
+        itself on a base law, re-landed like every actor). A lower score alone could trade
+        one error for another: on the feedback law a quick run kept an actor with a 4 %
+        lower score and a 21 % higher angle error, which did not beat the law on the
+        evaluation stream (docs/learning-the-residual.md §6). A run whose actors never
+        qualify ships episode 0's zero residual."""
         assert self._validator is not None
         metrics = [m for future in pending.futures for m in future.result()]
         result = self._validator.score_metrics(metrics)
         best = min((row["score"] for row in self.validation if row["kept"]), default=math.inf)
         base = next((row for row in self.validation if row["episode"] == 0), None)
-        kept = result.beats_pd and result.score < best and result.no_worse_than(base)
-        paired, on_law = None, self.preset.env.base_law != "none"
-        if self.preset.train.select_on == "paired":  # and beat the law beyond the CI
-            paired = self._validator.paired(pending.episode, metrics, pending.actor, on_law)
-            kept = kept and pending.episode > 0 and paired.beats_law
+        start = pending.episode == 0
+        kept = not start and result.beats_pd and result.score < best
+        kept = kept and result.no_worse_than(base)
+        paired = None
+        if self.preset.train.select_on == "paired":  # and beat episode 0 beyond the CI
+            paired = self._validator.paired(pending.episode, metrics, pending.actor)
+            kept = kept and paired.beats_law
         if kept:
             self.best_actor = pending.actor
         self.validation.append(

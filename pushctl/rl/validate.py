@@ -44,10 +44,10 @@ SELECTION_RULES = ("force_and_translation", "tracking", "paired")
 translation errors (score: the sum of their ratios to PD-only's); ``tracking``, the mean
 translation and angle errors, Table III's claim (score: the sum of the translation, angle and
 force ratios, so the force error still ranks the actors that track); ``paired``, as
-``tracking``, and besides it must beat the law (the zero residual on the base law, or PD-only
-without one) in a paired test over the validation pushes (:class:`PairedTest`): a
-validation set of 30-60 pushes picked actors by margins of 4-5 % that the evaluation
-stream did not confirm (docs/learning-the-residual.md §6)."""
+``tracking``, and besides it must beat the law (the run's episode-0 actor: the zero residual
+on the base law, or on PD alone, re-landed like every actor) in a paired test over the
+validation pushes (:class:`PairedTest`): a validation set of 30-60 pushes picked actors by
+margins of 4-5 % that the evaluation stream did not confirm (docs/learning-the-residual.md §6)."""
 
 CONFIDENCE = 0.95
 """The paired test's two-sided confidence level."""
@@ -280,25 +280,22 @@ class Validator:
         )
 
     def paired(
-        self, episode: int, metrics: list[Metrics], actor_state: dict[str, Any], base_law: bool
+        self, episode: int, metrics: list[Metrics], actor_state: dict[str, Any]
     ) -> PairedTest:
         """The ``paired`` rule's test of the actor validated at ``episode`` (its ``metrics``
-        on :attr:`options`, its state ``actor_state``) against the law. On a base law episode
-        0's actor is the zero residual, whose metrics are the law's; a resumed run that lost
-        them pushes the zero residual of ``actor_state`` again (the same metrics)."""
-        if episode == 0 and base_law:
+        on :attr:`options`, its state ``actor_state``) against the law: episode 0's actor,
+        the zero residual (on the base law, or on PD alone), pushed under the same
+        conditions as every actor; a resumed run that lost its metrics pushes the zero
+        residual of ``actor_state`` again (the same metrics)."""
+        if episode == 0:
             self.law = list(metrics)
-        zero = ActorPolicy.zero_residual(actor_state)
-        return paired_test(metrics, self.law_metrics(zero, base_law))
+        return paired_test(metrics, self.law_metrics(ActorPolicy.zero_residual(actor_state)))
 
-    def law_metrics(self, zero_residual: dict[str, Any], base_law: bool) -> list[Metrics]:
+    def law_metrics(self, zero_residual: dict[str, Any]) -> list[Metrics]:
         """The law's metrics on the set: those set in :attr:`law`, else the actor state
-        ``zero_residual`` pushed here (on a base law; PD-only's metrics without one)."""
+        ``zero_residual`` pushed here, as every validated actor is."""
         if self.law is None:
-            if not base_law:
-                self.law = self._pd_metrics()
-            else:
-                self.law = validation_metrics(self.env, zero_residual, self.options)
+            self.law = validation_metrics(self.env, zero_residual, self.options)
         return self.law
 
     def _pd_metrics(self) -> list[Metrics]:

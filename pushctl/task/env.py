@@ -89,7 +89,8 @@ Arguments
     ``[env]`` table of a preset. ``gains``: the PD baseline's (default
     ``pushctl/defaults/pd_gains.toml``). Step ``info`` besides the reward terms:
     ``residual_active`` (the gate), ``residual`` (3,) the world-frame twist applied
-    [m/s, m/s, rad/s], ``pose_deviation`` [m] the gate compared with its threshold.
+    [m/s, m/s, rad/s], ``action_applied`` (3,) the policy's action as applied (zeros when
+    the gate dropped it), ``pose_deviation`` [m] the gate compared with its threshold.
 
 Version history
     One id, ``Push-v0``, so far; behaviour changes are recorded here and in the saved settings
@@ -123,6 +124,8 @@ Version history
 from __future__ import annotations
 
 import copy
+import math
+from collections.abc import Sequence
 from typing import Any
 
 import gymnasium as gym
@@ -134,12 +137,19 @@ from pushctl.control.gains import PDGains, load_gains
 from pushctl.episode.proxy import ProxyEffects, effects_for
 from pushctl.episode.ranges import plant_engine
 from pushctl.episode.runner import Episode
+from pushctl.episode.scenario import Scenario
 from pushctl.errors import ConfigError, StateError
+from pushctl.planning import Plan
 from pushctl.task.env_config import EnvConfig
 from pushctl.task.env_draws import default_draws, draw_reset
-from pushctl.task.env_readings import EpisodeReadings, action_floats
 from pushctl.task.feedback_actor import FeedbackActor
-from pushctl.task.spaces import ACTION_ENTRIES, clipped_action, observation_entries
+from pushctl.task.spaces import (
+    ACTION_ENTRIES,
+    PRIVILEGED_KEYS,
+    action_floats,
+    clipped_action,
+    observation_entries,
+)
 from pushctl.types import StepResult
 
 _EPISODE_FIELDS = (
@@ -148,8 +158,16 @@ _EPISODE_FIELDS = (
 """The configuration an environment's episodes are built from, after the draw
 (:meth:`PushEnv.reset_from` hands a reset over only between environments that agree on it)."""
 
+REWARD_TERMS = ("reward_normal", "reward_tangential", "reward_torque", "reward_pose")
+"""The reward's named terms, in the order they are summed (:meth:`PushEnv._reward`)."""
 
-class PushEnv(EpisodeReadings, gym.Env[np.ndarray, np.ndarray]):
+ERROR_RATE_LAG = 0.1
+"""[s] The time constant of the first-order lag the observed pose error's rate goes through
+(``EnvConfig.observe_context``): a 10 ms difference of the proxy's 30 Hz camera is mostly
+noise."""
+
+
+class PushEnv(gym.Env[np.ndarray, np.ndarray]):
     """The residual-learning environment. ``config``: :class:`EnvConfig`; ``gains``: the PD
     baseline's (default ``pushctl/defaults/pd_gains.toml``).
 
@@ -157,6 +175,8 @@ class PushEnv(EpisodeReadings, gym.Env[np.ndarray, np.ndarray]):
     three weighted terms of eq. 17) and ``reward_pose`` (the optional pose term, 0 unless
     ``w_pose`` > 0), each ≤ 0, summing to the reward; ``residual_active``
     (the gate), ``residual`` (3,) the world-frame twist applied [m/s, m/s, rad/s],
+    ``action_applied`` (3,) the policy's action as the decision's first step applied it
+    (clipped to [−1, 1]; zeros when the gate dropped it: the action to learn from),
     ``pose_deviation`` [m] that the gate compared with its threshold.
     """
 
@@ -191,6 +211,11 @@ class PushEnv(EpisodeReadings, gym.Env[np.ndarray, np.ndarray]):
             self._base_gains = load_feedback_gains()
         self._base: FeedbackActor | None = None
         self._law_owns_gate = self._base_gains is not None and self._base_gains.owns_gate
+        # the readings of the current step, set by reset() and each push step (_set_error)
+        self._error = np.zeros(3)  # the observation's pose error (3,) [m, m, rad], plan frame
+        self._error_deviation = 0.0  # its gate deviation [m]
+        self._error_rate = [0.0, 0.0, 0.0]  # its rate through the lag [m/s, m/s, rad/s]
+        self._law_action = (0.0, 0.0, 0.0)  # the base law's last action, before the policy's
 
     # ------------------------------------------------------------------ gymnasium API
 
@@ -297,35 +322,27 @@ class PushEnv(EpisodeReadings, gym.Env[np.ndarray, np.ndarray]):
             raise StateError("call reset() before step()")
         values = action_floats(action)
         deviation = self._error_deviation
-        w_pose = self.config.w_pose
-        normal = tangential = torque = pose = 0.0
+        applied = np.clip(values, -1.0, 1.0) if self.policy_acts else np.zeros(3)
+        summed = dict.fromkeys(REWARD_TERMS, 0.0)
         first = None
         for held in range(self.config.action_repeat):
             n = episode.step_index
             residual = self._advance(values)
             if held == 0:
                 first = residual
-            if self._exact_pose:  # the observation's error is the true one
-                pose_term = -w_pose * self._error_deviation
-            else:
-                pose_term = -w_pose * self._deviation(self._pose_error(n + 1, exact=True))
-            step_normal, step_tangential, step_torque = self._reward_terms(n + 1)
-            normal += step_normal
-            tangential += step_tangential
-            torque += step_torque
-            pose += pose_term
+            _, named = self._reward(n + 1)
+            for name in REWARD_TERMS:
+                summed[name] += named[name]
             if episode.done:
                 break
         info = {
-            "reward_normal": normal,
-            "reward_tangential": tangential,
-            "reward_torque": torque,
-            "reward_pose": pose,
+            **summed,
             "residual_active": first is not None,
             "residual": np.zeros(3) if first is None else first,
+            "action_applied": applied,
             "pose_deviation": deviation,
         }
-        reward = float(sum((normal, tangential, torque, pose)))
+        reward = float(sum(summed.values()))  # the held steps' terms, summed term by term
         return self.observation(), reward, episode.done, False, info
 
     # ------------------------------------------------------------------ acting without gym
@@ -379,6 +396,178 @@ class PushEnv(EpisodeReadings, gym.Env[np.ndarray, np.ndarray]):
         self._set_error(n + 1)  # the observation's, the next gate's
         self._measured = episode.measured_forces(self._last.contact_forces)
         return residual
+
+    # ------------------------------------------------------------------ readings
+
+    def observation(self) -> np.ndarray:
+        """The observation (float32, :mod:`pushctl.task.spaces`) of the current state: what
+        reset() or the last step() returned."""
+        episode, last = self.episode, self._last
+        assert episode is not None
+        n, n_steps = episode.step_index, episode.n_steps
+        terms = episode.world.arm_terms
+        assert terms is not None
+        yaw = self._plan_rows[n][2]
+        c, s = math.cos(yaw), math.sin(yaw)
+        t_x, t_y, _, _, _, t_w = (terms.pusher_jacobian @ last.arm_v).tolist()
+        # Python floats into one array: the same float32s as concatenating the parts as
+        # arrays, in fewer numpy calls
+        planned_n, planned_t = self._plan_forces[min(n + 1, n_steps)].T.tolist()
+        # noisy on the proxy: one draw per step, even unobserved
+        measured_n, measured_t = self._measured.T.tolist()
+        values = planned_n + planned_t + measured_n + measured_t
+        values += (c * t_x + s * t_y, -s * t_x + c * t_y, t_w)
+        values += self._error.tolist()
+        if self.config.offset_observed:
+            o_x, o_y, o_w = episode.reference_offset.tolist()  # world x, y, yaw
+            values += (c * o_x + s * o_y, -s * o_x + c * o_y, o_w)
+        if self.config.observe_context:
+            values += self._error_rate
+            values.append(self._plan_speed[min(n, n_steps)])
+            values += self._law_action
+        values.append(n / n_steps)
+        return np.array(values, dtype=np.float32)
+
+    # ------------------------------------------------------------------ what it exposes
+
+    @property
+    def scenario(self) -> Scenario:
+        """The scenario of the current episode."""
+        assert self.episode is not None, "reset() first"
+        return self.episode.scenario
+
+    @property
+    def plan(self) -> Plan:
+        assert self.episode is not None, "reset() first"
+        return self.episode.plan
+
+    @property
+    def pose_error(self) -> np.ndarray:
+        """The pose error (3,) [m, m, rad], plan frame, that the observation holds now
+        (read by the controller: the camera's on the proxy with ``observe_camera``)."""
+        return self._error
+
+    @property
+    def measured_forces(self) -> np.ndarray:
+        """The prong forces (k, 2) [N] (normal, tangential) the observation holds now (the
+        proxy's noisy estimate)."""
+        return self._measured
+
+    @property
+    def gate_open(self) -> bool:
+        """Whether the pose deviation exceeds the gate's threshold: the policy acts then
+        (always without ``policy_gated``), and so does a base law that leaves the gate to
+        the environment; a law that gates itself acts at every step."""
+        return self._error_deviation > self.config.gate_threshold
+
+    def _set_error(self, n: int) -> None:
+        """The observation's pose error at step ``n`` (:meth:`_pose_error`) and its gate
+        deviation (:meth:`_deviation`'s arithmetic on the same floats), computed once: the
+        gate, the reward's pose term and the info all read the deviation. With
+        ``observe_context`` also the error's rate through a lag of :data:`ERROR_RATE_LAG`
+        (0 at the push's start)."""
+        error = self._pose_error(n)
+        if self.config.observe_context:
+            if n == 0:
+                self._error_rate = [0.0, 0.0, 0.0]
+            else:
+                dt = self.config.dt
+                gain = dt / (ERROR_RATE_LAG + dt)
+                old = self._error.tolist()
+                self._error_rate = [
+                    rate + gain * ((new - before) / dt - rate)
+                    for rate, new, before in zip(self._error_rate, error, old, strict=True)
+                ]
+        self._error = np.array(error)
+        self._error_deviation = self._deviation(error)
+
+    def privileged_state(self) -> np.ndarray:
+        """What an asymmetric critic may see and the actor never does (float32: the rows
+        :data:`~pushctl.task.spaces.PRIVILEGED_KEYS`, then μ_g, μ_c, the object's mass and
+        the exact pose error): the episode's plant unknowns and true parameters,
+        fixed for the push, and the exact pose error now (the observation's reads the camera
+        on the proxy)."""
+        episode = self.episode
+        assert episode is not None
+        scenario = episode.scenario
+        unknowns = scenario.unknowns.as_dict(episode.plan.pusher.n_prongs)
+        plant = scenario.true_parameters
+        values: list[float | None] = [unknowns.get(name, 0.0) for name in PRIVILEGED_KEYS]
+        values += (plant.mu_ground, plant.mu_contact, plant.object_mass)  # None: nan
+        values += self._pose_error(episode.step_index, exact=True)
+        return np.array(values, dtype=np.float32)
+
+    def _pose_error(self, n: int, exact: bool = False) -> tuple[float, float, float]:
+        """Planned minus actual object pose at step ``n``, plan frame (3,) [m, m, rad]; the
+        actual pose as the controller reads it (the camera's, on the proxy with
+        ``observe_camera``), or the true one if ``exact``: three floats."""
+        episode = self.episode
+        assert episode is not None
+        x, y, yaw = self._plan_rows[n]
+        if exact or self._exact_pose:
+            actual = self._last.object_pose
+        else:
+            actual = episode.measured_pose()
+        a_x, a_y, a_yaw = actual.tolist()  # floats: numpy's scalar arithmetic, faster
+        c, s = math.cos(yaw), math.sin(yaw)
+        dx, dy = x - a_x, y - a_y
+        angle = math.remainder(yaw - a_yaw, math.tau)
+        return (c * dx + s * dy, -s * dx + c * dy, angle)
+
+    def _deviation(self, error: Sequence[float] | None = None) -> float:
+        """The gate's pose deviation [m] of ``error`` (3,) (default: the current pose
+        error)."""
+        if error is None:
+            return self._error_deviation
+        return math.hypot(error[0], error[1], self.config.gate_length * error[2])
+
+    def _world_twist(self, action: Sequence[float], n: int) -> np.ndarray:
+        """The action's three floats in [−1, 1], plan frame, as a world twist [m/s, m/s,
+        rad/s]."""
+        a_x, a_y, a_w = action
+        s_x, s_y, s_w = self._action_scales
+        x, y = a_x * s_x, a_y * s_y  # the products of action * scale, component-wise
+        yaw = self._plan_rows[n][2]
+        c, s = math.cos(yaw), math.sin(yaw)
+        return np.array([c * x - s * y, s * x + c * y, a_w * s_w])
+
+    def _reward(self, row: int) -> tuple[float, dict[str, float]]:
+        """The reward of the push step that ended at ``row`` and its named terms, each ≤ 0
+        (``reward_normal``, ``reward_tangential``, ``reward_torque``: eq. 17's weighted
+        terms; ``reward_pose``: −``w_pose`` × the exact pose deviation); the total is their
+        sum, in that order.
+
+        Plain floats over the k prongs: at k = 2 this is several times faster than numpy on
+        (k, 2) arrays, and it runs 2000 times an episode. τ_z,i as in
+        :func:`~pushctl.episode.trace.prong_torques`."""
+        last, episode, config = self._last, self.episode, self.config
+        assert episode is not None
+        terms = episode.world.arm_terms
+        assert terms is not None
+        x, y, theta = last.object_pose.tolist()
+        c, s = math.cos(theta), math.sin(theta)
+        forces = last.contact_forces.tolist()
+        true_forces = self._true_forces[row].tolist()
+        true_torques = self._true_torques[row].tolist()
+        normal = tangential = torque = 0.0
+        for i, (prong_x, prong_y, _) in enumerate(terms.prong_positions.tolist()):
+            f_n, f_t = forces[i]
+            lever_n = c * (prong_x - x) + s * (prong_y - y)
+            lever_t = -s * (prong_x - x) + c * (prong_y - y)
+            normal += abs(true_forces[i][0] - f_n)
+            tangential += abs(true_forces[i][1] - f_t)
+            torque += abs(true_torques[i] - (lever_n * f_t - lever_t * f_n))
+        if self._exact_pose:  # the observation's error is the true one
+            deviation = self._error_deviation
+        else:
+            deviation = self._deviation(self._pose_error(row, exact=True))
+        named = {
+            "reward_normal": -config.w_normal * normal,
+            "reward_tangential": -config.w_tangential * tangential,
+            "reward_torque": -config.w_torque * torque,
+            "reward_pose": -config.w_pose * deviation,
+        }
+        return float(sum(named.values())), named
 
     # ------------------------------------------------------------------ internals
 

@@ -6,14 +6,22 @@ documentation cannot drift from the code.
 Frames: "plan frame" is the planned object frame at the current step (x along the push into
 the object, the pushed face's normal at θ = 0; y to its left), so the same correction means
 the same thing whatever the goal's heading. ``scale`` is a typical magnitude: the learner
-divides by it (``obs_scale``), and it is what a value of 1 means to the networks.
+divides by it (``obs_scale``), and it is what a value of 1 means to the networks. Each is
+sized so that the row's 95th percentile of |value| / scale over PD-only and feedback-law
+pushes is between about 0.1 and 2 (tests/task/test_env.py checks PD-only's): the pose error
+by 2 mm and 0.02 rad, where PD-only's reach 1.2-1.8 mm and 0.017 rad. A policy keeps the
+scales it was trained with (its ``obs_scale``).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+
+from pushctl.errors import ConfigError
 
 
 @dataclass(frozen=True)
@@ -51,9 +59,9 @@ def observation_entries(
         Entry("pusher_vx", "pusher velocity along the push (plan frame x)", "m/s", 0.01),
         Entry("pusher_vy", "pusher velocity across the push (plan frame y)", "m/s", 0.01),
         Entry("pusher_wz", "pusher yaw rate", "rad/s", 0.05),
-        Entry("error_x", "planned minus actual object position, plan frame x", "m", 1e-4),
-        Entry("error_y", "planned minus actual object position, plan frame y", "m", 1e-4),
-        Entry("error_theta", "planned minus actual object heading", "rad", 2e-3),
+        Entry("error_x", "planned minus actual object position, plan frame x", "m", 2e-3),
+        Entry("error_y", "planned minus actual object position, plan frame y", "m", 2e-3),
+        Entry("error_theta", "planned minus actual object heading", "rad", 2e-2),
     ]
     if reference_offset:
         rows += [
@@ -72,9 +80,9 @@ CONTEXT_ENTRIES: tuple[Entry, ...] = (
     Entry("error_rate_y", "rate of error_y, through a 0.1 s lag", "m/s", 1e-3),
     Entry("error_rate_theta", "rate of error_theta, through a 0.1 s lag", "rad/s", 1e-2),
     Entry("plan_speed", "the plan's object speed now (the law's caps scale with it)", "m/s", 1e-2),
-    Entry("law_x", "the base law's last action along the push (plan frame x)", "× scale", 1.0),
-    Entry("law_y", "the base law's last action across the push (plan frame y)", "× scale", 1.0),
-    Entry("law_wz", "the base law's last yaw-rate action", "× scale", 1.0),
+    Entry("law_x", "the base law's last action along the push (plan frame x)", "× scale", 0.1),
+    Entry("law_y", "the base law's last action across the push (plan frame y)", "× scale", 0.1),
+    Entry("law_wz", "the base law's last yaw-rate action", "× scale", 0.1),
 )
 """The rows ``EnvConfig.observe_context`` adds: how fast the pose error closes, how far the
 law's caps reach (they scale with the plan's speed), and how much of the envelope the law
@@ -95,6 +103,49 @@ def clipped_action(x: float, y: float, w: float) -> tuple[float, float, float]:
     ``np.clip`` gives (a −0.0 kept), without an array (the environment and the feedback law
     clip every 10 ms step)."""
     return (min(max(x, -1.0), 1.0), min(max(y, -1.0), 1.0), min(max(w, -1.0), 1.0))
+
+
+def action_floats(action: Any) -> list[float]:
+    """step()'s ``action`` as three Python floats (a float32 entry converted exactly, as
+    ``np.asarray(action, dtype=float)`` does); ConfigError unless 3 finite numbers."""
+    # The usual float32 or float64 array: its list's sum is finite unless an entry is not
+    # (or the sum overflows: the full check then decides), without asarray and
+    # isfinite(...).all().
+    if type(action) is np.ndarray and action.shape == (3,) and action.dtype.char in "fd":
+        values = action.tolist()
+        if math.isfinite(sum(values)):
+            return values
+    array = np.asarray(action, dtype=float)
+    if array.shape != (3,) or not np.all(np.isfinite(array)):
+        raise ConfigError(f"action must be 3 finite numbers in [-1, 1], got {array!r}")
+    return array.tolist()
+
+
+PRIVILEGED_KEYS = (
+    "placement_along",
+    "placement_across",
+    "placement_theta",
+    "mount_yaw",
+    "prong_1_along",
+    "prong_1_across",
+    "prong_2_along",
+    "prong_2_across",
+    "pressure_n",
+    "pressure_t",
+    "ground_variation",
+)
+"""The plant unknowns a privileged critic sees (docs/plant-unknowns.md), in order; 0 where a
+scenario lacks one."""
+
+PRIVILEGED_SCALES = np.array(
+    [1e-3, 1e-3, 1e-2, 1e-2, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 0.1, 0.5, 0.5, 0.5]
+    + [2e-3, 2e-3, 2e-2]
+)
+"""The typical sizes [SI] the critic divides
+:meth:`~pushctl.task.env.PushEnv.privileged_state`'s rows by: the unknowns of
+docs/plant-unknowns.md (``placement_*``, ``mount_yaw``, the prongs' ``*_along``/``*_across``,
+``pressure_*``, ``ground_variation``), μ_ground, μ_contact, the object's mass [kg], and the
+exact pose error (e_x, e_y [m], e_θ [rad])."""
 
 
 def index(entries: tuple[Entry, ...]) -> dict[str, int]:

@@ -45,7 +45,7 @@ def test_a_zeroed_actor_on_pd_alone_is_pd_only(tmp_path: Path) -> None:
     path = tmp_path / "policy.pt"
     zero = ActorPolicy.zero_residual(shipped.actor.state())
     write_policy(path, zero, replace(shipped.env, base_law="none"), shipped.made_by)
-    assert describe_policy(load_policy(path)).startswith("no actor beat PD-only")
+    assert describe_policy(load_policy(path)).startswith("no actor beat the zero residual")
 
 
 def test_evaluate_says_the_policy_is_the_law(tmp_path: Path) -> None:

@@ -110,3 +110,17 @@ def test_held_actions_and_the_demonstrated_warm_up_batch_as_they_run_alone(demon
         assert record.rl == alone.rl
     if not demonstrated:  # (the law's twist is zero this early in a 0.4 s push)
         assert np.abs(together[0].transitions["action"]).max() > 0.0
+
+
+def test_an_action_the_gate_dropped_is_stored_as_zero() -> None:
+    """On a base law that gates itself (the default feedback law's), with the gate on the
+    policy, the law acts at every step but the policy only while the gate is open: a
+    decision taken with the gate shut applied nothing of the policy's, and is stored so."""
+    assert load_feedback_gains().owns_gate
+    shut = replace(SHORT, base_law="feedback", policy_gated=True, gate_threshold=1.0)  # 1 m
+    record = collect_episode(shut, load_gains(), 5, 0, _acting())
+    assert np.all(record.transitions["action"] == 0.0)
+    # the gate open throughout: every decision's action applied, and stored as proposed
+    opened = replace(shut, gate_threshold=0.0)
+    record = collect_episode(opened, load_gains(), 5, 0, _acting())
+    assert np.all(np.abs(record.transitions["action"]).sum(axis=1) > 0.1)

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import gymnasium
 import numpy as np
+import pandas as pd
 import pytest
 from typer.testing import CliRunner
 
@@ -46,3 +47,45 @@ def test_train_refuses_bad_algo_options_in_one_line(args, tmp_path):
     result = CliRunner().invoke(app, ["train", *args, "--out", str(tmp_path / "run")])
     assert result.exit_code == 2
     assert result.output.startswith("error: ") and len(result.output.strip().splitlines()) == 1
+
+
+TINY_SAC = """
+[train]
+episodes = 8
+episodes_per_round = 2
+validation_per_cell = 2
+
+[env]
+objects = ["cube"]
+profiles = ["constant"]
+duration = 2.0
+action_repeat = 10
+
+[ddpg]
+hidden = [16, 16]
+batch_size = 16
+buffer_size = 2000
+warmup_steps = 40
+updates_per_step = 0.3
+"""
+
+
+def test_sac_gets_the_update_rate_and_warm_up_asked_for_and_labels_the_run(tmp_path):
+    """Two episodes of 20 decisions on two environments: the 40-decision warm-up is the
+    learner's (two whole episodes), then 0.3 updates per decision, not per vector step;
+    the last validation row names the run's episodes, not the preset's."""
+    from stable_baselines3 import SAC
+
+    from pushctl.rl.presets import load_preset
+    from pushctl.rl.sb3 import MODEL, train_sac
+
+    path = tmp_path / "tiny.toml"
+    path.write_text(TINY_SAC)
+    out = tmp_path / "run"
+    train_sac(load_preset(str(path)), 0, out, "# made by: test", episodes=4, log=lambda _: None)
+    model = SAC.load(out / MODEL, device="cpu")
+    per_vector_step = model.gradient_steps / model.train_freq.frequency
+    assert per_vector_step / model.n_envs == pytest.approx(0.3)
+    assert model._n_updates == pytest.approx(0.3 * 2 * 20, abs=3)  # after the warm-up
+    table = pd.read_csv(out / "validation.csv", comment="#")
+    assert list(table["episode"]) == [0, 4]

@@ -179,13 +179,19 @@ def test_the_last_policy_file_holds_the_trained_actor(straight: Trainer) -> None
 
 def test_validation_keeps_the_best_actor_that_beats_pd_on_both_errors(straight: Trainer) -> None:
     table = pd.read_csv(straight.out / VALIDATION, comment="#")
-    assert list(table["episode"]) == [2, 4, 5]  # every 2nd episode after the first, and the end
+    assert list(table["episode"]) == [0, 2, 4, 5]  # every 2nd episode, and the end
+    start = table.iloc[0]  # episode 0's zero residual: the start, never kept itself
     beats_pd = (table["force_error"] < table["pd_force_error"]) & (
         table["translation_error_pct"] < table["pd_translation_error_pct"]
     )
+    no_worse = (table["force_error"] <= start["force_error"]) & (
+        table["translation_error_pct"] <= start["translation_error_pct"]
+    )
     best, kept = np.inf, []
-    for beats, score in zip(beats_pd, table["score"], strict=True):
-        kept.append(bool(beats and score < best))
+    for episode, beats, fine, score in zip(
+        table["episode"], beats_pd, no_worse, table["score"], strict=True
+    ):
+        kept.append(bool(episode > 0 and beats and fine and score < best))
         best = score if kept[-1] else best
     assert list(table["kept"]) == kept
     # PD-only is the same validation set every time.
@@ -197,10 +203,10 @@ def test_validation_keeps_the_best_actor_that_beats_pd_on_both_errors(straight: 
     if any(kept):
         assert straight.best_actor is not None
         expected = ActorPolicy.from_state(straight.best_actor)(obs)
-    else:  # nothing beat PD-only: the zero residual it started with, on PD alone
+    else:  # nothing beat episode 0's zero residual: it is shipped, under the run's settings
         assert straight.best_actor is None
         expected = np.zeros(3)
-        assert chosen.env.base_law == "none"
+        assert chosen.env == straight.preset.env
     np.testing.assert_array_equal(chosen.actor(obs), expected)
 
 
@@ -384,7 +390,7 @@ def test_on_a_base_law_the_zero_residual_is_scored_and_no_kept_actor_tracks_wors
             row["translation_error_pct"] <= base["translation_error_pct"]
             and row["angle_error_pct"] <= base["angle_error_pct"]
         )
-        kept.append(bool(beats_pd and row["score"] < best and no_worse))
+        kept.append(bool(row["episode"] > 0 and beats_pd and row["score"] < best and no_worse))
         best = row["score"] if kept[-1] else best
     assert list(table["kept"]) == kept
     from pushctl.rl.validate import ValidationScore
@@ -393,3 +399,62 @@ def test_on_a_base_law_the_zero_residual_is_scored_and_no_kept_actor_tracks_wors
     assert score.no_worse_than({"translation_error_pct": 0.2, "angle_error_pct": 0.5})
     assert not score.no_worse_than({"translation_error_pct": 0.3, "angle_error_pct": 0.4})
     assert score.no_worse_than(None)
+
+
+def test_every_run_validates_its_zero_residual_at_episode_0_and_pairs_against_it(
+    tmp_path: Path,
+) -> None:
+    """Without a base law too, episode 0's actor (the zero residual, re-landed as every
+    later actor is) is scored on the validation set, later actors are paired against it,
+    and a run whose actors never beat it ships it, under the run's own settings."""
+    text = TINY.format(workers=0, per_round=1).replace(
+        "validation_per_cell = 1\n", 'validation_per_cell = 1\nselect_on = "paired"\n'
+    )
+    path = tmp_path / "paired.toml"
+    path.write_text(text)
+    preset = load_preset(str(path))
+    assert preset.env.base_law == "none" and preset.env.landing == "measured"
+    trainer = Trainer.start(preset, 7, tmp_path / "run")
+    trainer.run(3, made_by="# made by: test")
+    table = pd.read_csv(trainer.out / VALIDATION, comment="#")
+    assert list(table["episode"]) == [0, 2, 3]
+    start = table.iloc[0]
+    assert start["translation_diff"] == 0.0 and start["angle_diff"] == 0.0
+    assert not start["kept"]
+    for _, row in table.iloc[1:].iterrows():  # the mean of the differences, against row 0
+        expected = row["translation_error_pct"] - start["translation_error_pct"]
+        assert row["translation_diff"] == pytest.approx(expected, rel=1e-4)  # CSV digits
+    chosen = load_policy(trainer.out / POLICY)
+    if not table["kept"].any():
+        assert chosen.env == preset.env  # episode 0's actor under the run's settings
+        np.testing.assert_array_equal(chosen.actor(np.linspace(-1.0, 1.0, 18)), np.zeros(3))
+
+
+def test_the_quick_presets_actor_moves_before_its_first_validation(tmp_path: Path) -> None:
+    """The ``quick`` preset's schedule in episodes (warm-up, critic burn-in, updates per
+    episode, validation every 30), with 2 s pushes and the decision counts scaled to them:
+    the actor validated at episode 30 has had actor updates, and scores other than episode
+    0's zero residual on the validation set."""
+    from dataclasses import replace
+
+    quick = load_preset("quick")
+    factor = 2.0 / quick.env.duration  # decisions per 2 s push / per preset push
+    ddpg = quick.ddpg
+    preset = replace(
+        quick,
+        env=replace(quick.env, duration=2.0, objects=("cube",), profiles=("trapezoid",)),
+        train=replace(quick.train, workers=0, validation_per_cell=2, pd_every=1000),
+        ddpg=replace(
+            ddpg,
+            warmup_steps=round(ddpg.warmup_steps * factor),
+            critic_burn_in=round(ddpg.critic_burn_in * factor),
+            batch_size=round(ddpg.batch_size * factor),
+        ),
+    )
+    first = preset.train.validate_every
+    trainer = Trainer.start(preset, 0, tmp_path / "run")
+    trainer.run(first + preset.train.episodes_per_round, made_by="# made by: test")
+    table = pd.read_csv(trainer.out / VALIDATION, comment="#").set_index("episode")
+    assert table.loc[first, "updates"] > preset.ddpg.critic_burn_in  # the actor has learned
+    columns = ["force_error", "translation_error_pct", "angle_error_pct"]
+    assert not table.loc[first, columns].equals(table.loc[0, columns])

@@ -370,3 +370,30 @@ def test_the_docs_tables_are_the_code_tables() -> None:
     text = LEARNING_PAGE.read_text()
     assert markdown_table(observation_entries(2, reference_offset=True)) in text
     assert markdown_table(ACTION_ENTRIES) in text
+
+
+def test_the_scaled_observation_is_of_order_one_over_pd_only_pushes() -> None:
+    """Divided by its scales, every row that varies over PD-only pushes (a cube and a wedge
+    trapezoid, with the offset and context rows) has a 95th percentile of |x| between 0.05
+    and 10: no row reaches the networks a hundred times larger or smaller than another."""
+    config = EnvConfig(observe_context=True, action_repeat=10)
+    env = PushEnv(config)
+    scale = np.array([entry.scale for entry in env.observation_entries])
+    rows = []
+    for obj in ("cube", "wedge"):
+        obs, _ = env.reset(options={"object": obj, "profile": "trapezoid", "scenario_seed": 0})
+        rows.append(obs)
+        done = False
+        while not done:
+            obs, _, done, _, _ = env.step(np.zeros(3, dtype=np.float32))
+            rows.append(obs)
+    scaled = np.abs(np.array(rows, dtype=float) / scale)
+    varies = scaled.max(axis=0) > scaled.min(axis=0)
+    names = [entry.name for entry in env.observation_entries]
+    p95 = dict(zip(names, np.percentile(scaled, 95, axis=0), strict=True))
+    outside = {
+        name: round(float(p), 3)
+        for (name, p), moves in zip(p95.items(), varies, strict=True)
+        if moves and not 0.05 <= p <= 10.0
+    }
+    assert outside == {}

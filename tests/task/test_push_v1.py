@@ -13,8 +13,13 @@ from pushctl.control.feedback import STEADY_FEEDBACK_FILE, load_feedback_gains
 from pushctl.rl.policy import finish_with_policy
 from pushctl.task.env import PushEnv
 from pushctl.task.env_config import EnvConfig
-from pushctl.task.env_readings import PRIVILEGED_SCALES
-from pushctl.task.spaces import CONTEXT_ENTRIES, index, markdown_table, observation_entries
+from pushctl.task.spaces import (
+    CONTEXT_ENTRIES,
+    PRIVILEGED_SCALES,
+    index,
+    markdown_table,
+    observation_entries,
+)
 
 ZERO = np.zeros(3)
 OPTIONS = {"object": "cube", "profile": "constant", "scenario_seed": 1}
