@@ -46,6 +46,7 @@ class ReplaySettings:
     def __post_init__(self) -> None:
         if not (math.isfinite(self.step_length) and 1e-4 <= self.step_length <= 0.01):
             raise ConfigError(f"step length must be 0.1-10 mm, got {self.step_length!r} m")
+        Friction(model=self.friction_model, facets=self.facets)  # the world's checks
 
 
 def replay_pushes(
