@@ -182,6 +182,7 @@ def logs(
     data: DataOption,
     out: OutDirOption,
     friction_model: FrictionModelOption = "polygon",
+    facets: FacetsOption = 8,
     fit: Annotated[
         bool,
         typer.Option(
@@ -192,15 +193,16 @@ def logs(
 ) -> None:
     """Replay each two-finger segment from its logged start; errors against the repeats."""
     from pushctl.files.provenance import provenance_line, write_atomic, write_csv
-    from pushctl.kinematic import PressurePrior
+    from pushctl.kinematic import Friction, PressurePrior
     from pushctl.realdata.figures import logs_figure
     from pushctl.realdata.protocol import run_logs
 
     try:
         _prepare_dir(out, force)
         progress = lambda line: console.print(line, highlight=False)  # noqa: E731
-        table, segments, replays = run_logs(data, PressurePrior(), friction_model,
-                                            fit=fit, progress=progress)  # fmt: skip
+        Friction(model=friction_model, facets=facets)  # the world's checks, before replays
+        table, segments, replays = run_logs(data, PressurePrior(), friction_model, fit=fit,
+                                            progress=progress, facets=facets)  # fmt: skip
     except PushctlError as error:
         fail(error)
     try:

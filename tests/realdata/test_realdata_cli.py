@@ -93,6 +93,8 @@ def test_logs_replay(synthetic_data, tmp_path):
          "facets must be a multiple of 4"),
         (["loso", "--data", "{data}", "--out", "{tmp}/o", "--friction-model", "disc"],
          "friction_model must be one of"),
+        (["logs", "--data", "{data}", "--out", "{tmp}/o", "--facets", "10"],
+         "facets must be a multiple of 4"),
         (["score", "--data", "{data}", "--friction", "{tmp}/none.toml", "--out", "{tmp}/o"],
          "does not exist"),
         (["score", "--data", "{data}", "--friction", "{data}/mit/shapes.csv", "--out",
