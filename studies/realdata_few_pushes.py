@@ -3,7 +3,7 @@ out folds' per-surface parameters, with the held-out shape's rim weight (and μ_
 its first K calibration pushes per surface (docs/realdata.md §5).
 
 Run as ``python -m studies.realdata_few_pushes --data DIR --loso LOSO_DIR/loso.csv --out
-few.csv [--pushes 10] [--split-seed 0] [--friction-model polygon] [--facets 8] [--force]``,
+few.csv [--pushes 10] [--split-seed 0] [--friction-model polygon] [--facets 16] [--force]``,
 after ``pushctl realdata loso`` with the same split seed and model. Per held-out shape and
 surface, starting from that fold's parameters (fitted without the shape), the rim weight
 over the fit's grid and μ_c ±0.05 are chosen on the shape's first K calibration pushes of
@@ -117,7 +117,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--pushes", type=int, default=10)
     parser.add_argument("--split-seed", type=int, default=0)
     parser.add_argument("--friction-model", default="polygon")
-    parser.add_argument("--facets", type=int, default=8)
+    parser.add_argument("--facets", type=int, default=16)
     parser.add_argument("--force", action="store_true", help="overwrite an existing --out")
     args = parser.parse_args(argv)
     try:

@@ -57,7 +57,7 @@ def fit(
         list[str], typer.Option(help="leave this shape out of the fit (repeatable)")
     ] = [],  # noqa: B006 (Typer reads the default)
     friction_model: FrictionModelOption = "polygon",
-    facets: FacetsOption = 8,
+    facets: FacetsOption = 16,
     rim_weights: RimWeightsOption = RIM_WEIGHTS,
     workers: WorkersOption = 2,
     force: ForceOption = False,
@@ -141,7 +141,7 @@ def loso(
     out: OutDirOption,
     split_seed: SplitSeedOption = 0,
     friction_model: FrictionModelOption = "polygon",
-    facets: FacetsOption = 8,
+    facets: FacetsOption = 16,
     rim_weights: RimWeightsOption = RIM_WEIGHTS,
     workers: WorkersOption = 2,
     force: ForceOption = False,
@@ -182,7 +182,7 @@ def logs(
     data: DataOption,
     out: OutDirOption,
     friction_model: FrictionModelOption = "polygon",
-    facets: FacetsOption = 8,
+    facets: FacetsOption = 16,
     fit: Annotated[
         bool,
         typer.Option(

@@ -22,6 +22,7 @@ from pushctl.errors import ConfigError
 from pushctl.kinematic import Friction, PressurePrior
 from pushctl.realdata.logs import Segment, end_error, repeat_floors, replay_segment
 from pushctl.realdata.logs import score_segments as _score
+from pushctl.realdata.replay import DEFAULT_FACETS
 
 
 @dataclass(frozen=True)
@@ -33,7 +34,7 @@ class LogGrids:
     rim_weight: tuple[float, ...] = (-2.0, 0.0, 2.0, 4.0)
     mu_ground: float = 0.3
     support_count: int = 16
-    facets: int = 8
+    facets: int = DEFAULT_FACETS
 
 
 @dataclass(frozen=True)

@@ -26,7 +26,7 @@ from pushctl.realdata.fit import FitGrids, fit_surfaces, friction_toml
 from pushctl.realdata.logfit import LogGrids, fit_logs
 from pushctl.realdata.logs import LOG_MU_CONTACT, read_segments, replay_segment, score_segments
 from pushctl.realdata.metrics import COMPONENTS, group_scores, overall, zhou_end
-from pushctl.realdata.replay import ReplaySettings, SurfaceParameters, replay_pushes
+from pushctl.realdata.replay import DEFAULT_FACETS, ReplaySettings, SurfaceParameters, replay_pushes
 
 
 def calibration_split(data: PushData, seed: int, exclude: Sequence[str]) -> np.ndarray:
@@ -163,7 +163,7 @@ def run_logs(
     mu_ground: float = 0.3,
     fit: bool = False,
     progress: Callable[[str], None] | None = None,
-    facets: int = 8,
+    facets: int = DEFAULT_FACETS,
 ):
     """Replay every two-finger segment with ground friction ``model`` (``facets`` sides for
     the polygon); (per-segment scores, segments, replays). With
