@@ -2,15 +2,15 @@
 out folds' per-surface parameters, with the held-out shape's rim weight (and μ_c) refined on
 its first K calibration pushes per surface (docs/realdata.md §5).
 
-Run as ``python -m studies.realdata_few_pushes --data DIR --loso LOSO_DIR/loso.csv
---out few.csv [--pushes 10] [--split-seed 0] [--friction-model polygon] [--force]``, after
-``pushctl realdata loso`` with the same split seed and model. Per held-out shape and
+Run as ``python -m studies.realdata_few_pushes --data DIR --loso LOSO_DIR/loso.csv --out
+few.csv [--pushes 10] [--split-seed 0] [--friction-model polygon] [--facets 16] [--force]``,
+after ``pushctl realdata loso`` with the same split seed and model. Per held-out shape and
 surface, starting from that fold's parameters (fitted without the shape), the rim weight
 over the fit's grid and μ_c ±0.05 are chosen on the shape's first K calibration pushes of
-that surface (push ids in order; both speeds); every other push of the shape is scored
-with them. The CSV has one row per held-out shape (the K pushes per surface, the chosen
-parameters, NMSE as ``pushctl realdata loso`` reports it, the fold's NMSE on the same
-pushes and Zhou's), then a row ``all`` (means over groups).
+that surface (push ids in order; both speeds); every other push of the shape is scored with
+them. The CSV has one row per held-out shape (the K pushes per surface, the chosen
+parameters, NMSE as ``pushctl realdata loso`` reports it, the fold's NMSE on the same pushes
+and Zhou's), then a row ``all`` (means over groups).
 """
 
 from __future__ import annotations
@@ -117,12 +117,13 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--pushes", type=int, default=10)
     parser.add_argument("--split-seed", type=int, default=0)
     parser.add_argument("--friction-model", default="polygon")
+    parser.add_argument("--facets", type=int, default=16)
     parser.add_argument("--force", action="store_true", help="overwrite an existing --out")
     args = parser.parse_args(argv)
     try:
         refuse_existing_files("--out", (args.out,), args.force)
         loso = pd.read_csv(args.loso, comment="#")
-        settings = ReplaySettings(friction_model=args.friction_model)
+        settings = ReplaySettings(friction_model=args.friction_model, facets=args.facets)
         table = few_pushes_scores(args.data, loso, args.pushes, args.split_seed, settings)
     except (ConfigError, FileNotFoundError) as error:
         parser.exit(2, f"error: {error}\n")

@@ -2,7 +2,7 @@
 calibration split, every test push scored with its own group's fit (docs/realdata.md §5).
 
 Run as ``python -m studies.realdata_per_shape --data DIR --out per_shape.csv
-[--split-seed 0] [--friction-model polygon] [--facets 8] [--start fit.toml] [--force]``.
+[--split-seed 0] [--friction-model polygon] [--facets 16] [--start fit.toml] [--force]``.
 Per (surface, shape) the calibration pushes of that shape (both speeds) are fitted with
 ``pushctl realdata fit``'s grids (μ_c, the rim weight, μ_g): from scratch as that command
 does, or, with ``--start``, from that surface's parameters in a ``realdata fit`` file
@@ -124,7 +124,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, required=True)
     parser.add_argument("--split-seed", type=int, default=0)
     parser.add_argument("--friction-model", default="polygon")
-    parser.add_argument("--facets", type=int, default=8)
+    parser.add_argument("--facets", type=int, default=16)
     parser.add_argument("--start", type=Path, default=None, help="a realdata fit file")
     parser.add_argument("--force", action="store_true", help="overwrite an existing --out")
     args = parser.parse_args(argv)

@@ -37,6 +37,9 @@ SplitSeedOption = Annotated[int, typer.Option(help="seed of the calibration spli
 FrictionModelOption = Annotated[
     str, typer.Option(help="ground friction: polygon, slip_box or axis_box")
 ]
+FacetsOption = Annotated[
+    int, typer.Option(help="the polygon's sides (a multiple of 4, >= 8; polygon model only)")
+]
 RimWeightsOption = Annotated[str, typer.Option(help=RIM_HELP)]
 RIM_WEIGHTS = "-2,0,2,4,6,8"
 """The rim-weight grid ``fit`` and ``loso`` search first by default."""
@@ -54,6 +57,7 @@ def fit(
         list[str], typer.Option(help="leave this shape out of the fit (repeatable)")
     ] = [],  # noqa: B006 (Typer reads the default)
     friction_model: FrictionModelOption = "polygon",
+    facets: FacetsOption = 16,
     rim_weights: RimWeightsOption = RIM_WEIGHTS,
     workers: WorkersOption = 2,
     force: ForceOption = False,
@@ -71,7 +75,7 @@ def fit(
             raise ConfigError(f"--out: directory {str(out.parent)!r} does not exist")
         refuse_existing_files("--out", (out,), force)
         _check_workers(workers)
-        settings = ReplaySettings(friction_model=friction_model)
+        settings = ReplaySettings(friction_model=friction_model, facets=facets)
         header = [provenance_line(_invocation(ctx))]
         text = run_fit(data, split_seed, exclude_shape, settings, header, workers,
                        progress=lambda line: console.print(line, highlight=False),
@@ -137,6 +141,7 @@ def loso(
     out: OutDirOption,
     split_seed: SplitSeedOption = 0,
     friction_model: FrictionModelOption = "polygon",
+    facets: FacetsOption = 16,
     rim_weights: RimWeightsOption = RIM_WEIGHTS,
     workers: WorkersOption = 2,
     force: ForceOption = False,
@@ -150,7 +155,7 @@ def loso(
         _check_split_seed(split_seed)
         _prepare_dir(out, force)
         _check_workers(workers)
-        settings = ReplaySettings(friction_model=friction_model)
+        settings = ReplaySettings(friction_model=friction_model, facets=facets)
         result = run_loso(data, split_seed, settings, _grids(rim_weights), workers=workers,
                           progress=lambda line: console.print(line, highlight=False))  # fmt: skip
     except PushctlError as error:
@@ -177,6 +182,7 @@ def logs(
     data: DataOption,
     out: OutDirOption,
     friction_model: FrictionModelOption = "polygon",
+    facets: FacetsOption = 16,
     fit: Annotated[
         bool,
         typer.Option(
@@ -187,15 +193,16 @@ def logs(
 ) -> None:
     """Replay each two-finger segment from its logged start; errors against the repeats."""
     from pushctl.files.provenance import provenance_line, write_atomic, write_csv
-    from pushctl.kinematic import PressurePrior
+    from pushctl.kinematic import Friction, PressurePrior
     from pushctl.realdata.figures import logs_figure
     from pushctl.realdata.protocol import run_logs
 
     try:
         _prepare_dir(out, force)
         progress = lambda line: console.print(line, highlight=False)  # noqa: E731
-        table, segments, replays = run_logs(data, PressurePrior(), friction_model,
-                                            fit=fit, progress=progress)  # fmt: skip
+        Friction(model=friction_model, facets=facets)  # the world's checks, before replays
+        table, segments, replays = run_logs(data, PressurePrior(), friction_model, fit=fit,
+                                            progress=progress, facets=facets)  # fmt: skip
     except PushctlError as error:
         fail(error)
     try:

@@ -22,16 +22,19 @@ from pushctl.errors import ConfigError
 from pushctl.kinematic import Friction, PressurePrior
 from pushctl.realdata.logs import Segment, end_error, repeat_floors, replay_segment
 from pushctl.realdata.logs import score_segments as _score
+from pushctl.realdata.replay import DEFAULT_FACETS
 
 
 @dataclass(frozen=True)
 class LogGrids:
-    """The grid searched per setup: finger–object μ_c [-] and the rim weight [-]."""
+    """The grid searched per setup: finger–object μ_c [-] and the rim weight [-]; the
+    replay's μ_g, support points and polygon facets."""
 
     mu_contact: tuple[float, ...] = (0.2, 0.3, 0.4, 0.5)
     rim_weight: tuple[float, ...] = (-2.0, 0.0, 2.0, 4.0)
     mu_ground: float = 0.3
     support_count: int = 16
+    facets: int = DEFAULT_FACETS
 
 
 @dataclass(frozen=True)
@@ -56,7 +59,7 @@ def fit_logs(
 
     def replay(i: int, mu: float, rim: float) -> np.ndarray:
         if (mu, rim, i) not in cache:
-            friction = Friction(mu, grids.mu_ground, model)
+            friction = Friction(mu, grids.mu_ground, model, grids.facets)
             prior = PressurePrior(grids.support_count, rim)
             cache[(mu, rim, i)] = replay_segment(segments[i], friction, prior)
         return cache[(mu, rim, i)]

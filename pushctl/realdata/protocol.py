@@ -26,7 +26,7 @@ from pushctl.realdata.fit import FitGrids, fit_surfaces, friction_toml
 from pushctl.realdata.logfit import LogGrids, fit_logs
 from pushctl.realdata.logs import LOG_MU_CONTACT, read_segments, replay_segment, score_segments
 from pushctl.realdata.metrics import COMPONENTS, group_scores, overall, zhou_end
-from pushctl.realdata.replay import ReplaySettings, SurfaceParameters, replay_pushes
+from pushctl.realdata.replay import DEFAULT_FACETS, ReplaySettings, SurfaceParameters, replay_pushes
 
 
 def calibration_split(data: PushData, seed: int, exclude: Sequence[str]) -> np.ndarray:
@@ -163,16 +163,18 @@ def run_logs(
     mu_ground: float = 0.3,
     fit: bool = False,
     progress: Callable[[str], None] | None = None,
+    facets: int = DEFAULT_FACETS,
 ):
-    """Replay every two-finger segment; (per-segment scores, segments, replays). With
+    """Replay every two-finger segment with ground friction ``model`` (``facets`` sides for
+    the polygon); (per-segment scores, segments, replays). With
     ``fit``, each start is replayed with μ_c and the rim weight fitted on its setup's other
     starts (:func:`~pushctl.realdata.logfit.fit_logs`); else with ``prior`` and the
     planner's μ_c."""
     segments = read_segments(data_dir)
     if fit:
-        fitted = fit_logs(segments, model, LogGrids(mu_ground=mu_ground,
-                          support_count=prior.count), progress)  # fmt: skip
+        grids = LogGrids(mu_ground=mu_ground, support_count=prior.count, facets=facets)
+        fitted = fit_logs(segments, model, grids, progress)
         return fitted.table, segments, fitted.replays
-    friction = Friction(LOG_MU_CONTACT, mu_ground, model)
+    friction = Friction(LOG_MU_CONTACT, mu_ground, model, facets)
     replays = [replay_segment(s, friction, prior) for s in segments]
     return score_segments(segments, replays), segments, replays

@@ -20,6 +20,11 @@ from pushctl.errors import ConfigError
 from pushctl.kinematic import Friction, KinematicPushWorld, PressurePrior, Pusher, Slider
 from pushctl.realdata.data import TIP_RADIUS, plate_mass
 
+DEFAULT_FACETS = 16
+"""The polygon friction's sides in the replays by default: on the calibration split the
+16-gon fits both surfaces better than the 8-gon (docs/realdata.md §5) at about the same
+replay time."""
+
 
 @dataclass(frozen=True)
 class SurfaceParameters:
@@ -41,11 +46,12 @@ class ReplaySettings:
     step_length: float = 2e-3
     friction_model: str = "polygon"
     support_count: int = 16
-    facets: int = 8
+    facets: int = DEFAULT_FACETS
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.step_length) and 1e-4 <= self.step_length <= 0.01):
             raise ConfigError(f"step length must be 0.1-10 mm, got {self.step_length!r} m")
+        Friction(model=self.friction_model, facets=self.facets)  # the world's checks
 
 
 def replay_pushes(

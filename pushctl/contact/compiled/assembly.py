@@ -219,8 +219,34 @@ def assemble_on(
     slip_directions, sliding, h, stabilisation, tie_break, mu_contact,
 ):  # fmt: skip
     """:func:`assemble` from the step's :func:`arm_part` ``arm`` (the other arguments as
-    there): the object's and the ground's rows, then the arm's blocks added."""
+    there): the object's and the ground's rows (:func:`rows_on`), then D with the arm's
+    blocks added."""
     A_arm, v_arm_free, Minv_At_arm, arm_D, arm_b = arm
+    A_obj, b, lo, hi, findex, mu = rows_on(
+        arm, contacts, pose, velocity, support_points, friction_limits, slip_directions,
+        sliding, h, stabilisation, mu_contact,
+    )  # fmt: skip
+    n_prong = 2 * contacts.shape[0]
+    Minv_At_obj = A_obj.T * obj_mass_inv.reshape(3, 1)
+    D = matmul(A_obj, Minv_At_obj)
+    if v_arm_free.shape[0] and n_prong:
+        D[:n_prong, :n_prong] += arm_D
+    for i in range(n_prong):
+        D[i, i] *= 1.0 + tie_break
+    return D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, A_arm
+
+
+@njit(cache=True)
+def rows_on(
+    arm, contacts, pose, velocity, support_points, friction_limits, slip_directions, sliding,
+    h, stabilisation, mu_contact,
+):  # fmt: skip
+    """The rows of :func:`assemble_on` without D: ``(A_obj (m, 3), b (m,), lo, hi, findex,
+    mu)``, the object part of each row (prongs' normal and tangential rows, then each support
+    point's pair along and across its box direction), its free velocity with the arm's part
+    and the stabilisation bias, the bounds and friction indices (arguments as in
+    :func:`assemble`)."""
+    v_arm_free, arm_b = arm[1], arm[4]
     n_contacts, n_support = contacts.shape[0], support_points.shape[0]
     n_prong = 2 * n_contacts
     m = n_prong + 2 * n_support
@@ -254,15 +280,10 @@ def assemble_on(
         bound = h * friction_limits[j]
         cross = 0.0 if sliding[j] else bound
         lo[row], hi[row], lo[row + 1], hi[row + 1] = -bound, bound, -cross, cross
-    Minv_At_obj = A_obj.T * obj_mass_inv.reshape(3, 1)
-    D = matmul(A_obj, Minv_At_obj)
     b = matvec(A_obj, velocity) + bias
     if v_arm_free.shape[0] and n_prong:
-        D[:n_prong, :n_prong] += arm_D
         b[:n_prong] += arm_b
-    for i in range(n_prong):
-        D[i, i] *= 1.0 + tie_break
-    return D, b, lo, hi, findex, mu, v_arm_free, Minv_At_arm, Minv_At_obj, A_arm
+    return A_obj, b, lo, hi, findex, mu
 
 
 @njit(cache=True)

@@ -27,7 +27,13 @@ from pushctl.contact.compiled.assembly import (
     arm_part,
     assemble_on,
     refine_slip,
+    rows_on,
     slip_state,
+)
+from pushctl.contact.compiled.object_space import (
+    MAX_ITERATIONS,
+    row_diagonals,
+    solve_object_space,
 )
 from pushctl.contact.compiled.pivoting import cold_pivot_with
 
@@ -222,10 +228,32 @@ def fixed_step(
     out_forces, out_p, out_pose,
 ):  # fmt: skip
     """A whole (sub)step with ground friction fixed to the table (:func:`fixed_problem`):
-    one solve from ``guess`` (m,) if ``has_guess``, nothing to refine. Writes the outputs
-    as :func:`slip_step`. Returns ``(status, warm, residual, pivots)``: :data:`SETTLED` or
+    one solve from ``guess`` (m,) if ``has_guess``, nothing to refine. Without an arm it is
+    solved in the object's velocity space
+    (:func:`~pushctl.contact.compiled.object_space.solve_object_space`), densely
+    (:func:`solve_on`) where that does not verify or with an arm. Writes the outputs as
+    :func:`slip_step`. Returns ``(status, warm, residual, pivots)``: :data:`SETTLED` or
     :data:`NEEDS_PROXQP` (then ``pivots`` are the failed pivoting's and nothing is
-    written), whether the solve was a warm start, its residual and pivots."""
+    written), whether the solve was a warm start, its residual and the active sets solved
+    after the first (dense: pivots)."""
+    if has_guess and M.shape[0] == 0 and support_points.shape[0]:
+        arm = arm_part(contacts, jacobians, M, nle, v_arm, tau, joint_damping, h)
+        A_obj, b, lo, hi, findex, mu = rows_on(
+            arm, contacts, pose, velocity, support_points, friction_limits, slip_directions,
+            sliding, h, stabilisation, mu_contact,
+        )  # fmt: skip
+        n_prong = 2 * contacts.shape[0]
+        diag = row_diagonals(A_obj, obj_mass_inv, arm[3], n_prong, tie_break, ground_compliance)
+        threshold = tol * max(1.0, np.max(np.abs(b)))
+        p, residual, verified, iterations = solve_object_space(
+            n_prong, arm[3], A_obj, b, lo, hi, findex, mu, obj_mass_inv, diag, guess,
+            threshold, MAX_ITERATIONS,
+        )  # fmt: skip
+        if verified:
+            Minv_At_obj = A_obj.T * obj_mass_inv.reshape(3, 1)
+            va, vo, f = apply_impulses(p, arm[1], arm[2], velocity, Minv_At_obj, h)
+            _write(va, vo, f, p, pose, h, out_v_arm, out_v_obj, out_forces, out_p, out_pose)
+            return SETTLED, int(iterations == 0), residual, iterations
     problem = fixed_problem(
         contacts, jacobians, M, nle, v_arm, tau, joint_damping, pose, velocity, obj_mass_inv,
         support_points, friction_limits, slip_directions, sliding, h, stabilisation,
