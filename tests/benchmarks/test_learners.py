@@ -75,8 +75,12 @@ def test_t_interval_of_three_values() -> None:
 
 
 def test_summary_judges_ours_against_the_reference_interval() -> None:
-    scores = {"sb3-td3": [-160.0, -150.0, -170.0], "ours-td3": [-155.0, -165.0, -160.0],
-              "ours-ddpg": [-900.0, -800.0, -1000.0], "sb3-sac": [-140.0, -150.0, -145.0]}  # fmt: skip
+    scores = {
+        "sb3-td3": [-160.0, -150.0, -170.0],
+        "ours-td3": [-155.0, -165.0, -160.0],
+        "ours-ddpg": [-900.0, -800.0, -1000.0],
+        "sb3-sac": [-140.0, -150.0, -145.0],
+    }
     rows = pd.DataFrame(
         [
             {"task": "Pendulum-v1", "learner": learner, "seed": seed, "mean_return": value}
