@@ -19,6 +19,11 @@ from pushctl.planning import PROFILE_NAMES
 BASE_LAWS = ("none", "feedback")
 """What a residual is added to (``EnvConfig.base_law``): PD-only, or PD plus the feedback law."""
 
+RANGES = ("randomisation", "randomisation_known_answer")
+"""The shipped ranges files an environment can draw from (``EnvConfig.ranges``; package data,
+:mod:`pushctl.defaults`): every randomisation and plant unknown, or the known-answer task's
+nominal plant whose only unknown is the object's placement offset."""
+
 LANDINGS = ("believed", "measured")
 """Where a closed-loop push's prongs start (``EnvConfig.landing``): where the approach put
 them, aimed at the believed pose, or put back on the plan's spot of the object as measured."""
@@ -32,7 +37,10 @@ class EnvConfig:
         ``objects``, ``profiles``: what a reset chooses from (uniformly). ``plant``: the
         randomisation ranges of the world's parameters (``sim`` for training). ``stream``:
         the random stream the scenarios are drawn from (``training``; evaluation draws from
-        its own). ``duration`` [s] and ``dt`` [s] of the push.
+        its own). ``ranges``: the shipped ranges file the draws use (:data:`RANGES`):
+        ``randomisation`` (every parameter range and plant unknown) or
+        ``randomisation_known_answer`` (the nominal plant, a placement offset its only
+        unknown). ``duration`` [s] and ``dt`` [s] of the push.
     Residual (Algorithm 1; docs/residual-and-feedback.md)
         ``residual_path``: how the residual twist reaches the PD
         (:mod:`pushctl.control.residual`): ``reference`` integrates it into an offset of
@@ -99,6 +107,7 @@ class EnvConfig:
     profiles: tuple[str, ...] = PROFILE_NAMES
     plant: str = "sim"
     stream: str = "training"
+    ranges: str = "randomisation"
     duration: float = 20.0
     dt: float = 0.01
     residual_path: str = "reference"
@@ -147,6 +156,8 @@ class EnvConfig:
             raise ConfigError(
                 f"env base_law must be one of {', '.join(BASE_LAWS)}, got {self.base_law!r}"
             )
+        if self.ranges not in RANGES:
+            raise ConfigError(f"env ranges must be one of {', '.join(RANGES)}, got {self.ranges!r}")
         if self.landing not in LANDINGS:
             raise ConfigError(
                 f"env landing must be one of {', '.join(LANDINGS)}, got {self.landing!r}"

@@ -4,11 +4,14 @@ parameters."""
 
 from __future__ import annotations
 
+from functools import cache
 from typing import Any
 
 import numpy as np
 
+from pushctl.defaults import default_file
 from pushctl.episode.draw import draw_planned_scenario
+from pushctl.episode.ranges import Randomisation, load_ranges
 from pushctl.episode.scenario import Scenario
 from pushctl.errors import ConfigError
 from pushctl.planning import Plan
@@ -48,6 +51,13 @@ def draw_reset(
         options.get("object", drawn_object),
         options.get("profile", drawn_profile),
         plant=config.plant,
+        ranges=shipped_ranges(config.ranges),
         duration=config.duration,
         dt=config.dt,
     )
+
+
+@cache
+def shipped_ranges(name: str) -> Randomisation:
+    """The shipped ranges file ``name`` (:data:`~pushctl.task.env_config.RANGES`), read once."""
+    return load_ranges(default_file(f"{name}.toml"))

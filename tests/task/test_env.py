@@ -326,6 +326,31 @@ def test_reset_options_fix_the_draw(env: PushEnv) -> None:
     assert env.scenario.true_parameters != env.scenario.nominal  # the sim plant is randomised
 
 
+def test_the_known_answer_ranges_draw_the_nominal_plant_with_a_mounting_yaw_only() -> None:
+    env = PushEnv(replace(SHORT, ranges="randomisation_known_answer"))
+    yaws = []
+    for seed in range(4):
+        env.reset(options={**OPTIONS, "scenario_seed": seed})
+        scenario = env.scenario
+        assert scenario.true_parameters.mu_ground == scenario.nominal.mu_ground
+        assert scenario.true_parameters.mu_contact == scenario.nominal.mu_contact
+        unknowns = scenario.unknowns
+        assert unknowns == replace(
+            NO_UNKNOWNS,
+            mount_yaw=unknowns.mount_yaw,
+            prong_errors=unknowns.prong_errors,
+            ground_seed=unknowns.ground_seed,
+        )
+        assert not any(v for pair in unknowns.prong_errors for v in pair)
+        yaws.append(unknowns.mount_yaw)
+    assert 0.0 < max(abs(y) for y in yaws) <= math.radians(1.0)
+    # the default ranges draw the same goal for the seed, and every unknown
+    default = PushEnv(SHORT)
+    default.reset(options={**OPTIONS, "scenario_seed": 3})
+    assert default.scenario.goal == env.scenario.goal
+    assert default.scenario.unknowns.placement != (0.0, 0.0, 0.0)
+
+
 def test_bad_input_is_refused_with_one_line_errors(env: PushEnv) -> None:
     fresh = PushEnv(SHORT)
     with pytest.raises(StateError, match="reset"):
@@ -350,6 +375,7 @@ def test_bad_input_is_refused_with_one_line_errors(env: PushEnv) -> None:
         ({"profiles": []}, "profiles must be a non-empty list"),
         ({"plant": "real"}, "plant must be one of sim, proxy"),
         ({"stream": "test"}, "stream must be one of"),
+        ({"ranges": "mine"}, "ranges must be one of randomisation, randomisation_known_answer"),
         ({"action_scale_linear": 0.0}, "action_scale_linear must be a finite number > 0"),
         ({"gate_threshold": -1e-3}, "gate_threshold must be a finite number >= 0"),
         ({"w_torque": float("nan")}, "w_torque must be a finite number >= 0"),
