@@ -1,5 +1,5 @@
 """The known-answer task (docs/known-answer.md): a residual on PD-only, on a nominal plant
-whose only unknown is the object's placement offset, which the pose error in the
+whose only unknown is the pusher's mounting yaw, whose effect the pose error in the
 observation shows. The correction is known, the feedback law's; the question is how much of
 the law's error reduction over PD-only the learned actor recovers.
 
