@@ -47,3 +47,13 @@ def test_paper_v1_is_push_v1_with_every_critic_part():
     assert preset.ddpg.n_step > 1 and preset.ddpg.critic_warmup_updates > 0
     assert preset.train.select_on == "paired" and preset.train.validation_per_cell * 6 >= 120
     assert isinstance(preset.ddpg, DDPGConfig)
+
+
+def test_the_pose_term_presets_are_the_known_answer_learner_on_every_unknown():
+    known = load_preset(str(EXPERIMENTS / "train_known_answer.toml"))
+    pose = load_preset(str(EXPERIMENTS / "ablation" / "pd-pose.toml"))
+    heading = load_preset(str(EXPERIMENTS / "ablation" / "pd-pose-heading.toml"))
+    assert pose.env == replace(known.env, ranges=EnvConfig().ranges)
+    assert pose.ddpg == known.ddpg and pose.env.base_law == "none"
+    assert heading.env == replace(pose.env, gate_length=0.2) and heading.ddpg == pose.ddpg
+    assert heading.train == pose.train
