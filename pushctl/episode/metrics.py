@@ -31,6 +31,7 @@ true ``object_pose``. Forces are always the true contact forces.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, fields
 
 import numpy as np
@@ -166,3 +167,13 @@ def force_component_errors(trace: Trace) -> tuple[float, float]:
         raise StateError(f"a trace needs at least 1 push step for metrics, got {trace.n_steps}")
     error = np.abs(np.asarray(trace.desired_forces)[1:] - np.asarray(trace.contact_forces)[1:])
     return float(error[:, :, 0].mean()), float(error[:, :, 1].mean())
+
+
+def pose_error_pct(error: Sequence[float], arc_length: float, turn: float) -> float:
+    """One step's pose ``error`` (3,) [m, m, rad] in the units of the two errors above:
+    100 ‖e_xy‖ / ``arc_length`` + 100 |e_θ| / ``turn`` [%] (``turn`` = |Δθ| [rad]), each
+    part 0 where its scale is 0 (the per-step sum whose mean over the push is
+    translation_error_pct + angle_error_pct)."""
+    e_x, e_y, e_theta = error
+    translation = 100.0 * math.hypot(e_x, e_y) / arc_length if arc_length > 0.0 else 0.0
+    return translation + (100.0 * abs(e_theta) / turn if turn > 0.0 else 0.0)

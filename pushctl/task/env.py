@@ -49,6 +49,9 @@ Rewards
     - ``reward_torque`` = −``w_torque`` · Σ_i |τ_z,des,i − τ_z,i|
     - ``reward_pose`` = −``w_pose`` · (the exact pose deviation the gate measures); 0 at the
       default ``w_pose`` = 0 (the paper's reward); the shipped presets set it.
+    - ``reward_metrics`` = −``w_metrics`` · (100 ‖e_xy‖ / arc length + 100 |e_θ| / |Δθ|), the
+      exact pose error in the tables' units (the angle part 0 on a push without a turn): a
+      push's return is then −N · w_metrics · (translation % + angle %); 0 by default.
 
     F_des and τ_des are the force plan recomputed with the episode's *true* (plant) parameters
     at the plan's prong offset, which the observation never sees; λ is the simulator's mean
@@ -134,6 +137,7 @@ import numpy as np
 from pushctl.config import PusherConfig
 from pushctl.control.feedback import load_feedback_gains
 from pushctl.control.gains import PDGains, load_gains
+from pushctl.episode.metrics import pose_error_pct
 from pushctl.episode.proxy import ProxyEffects, effects_for
 from pushctl.episode.ranges import plant_engine
 from pushctl.episode.runner import Episode
@@ -158,7 +162,9 @@ _EPISODE_FIELDS = (
 """The configuration an environment's episodes are built from, after the draw
 (:meth:`PushEnv.reset_from` hands a reset over only between environments that agree on it)."""
 
-REWARD_TERMS = ("reward_normal", "reward_tangential", "reward_torque", "reward_pose")
+REWARD_TERMS = (
+    "reward_normal", "reward_tangential", "reward_torque", "reward_pose", "reward_metrics"
+)  # fmt: skip
 """The reward's named terms, in the order they are summed (:meth:`PushEnv._reward`)."""
 
 ERROR_RATE_LAG = 0.1
@@ -172,8 +178,9 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
     baseline's (default ``pushctl/defaults/pd_gains.toml``).
 
     ``info`` of a step: ``reward_normal``, ``reward_tangential``, ``reward_torque`` (the
-    three weighted terms of eq. 17) and ``reward_pose`` (the optional pose term, 0 unless
-    ``w_pose`` > 0), each ≤ 0, summing to the reward; ``residual_active``
+    three weighted terms of eq. 17), ``reward_pose`` and ``reward_metrics`` (the optional
+    pose terms, 0 unless ``w_pose`` or ``w_metrics`` > 0), each ≤ 0, summing to the reward;
+    ``residual_active``
     (the gate), ``residual`` (3,) the world-frame twist applied [m/s, m/s, rad/s],
     ``action_applied`` (3,) the policy's action as the decision's first step applied it
     (clipped to [−1, 1]; zeros when the gate dropped it: the action to learn from),
@@ -300,6 +307,8 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         self._believed = believed
         plan = episode.plan
         self._plan_rows = plan.trajectory.pose.tolist()  # (N + 1) × [x, y, yaw], floats
+        # the metrics' scales [m], [rad]: 0 leaves that part of ``reward_metrics`` out
+        self._metric_scales = (plan.trajectory.arc_length, abs(plan.trajectory.delta_theta))
         self._plan_forces = plan.forces.forces
         self._true_forces = episode.plant_forces.forces
         self._true_torques = episode.plant_forces.torques
@@ -534,7 +543,8 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
     def _reward(self, row: int) -> tuple[float, dict[str, float]]:
         """The reward of the push step that ended at ``row`` and its named terms, each ≤ 0
         (``reward_normal``, ``reward_tangential``, ``reward_torque``: eq. 17's weighted
-        terms; ``reward_pose``: −``w_pose`` × the exact pose deviation); the total is their
+        terms; ``reward_pose``: −``w_pose`` × the exact pose deviation; ``reward_metrics``:
+        −``w_metrics`` × the exact pose error in the tables' % units); the total is their
         sum, in that order.
 
         Plain floats over the k prongs: at k = 2 this is several times faster than numpy on
@@ -557,15 +567,19 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
             normal += abs(true_forces[i][0] - f_n)
             tangential += abs(true_forces[i][1] - f_t)
             torque += abs(true_torques[i] - (lever_n * f_t - lever_t * f_n))
-        if self._exact_pose:  # the observation's error is the true one
-            deviation = self._error_deviation
-        else:
-            deviation = self._deviation(self._pose_error(row, exact=True))
+        # with an exact observation, the observation's error is the true one
+        error = None if self._exact_pose else self._pose_error(row, exact=True)
+        deviation = self._error_deviation if error is None else self._deviation(error)
+        metrics = 0.0
+        if config.w_metrics:
+            exact = self._error.tolist() if error is None else error
+            metrics = pose_error_pct(exact, *self._metric_scales)
         named = {
             "reward_normal": -config.w_normal * normal,
             "reward_tangential": -config.w_tangential * tangential,
             "reward_torque": -config.w_torque * torque,
             "reward_pose": -config.w_pose * deviation,
+            "reward_metrics": -config.w_metrics * metrics,
         }
         return float(sum(named.values())), named
 

@@ -100,7 +100,10 @@ class EnvConfig:
         about that far from the centre of mass). ``w_pose`` [1/m]: an optional pose term,
         −w_pose × (the gate's pose deviation), not in eq. 17 (0 leaves the paper's reward):
         a force-level reward cannot see an object that was pushed off its path and is then
-        pushed correctly beside it.
+        pushed correctly beside it. ``w_metrics`` [1/%]: another optional pose term,
+        −w_metrics × (100 ‖e_xy‖ / arc length + 100 |e_θ| / |Δθ|) per step, the exact pose
+        error in the units of Table III's two errors, each weighed by its own scale (the
+        pose deviation weighs the heading by ``gate_length``).
     """
 
     objects: tuple[str, ...] = OBJECT_NAMES
@@ -146,6 +149,7 @@ class EnvConfig:
     w_tangential: float = 1.0
     w_torque: float = 25.0
     w_pose: float = 0.0
+    w_metrics: float = 0.0
 
     def __post_init__(self) -> None:
         check_residual_path(self.residual_path)
@@ -203,6 +207,7 @@ class EnvConfig:
             "w_tangential",
             "w_torque",
             "w_pose",
+            "w_metrics",
         ):
             _check_number(name, getattr(self, name), positive=False)
 

@@ -13,6 +13,7 @@ import pytest
 from gymnasium.utils.env_checker import check_env
 
 import pushctl.task
+from pushctl.episode.metrics import compute_metrics
 from pushctl.episode.runner import Episode
 from pushctl.episode.trace import prong_torques
 from pushctl.episode.unknowns import NO_UNKNOWNS
@@ -178,6 +179,28 @@ def test_a_pose_weight_adds_the_gate_deviation_as_a_penalty() -> None:
     assert info["reward_pose"] < 0.0
     parts = ("reward_normal", "reward_tangential", "reward_torque", "reward_pose")
     assert reward == pytest.approx(sum(info[name] for name in parts))
+
+
+@pytest.mark.parametrize("plant", ["sim", "proxy"])
+def test_the_metrics_term_sums_to_the_tables_two_errors(plant: str) -> None:
+    """With ``w_metrics`` = 1 and a decision every step, minus the mean of a push's
+    ``reward_metrics`` is its translation_error_pct + angle_error_pct of the true pose (on
+    the proxy the tables read the camera's); the other terms are eq. 17's as without it."""
+    config = replace(SHORT, plant=plant, w_metrics=1.0, action_repeat=1)
+    env, plain = PushEnv(config), PushEnv(replace(config, w_metrics=0.0))
+    env.reset(options=OPTIONS)
+    plain.reset(options=OPTIONS)
+    terms, done = [], False
+    while not done:
+        _, reward, done, _, info = env.step(np.zeros(3))
+        _, plain_reward, _, _, plain_info = plain.step(np.zeros(3))
+        assert plain_info["reward_metrics"] == 0.0
+        assert reward == pytest.approx(plain_reward + info["reward_metrics"], rel=1e-12)
+        terms.append(-info["reward_metrics"])
+    assert env.episode is not None
+    metrics = compute_metrics(replace(env.episode.trace(), measured_pose=None))
+    total = metrics.translation_error_pct + metrics.angle_error_pct
+    assert np.mean(terms) == pytest.approx(total, rel=1e-9)
 
 
 @pytest.mark.parametrize("plant", ["sim", "proxy"])
