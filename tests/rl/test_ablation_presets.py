@@ -57,3 +57,6 @@ def test_the_pose_term_presets_are_the_known_answer_learner_on_every_unknown():
     assert pose.ddpg == known.ddpg and pose.env.base_law == "none"
     assert heading.env == replace(pose.env, gate_length=0.2) and heading.ddpg == pose.ddpg
     assert heading.train == pose.train
+    metrics = load_preset(str(EXPERIMENTS / "ablation" / "pd-metrics.toml"))
+    assert metrics.env == replace(pose.env, w_pose=0.0, w_metrics=0.03)
+    assert metrics.ddpg == pose.ddpg and metrics.train == pose.train
