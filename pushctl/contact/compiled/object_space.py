@@ -33,7 +33,12 @@ import numpy as np
 from numba import njit
 
 from pushctl.contact.compiled.algebra import lu_solve
-from pushctl.contact.compiled.pivoting import _labels_at, _next_labels, _visited
+from pushctl.contact.compiled.pivoting import (
+    _labels_at,
+    _next_labels,
+    _visited,
+    friction_bounds,
+)
 
 MAX_ITERATIONS = 30
 """Active sets solved from the warm start's before the caller's dense solve takes over."""
@@ -72,11 +77,7 @@ def solve_object_space(n_prong, arm_D, A_obj, b, lo, hi, findex, mu, obj_mass_in
     last active set's p, whether it is at most ``threshold``, and the active sets solved
     after the first."""
     m = b.shape[0]
-    lo_f, hi_f, mu_f = lo.copy(), hi.copy(), np.zeros(m)
-    fi = np.zeros(m, dtype=np.int64)
-    for i in range(m):
-        if findex[i] >= 0:
-            lo_f[i], hi_f[i], mu_f[i], fi[i] = 0.0, 0.0, mu[i], findex[i]
+    lo_f, hi_f, mu_f, fi = friction_bounds(lo, hi, findex, mu)
     labels = _labels_at(lo_f, hi_f, mu_f, fi, guess)
     p, w, r = np.zeros(m), np.zeros(m), np.zeros(m)
     states = 4 ** (n_prong // 2)

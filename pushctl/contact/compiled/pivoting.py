@@ -297,6 +297,21 @@ def _labels_at(lo, hi, mu, fi, p):
 
 
 @njit(cache=True)
+def friction_bounds(lo, hi, findex, mu):
+    """The box of a cold solve in the pivoting's form, from the MLCP's ``lo``, ``hi`` (m,),
+    ``findex`` (m,) (the normal row of each friction row, −1 for none) and ``mu`` (m,):
+    ``(lo, hi, mu, fi)``, a friction row's fixed bounds 0 and its ``mu`` and normal index
+    kept (its bounds follow ±mu·p_normal), every other row's bounds as given, mu 0."""
+    m = lo.shape[0]
+    lo_f, hi_f, mu_f = lo.copy(), hi.copy(), np.zeros(m)
+    fi = np.zeros(m, dtype=np.int64)
+    for i in range(m):
+        if findex[i] >= 0:
+            lo_f[i], hi_f[i], mu_f[i], fi[i] = 0.0, 0.0, mu[i], findex[i]
+    return lo_f, hi_f, mu_f, fi
+
+
+@njit(cache=True)
 def cold_pivot(D, b, lo, hi, findex, mu, start, has_start, threshold, max_pivots):
     """:func:`cold_pivot_with` solving each active set in full."""
     return cold_pivot_with(D, b, lo, hi, findex, mu, start, has_start, threshold, max_pivots, False)
@@ -316,11 +331,7 @@ def cold_pivot_with(D, b, lo, hi, findex, mu, start, has_start, threshold, max_p
     each start's first.
     """
     n = b.shape[0]
-    lo_f, hi_f, mu_f = lo.copy(), hi.copy(), np.zeros(n)
-    fi = np.zeros(n, dtype=np.int64)
-    for i in range(n):
-        if findex[i] >= 0:
-            lo_f[i], hi_f[i], mu_f[i], fi[i] = 0.0, 0.0, mu[i], findex[i]
+    lo_f, hi_f, mu_f, fi = friction_bounds(lo, hi, findex, mu)
     total = 0
     best_p, best_w, best_residual = np.zeros(n), np.zeros(n), np.inf
     for which in range(0 if has_start else 1, 3):
