@@ -22,7 +22,7 @@ BASE_LAWS = ("none", "feedback")
 RANGES = ("randomisation", "randomisation_known_answer")
 """The shipped ranges files an environment can draw from (``EnvConfig.ranges``; package data,
 :mod:`pushctl.defaults`): every randomisation and plant unknown, or the known-answer task's
-nominal plant whose only unknown is the object's placement offset."""
+nominal plant whose only unknown is the pusher's mounting yaw."""
 
 LANDINGS = ("believed", "measured")
 """Where a closed-loop push's prongs start (``EnvConfig.landing``): where the approach put
@@ -39,7 +39,7 @@ class EnvConfig:
         the random stream the scenarios are drawn from (``training``; evaluation draws from
         its own). ``ranges``: the shipped ranges file the draws use (:data:`RANGES`):
         ``randomisation`` (every parameter range and plant unknown) or
-        ``randomisation_known_answer`` (the nominal plant, a placement offset its only
+        ``randomisation_known_answer`` (the nominal plant, the mounting yaw its only
         unknown). ``duration`` [s] and ``dt`` [s] of the push.
     Residual (Algorithm 1; docs/residual-and-feedback.md)
         ``residual_path``: how the residual twist reaches the PD
