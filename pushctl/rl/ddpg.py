@@ -258,10 +258,14 @@ class DDPGAgent:
             with torch.no_grad():
                 actor_loss = -self.critic(critic_obs, self.actor(obs)).mean()
 
-        soft_update(self.critic_target, self.critic, cfg.tau)
-        if self.twin is not None:
-            soft_update(self.twin.target, self.twin.critic, cfg.tau)
-        if self._critic_only <= 0:  # the actor's target stays while only the critic learns
+        # TD3 moves every target only with its delayed actor step (Fujimoto et al. 2018,
+        # Algorithm 1); with no delay, every update moves them
+        targets_due = cfg.actor_delay == 1 or actor_due
+        if targets_due:
+            soft_update(self.critic_target, self.critic, cfg.tau)
+            if self.twin is not None:
+                soft_update(self.twin.target, self.twin.critic, cfg.tau)
+        if self._critic_only <= 0 and targets_due:  # it stays while only the critic learns
             soft_update(self.actor_target, self.actor, cfg.tau)
         if self._critic_only > 0:  # a critic warm-up's update: not counted
             self._critic_only -= 1

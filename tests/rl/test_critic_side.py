@@ -140,3 +140,26 @@ def test_a_privileged_buffer_needs_its_rows_and_bad_parts_are_refused():
     for bad in (dict(n_step=0), dict(actor_delay=0), dict(twin_critics=1), dict(target_noise=-1)):
         with pytest.raises(ConfigError):
             DDPGConfig(**bad)
+
+
+def _moved(before: list[torch.Tensor], module: torch.nn.Module) -> bool:
+    return any(
+        not torch.equal(a, b) for a, b in zip(before, module.state_dict().values(), strict=True)
+    )
+
+
+def test_with_a_delayed_actor_every_target_moves_only_with_the_actor_step():
+    """TD3 (Fujimoto et al. 2018, Algorithm 1): the critics' targets move with the delayed
+    actor step, not on the critic-only updates between."""
+    agent = _agent("twin")
+    rng = np.random.default_rng(3)
+    _run(agent, rng, 4)
+    assert agent.n_updates > 0 and agent.twin is not None
+    rows = _episode(rng, agent)
+    agent.observe(rows["obs"], rows["action"], rows["reward"], rows["next_obs"], rows["done"])
+    modules = (agent.critic_target, agent.twin.target, agent.actor)
+    for _ in range(4):
+        due = agent.n_updates % agent.config.actor_delay == 0
+        before = [[t.clone() for t in m.state_dict().values()] for m in modules]
+        agent.update()
+        assert [_moved(b, m) for b, m in zip(before, modules, strict=True)] == [due] * 3
