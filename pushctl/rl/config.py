@@ -22,6 +22,7 @@ _NON_NEGATIVE_FLOATS = (
     "actor_final_init",
     "action_penalty",
     "prior_weight",
+    "policy_average",
 )
 _UNIT_FLOATS = ("gamma", "tau")
 _POSITIVE_INTS = ("batch_size", "buffer_size", "torch_threads", "actor_delay", "n_step")
@@ -101,6 +102,11 @@ class DDPGConfig:
       observation it sees the episode's plant unknowns, true parameters and exact pose error
       (:meth:`~pushctl.task.env.PushEnv.privileged_state`) in training; the
       actor never does, so the policy deploys as before.
+    - ``policy_average`` [0.0]: Polyak factor per actor step of an averaged copy of the
+      actor, ``average ← (1 − f)·average + f·actor`` (weight averaging: Polyak & Juditsky
+      1992; in deep RL Nikishin et al. 2018). When > 0 the average, not the actor, is what
+      validation scores and a run ships; the actor alone explores. 1e-3 averages over about
+      1,000 actor steps. 0: no average [-].
     - ``torch_threads`` [1]: intra-op torch threads, applied by the caller through
       :func:`pushctl.rl.ddpg.configure_torch` (process-wide, so not by the agent) [threads].
     """
@@ -133,6 +139,7 @@ class DDPGConfig:
     critic_layer_norm: bool = False
     critic_warmup_updates: int = 0
     privileged_critic: bool = False
+    policy_average: float = 0.0
     torch_threads: int = 1
 
     def __post_init__(self) -> None:
@@ -180,6 +187,8 @@ class DDPGConfig:
             _check(name, getattr(self, name), getattr(self, name) >= 0.0, "a number >= 0")
         _check("gamma", self.gamma, 0.0 <= self.gamma <= 1.0, "a number in [0, 1]")
         _check("tau", self.tau, 0.0 < self.tau <= 1.0, "a number in (0, 1]")
+        average = self.policy_average
+        _check("policy_average", average, average <= 1.0, "a number in [0, 1]")
         check_range("replay buffer size", self.buffer_size, "ddpg buffer_size: ")
         if self.buffer_size < self.batch_size:
             raise ConfigError(

@@ -106,6 +106,10 @@ class DDPGAgent:
         imitation and with a ``prior_weight``, the actor as it starts (a residual that
         stays near zero: near the base law it is added to). Set with :meth:`_set_prior`."""
         self._prior_is_zero = False
+        self.actor_average: Actor | None = (
+            copy.deepcopy(self.actor).requires_grad_(False) if config.policy_average else None
+        )
+        """The averaged actor (``policy_average`` > 0): what :meth:`shipped_state` holds."""
         self._set_policy(obs_scale)
         if config.prior_weight > 0.0 and config.imitation_updates == 0:
             self._set_prior(self.actor)
@@ -211,6 +215,8 @@ class DDPGAgent:
             loss.backward()
             optim.step()
         soft_update(self.actor_target, self.actor, 1.0)
+        if self.actor_average is not None:
+            soft_update(self.actor_average, self.actor, 1.0)
         self._set_prior(self.actor)
         self._imitated = True
         return float(loss.item())
@@ -254,6 +260,8 @@ class DDPGAgent:
             finally:
                 self.critic.requires_grad_(True)
             self.actor_optim.step()
+            if self.actor_average is not None:
+                soft_update(self.actor_average, self.actor, cfg.policy_average)
         else:
             with torch.no_grad():
                 actor_loss = -self.critic(critic_obs, self.actor(obs)).mean()
@@ -314,6 +322,13 @@ class DDPGAgent:
         """The actor alone with its obs_scale, for :meth:`ActorPolicy.from_state` (a snapshot)."""
         return self._policy.state()
 
+    def shipped_state(self) -> dict[str, Any]:
+        """What validation scores and a run ships, as :meth:`actor_state`: the averaged actor
+        with ``policy_average`` > 0, else the actor itself."""
+        if self.actor_average is None:
+            return self.actor_state()
+        return ActorPolicy(self.actor_average, self._policy.obs_scale).state()
+
     def state_dict(self) -> dict[str, Any]:
         """A snapshot of everything a bit-identical resume needs, as tensors and plain values.
 
@@ -346,6 +361,9 @@ class DDPGAgent:
         )
         if self.prior is not None:
             state["prior"] = {k: v.clone() for k, v in self.prior.state_dict().items()}
+        if self.actor_average is not None:
+            average = self.actor_average.state_dict()
+            state["actor_average"] = {k: v.clone() for k, v in average.items()}
         critic_side.save_extras(self, state)
         return state
 
@@ -381,6 +399,8 @@ class DDPGAgent:
             prior = Actor(self.obs_dim, self.act_dim, self.config.hidden)
             prior.load_state_dict(state["prior"])
             self._set_prior(prior)
+        if self.actor_average is not None:
+            self.actor_average.load_state_dict(state["actor_average"])
         self._set_policy(np.asarray(state["obs_scale"], dtype=np.float64))
         critic_side.load_extras(self, state)
 

@@ -166,7 +166,7 @@ class Trainer:
                 # the last actor (also when a finished run is resumed: scored once)
                 self._record_validation(self._submit_validation(collector, self.next_episode))
         self.save()
-        last = self.agent.actor_state()
+        last = self.agent.shipped_state()
         env, made_by = self.preset.env, self.made_by
         if not self.preset.train.validate_every:
             chosen = last
@@ -192,7 +192,7 @@ class Trainer:
         after its last checkpoint lacks that end (or has an earlier target's): run() writes it."""
         if self.next_episode < episodes:
             return False
-        last = holds_actor(self.out / LAST_POLICY, self.agent.actor_state(), self.made_by)
+        last = holds_actor(self.out / LAST_POLICY, self.agent.shipped_state(), self.made_by)
         shipped = (self.out / POLICY).is_file() and last
         return shipped and (
             not self.preset.train.validate_every or self.next_episode in self._validated
@@ -282,7 +282,7 @@ class Trainer:
             self._validator = Validator(
                 self.preset.env, self.gains, train.validation_per_cell, rule=train.select_on
             )
-        actor = self.agent.actor_state()
+        actor = self.agent.shipped_state()
         if episode == 0:  # the start: the zero residual, whatever the actor's initialisation
             actor = ActorPolicy.zero_residual(actor)
         chunks = self._validator.chunks(3 * max(1, self.collectors))

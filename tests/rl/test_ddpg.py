@@ -526,3 +526,35 @@ def test_a_restored_prior_is_recognised_as_zero_or_not():
         assert restored._prior_is_zero == (final_init == 0.0)
         for a, b in zip(agent.prior.parameters(), restored.prior.parameters(), strict=True):
             assert torch.equal(a, b)
+
+
+def test_the_averaged_actor_is_what_a_run_ships_and_it_resumes():
+    """``policy_average``: an exponential average of the actor's weights, moved with each
+    actor step; ``shipped_state`` holds it (the actor itself without an average), and a
+    checkpoint restores it."""
+    config = DDPGConfig(hidden=(8, 8), batch_size=4, buffer_size=64, warmup_steps=4)
+    plain = DDPGAgent(3, 2, config, seed=0)
+    assert torch.equal(
+        plain.shipped_state()["actor"]["net.0.weight"], plain.actor_state()["actor"]["net.0.weight"]
+    )
+    averaged = DDPGAgent(3, 2, replace(config, policy_average=0.1), seed=0)
+    rng = np.random.default_rng(0)
+    obs = rng.normal(size=(16, 3))
+    averaged.observe(obs, rng.uniform(-1, 1, (16, 2)), -np.ones(16), obs, np.zeros(16))
+    start = averaged.shipped_state()["actor"]
+    expected = {k: v.clone() for k, v in start.items()}
+    for _ in range(5):
+        averaged.update()
+        for key, value in averaged.actor.state_dict().items():
+            expected[key] = 0.9 * expected[key] + 0.1 * value
+    shipped = averaged.shipped_state()["actor"]
+    actor = averaged.actor_state()["actor"]
+    for key in shipped:
+        assert torch.allclose(shipped[key], expected[key], atol=1e-6)
+    assert not torch.equal(shipped["net.0.weight"], actor["net.0.weight"])
+    again = DDPGAgent(3, 2, replace(config, policy_average=0.1), seed=1)
+    again.load_state_dict(averaged.state_dict())
+    for key, value in again.shipped_state()["actor"].items():
+        assert torch.equal(value, shipped[key])
+    with pytest.raises(ConfigError):
+        DDPGConfig(policy_average=1.5)
