@@ -48,8 +48,8 @@ lint: install
 bench: install
 	$(PY) -m benchmarks.suite --out results/bench.csv --page docs/performance.md --force
 
-# Our DDPG and TD3 beside stable-baselines3's TD3 and SAC on Pendulum-v1 and
-# InvertedPendulum-v5, one budget per task, seeds 0-2 (benchmarks/learners.py; 24 runs on
+# Our DDPG and TD3 beside stable-baselines3's DDPG, TD3 and SAC on Pendulum-v1 and
+# InvertedPendulum-v5, one budget per task, seeds 0-2 (benchmarks/learners.py; 30 runs on
 # one core): docs/learner-check.csv, whose figures docs/learner-check.md reports.
 bench-learners: install
 	$(PY) -m benchmarks.learners --out docs/learner-check.csv --force

@@ -1,12 +1,12 @@
-"""Our DDPG and TD3 beside stable-baselines3's TD3 and SAC on standard tasks, one budget each,
-in one run (docs/learner-check.md): does the learner reach what a reference learner reaches
+"""Our DDPG and TD3 beside stable-baselines3's DDPG, TD3 and SAC on standard tasks, one budget
+each, in one run (docs/learner-check.md): does the learner reach what a reference learner reaches
 where the answer is known?
 
 Run from the checkout's root as ``python -m benchmarks.learners [--out
 docs/learner-check.csv] [--tasks Pendulum-v1,InvertedPendulum-v5] [--seeds 0,1,2]
-[--learners ours-ddpg,ours-td3,sb3-td3,sb3-sac] [--force]`` (``make bench-learners``; an
+[--learners ours-ddpg,ours-td3,sb3-ddpg,sb3-td3,sb3-sac] [--force]`` (``make bench-learners``; an
 existing --out file is replaced only with ``--force``). A benchmark, not a test: the full
-run trains 24 learners on one core and prints its wall time.
+run trains 30 learners on one core and prints its wall time.
 
 Every learner of a task gets the same :class:`Budget`: environment steps, warm-up steps
 (uniform random actions, SB3's ``learning_starts`` rule, then one gradient update per
@@ -17,8 +17,9 @@ rule; SAC explores with its own entropy instead). Ours is
 updates_due, update, reset_noise) with plain DDPG settings (no prior, no action penalty,
 observations unscaled, the actor's output layer at ±3e-3); OU noise with θ = 1 and dt = 1
 is white Gaussian noise of std σ. ``ours-td3`` adds twin critics, target smoothing (0.2,
-clipped at 0.5) and an actor update every second step, as SB3's TD3. Actions map between
-the environment's Box and [−1, 1] as SB3 maps them.
+clipped at 0.5) and an actor update every second step, with the targets moved on that step
+only, as SB3's TD3; ``sb3-ddpg`` is SB3's DDPG (its TD3 without them), the like of
+``ours-ddpg``. Actions map between the environment's Box and [−1, 1] as SB3 maps them.
 
 Seeds: run ``seed`` resets its training environment with ``seed`` (then unseeded) and seeds
 the agent or SB3 model with it; the warm-up's uniform actions of ours come from
@@ -52,9 +53,10 @@ EVAL_EPISODES = 10
 """Deterministic evaluation episodes per run."""
 EVAL_SEED = 1000
 """Reset seed of the first evaluation episode; episode k uses ``EVAL_SEED + k``."""
-LEARNERS = ("ours-ddpg", "ours-td3", "sb3-td3", "sb3-sac")
+LEARNERS = ("ours-ddpg", "ours-td3", "sb3-ddpg", "sb3-td3", "sb3-sac")
 REFERENCE = "sb3-td3"
-"""The learner whose 95 % interval ours are judged against."""
+"""The learner whose 95 % interval ours are judged against (the issue's bar); each of ours is
+also set beside its own SB3 counterpart (``sb3-ddpg``, ``sb3-td3``)."""
 COLUMNS = [
     "task",
     "learner",
@@ -184,9 +186,9 @@ def train_ours(task: str, learner: str, seed: int, budget: Budget) -> Callable:
 
 
 def train_sb3(task: str, learner: str, seed: int, budget: Budget) -> Callable:
-    """Train SB3's TD3 or SAC; returns its deterministic policy, obs → env action."""
+    """Train SB3's DDPG, TD3 or SAC; returns its deterministic policy, obs → env action."""
     import gymnasium
-    from stable_baselines3 import SAC, TD3
+    from stable_baselines3 import DDPG, SAC, TD3
     from stable_baselines3.common.noise import NormalActionNoise
 
     env = gymnasium.make(task)
@@ -204,10 +206,11 @@ def train_sb3(task: str, learner: str, seed: int, budget: Budget) -> Callable:
         device="cpu",
         verbose=0,
     )
-    if learner == "sb3-td3":
+    if learner in ("sb3-ddpg", "sb3-td3"):
         n = int(np.prod(env.action_space.shape))
         noise = NormalActionNoise(np.zeros(n), budget.noise_std * np.ones(n))
-        model: Any = TD3("MlpPolicy", env, action_noise=noise, **common)
+        algo = DDPG if learner == "sb3-ddpg" else TD3
+        model: Any = algo("MlpPolicy", env, action_noise=noise, **common)
     else:
         model = SAC("MlpPolicy", env, **common)
     model.learn(total_timesteps=budget.steps)
