@@ -20,8 +20,8 @@ __all__ = ["FeedbackController", "feedback_config"]
 def feedback_config(config: EnvConfig, gains: FeedbackGains | None = None) -> EnvConfig:
     """The environment the ``feedback`` controller pushes in beside a policy trained with
     ``config``: the same push (duration, step, plant, stream) with today's default residual
-    settings (path, action scale, gate, the camera, the re-landing), whatever the policy was
-    trained with. A law of ``gains`` with its own gate (``gains.owns_gate``) gets the
+    settings (path, action scale, gate, contact hold, the camera, the re-landing), whatever the
+    policy was trained with. A law of ``gains`` with its own gate (``gains.owns_gate``) gets the
     environment's gate open (threshold 0), so that it sees every step."""
     from pushctl.task.env_config import EnvConfig
 
@@ -40,6 +40,7 @@ def feedback_config(config: EnvConfig, gains: FeedbackGains | None = None) -> En
         offset_limit_angular=default.offset_limit_angular,
         base_law=default.base_law,  # the law itself is the actor: not added twice
         residual_scale=default.residual_scale,  # and acts with the whole envelope
+        policy_holds_off_contact=default.policy_holds_off_contact,  # it has its own hold
         landing=default.landing,
     )
 

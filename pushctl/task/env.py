@@ -86,14 +86,13 @@ Arguments
     ``action_scale_linear``, ``action_scale_angular``, ``gate_threshold``, ``gate_length``,
     ``observe_camera``, ``observe_offset``, ``action_repeat``, ``offset_limit_linear``,
     ``offset_limit_angular``, ``base_law``, ``residual_scale``, ``policy_gated``,
-    ``observe_context``), where the push starts
-    (``landing``) and the reward (``w_normal``,
-    ``w_tangential``, ``w_torque``, ``w_pose``); ``EnvConfig.from_mapping`` reads the
-    ``[env]`` table of a preset. ``gains``: the PD baseline's (default
-    ``pushctl/defaults/pd_gains.toml``). Step ``info`` besides the reward terms:
+    ``policy_holds_off_contact``, ``observe_context``), where the push starts (``landing``)
+    and the reward (``w_normal``, ``w_tangential``, ``w_torque``, ``w_pose``, ``w_metrics``);
+    ``EnvConfig.from_mapping`` reads a preset's ``[env]`` table. ``gains``: the PD baseline's
+    (default ``pushctl/defaults/pd_gains.toml``). Step ``info`` besides the reward terms:
     ``residual_active`` (the gate), ``residual`` (3,) the world-frame twist applied
-    [m/s, m/s, rad/s], ``action_applied`` (3,) the policy's action as applied (zeros when
-    the gate dropped it), ``pose_deviation`` [m] the gate compared with its threshold.
+    [m/s, m/s, rad/s], ``action_applied`` (3,) the policy's action as applied (zeros when the
+    gate or the contact hold dropped it), ``pose_deviation`` [m] the gate's deviation.
 
 Version history
     One id, ``Push-v0``, so far; behaviour changes are recorded here and in the saved settings
@@ -144,7 +143,7 @@ from pushctl.episode.runner import Episode
 from pushctl.episode.scenario import Scenario
 from pushctl.errors import ConfigError, StateError
 from pushctl.planning import Plan
-from pushctl.task.env_config import EnvConfig
+from pushctl.task.env_config import HOLD_FORCE, EnvConfig
 from pushctl.task.env_draws import default_draws, draw_reset
 from pushctl.task.feedback_actor import FeedbackActor
 from pushctl.task.spaces import (
@@ -381,7 +380,7 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
         residual = None
         gate = self.gate_open
         base = self._base
-        policy_acts = gate or not self.config.policy_gated
+        policy_acts = self.policy_acts
         pushed = None  # the policy's scaled action, when it acts and has one
         if policy_acts and action is not None:
             scale = self.config.residual_scale
@@ -588,8 +587,11 @@ class PushEnv(gym.Env[np.ndarray, np.ndarray]):
     @property
     def policy_acts(self) -> bool:
         """Whether the next step applies the policy's action: while the gate is open, or
-        always when the gate does not switch the policy (``policy_gated`` False)."""
-        return not self.config.policy_gated or self.gate_open
+        always when the gate does not switch the policy (``policy_gated`` False); never while
+        a prong's measured normal force is below :data:`~pushctl.task.env_config.HOLD_FORCE`
+        with ``policy_holds_off_contact``."""
+        held = self.config.policy_holds_off_contact and self._measured[:, 0].min() < HOLD_FORCE
+        return (not self.config.policy_gated or self.gate_open) and not held
 
     def _base_law(self) -> FeedbackActor | None:
         """The law under the residual for the episode just reset (None: PD-only)."""

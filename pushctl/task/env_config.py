@@ -24,6 +24,11 @@ RANGES = ("randomisation", "randomisation_known_answer")
 :mod:`pushctl.defaults`): every randomisation and plant unknown, or the known-answer task's
 nominal plant whose only unknown is the pusher's mounting yaw."""
 
+HOLD_FORCE = 0.05
+"""The measured normal force [N] below which a prong counts as unloaded for
+``EnvConfig.policy_holds_off_contact``: the feedback law's ``contact_force``, above the proxy
+force estimate's noise at no load (σ = 20 mN)."""
+
 LANDINGS = ("believed", "measured")
 """Where a closed-loop push's prongs start (``EnvConfig.landing``): where the approach put
 them, aimed at the believed pose, or put back on the plan's spot of the object as measured."""
@@ -83,6 +88,12 @@ class EnvConfig:
         (``gate_threshold`` in its file, as the shipped catch-up law has) acts at every
         step, whatever ``gate_threshold``; the environment's gate then switches the policy
         only (with ``policy_gated``).
+        ``policy_holds_off_contact``: the policy's action is dropped (and stored as zero)
+        on every step where a prong's measured normal force is below
+        :data:`HOLD_FORCE`, as the law holds its output then (``hold_off_contact``): with a
+        prong off, the object does not move with the plate, and on the known-answer task
+        every learned actor that acted there turned a wedge that started on one prong away
+        from its plan (docs/known-answer.md).
         ``observe_context``: the observation also carries the pose error's rate (through a
         0.1 s lag), the plan's speed now (which the law's caps scale with) and the base law's
         output (:mod:`pushctl.task.spaces`), what a residual needs to tell where the law is
@@ -141,6 +152,7 @@ class EnvConfig:
     base_law: str = "none"
     residual_scale: float = 1.0
     policy_gated: bool = True
+    policy_holds_off_contact: bool = False
     observe_context: bool = False
     # A placement error lands the prongs 1.2-1.3 mm off the plan's spot on average, and there
     # the plan's force split is wrong and the wedge can turn away (docs/plant-unknowns.md).
@@ -153,7 +165,13 @@ class EnvConfig:
 
     def __post_init__(self) -> None:
         check_residual_path(self.residual_path)
-        for name in ("observe_camera", "observe_offset", "policy_gated", "observe_context"):
+        for name in (
+            "observe_camera",
+            "observe_offset",
+            "policy_gated",
+            "policy_holds_off_contact",
+            "observe_context",
+        ):
             if not isinstance(getattr(self, name), bool):
                 raise ConfigError(f"env {name} must be true or false, got {getattr(self, name)!r}")
         if self.base_law not in BASE_LAWS:

@@ -118,3 +118,13 @@ def test_the_feedback_environment_opens_its_gate_for_a_law_with_its_own() -> Non
     assert feedback_config(config, CATCHUP).gate_threshold == config.gate_threshold
     owning = replace(CATCHUP, gate_threshold=1.5e-4)
     assert feedback_config(config, owning).gate_threshold == 0.0
+
+
+def test_the_feedback_environment_never_holds_the_law_for_a_policy() -> None:
+    """A policy trained with the contact hold is compared with the law as it is: the law's
+    own hold seeks the unloaded prong, which the policy's hold would drop."""
+    from pushctl.controllers.feedback import feedback_config
+    from pushctl.task.env_config import EnvConfig
+
+    held = EnvConfig(policy_holds_off_contact=True)
+    assert not feedback_config(held).policy_holds_off_contact

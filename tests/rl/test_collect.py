@@ -112,6 +112,27 @@ def test_held_actions_and_the_demonstrated_warm_up_batch_as_they_run_alone(demon
         assert np.abs(together[0].transitions["action"]).max() > 0.0
 
 
+def test_the_contact_hold_drops_the_policy_while_a_prong_is_off(monkeypatch) -> None:
+    """``policy_holds_off_contact``: on a step where a prong reads below the hold force the
+    policy's action is dropped and stored as zero; the push is then PD-only's."""
+    held = replace(SHORT, base_law="none", policy_gated=False, policy_holds_off_contact=True)
+    record = collect_episode(held, load_gains(), 5, 0, _acting())
+    applied = np.abs(record.transitions["action"]).sum(axis=1) > 0.0
+    assert applied.any()  # once the prongs carry load, the actions are applied
+    monkeypatch.setattr("pushctl.task.env.HOLD_FORCE", 1e9)  # every prong reads as off
+    record = collect_episode(held, load_gains(), 5, 0, _acting())
+    assert np.all(record.transitions["action"] == 0.0)
+    env = PushEnv(held, load_gains())
+    env.reset(seed=5, options={"object": "cube", "profile": "constant"})
+    pd_env = PushEnv(held, load_gains())
+    pd_env.reset(seed=5, options={"object": "cube", "profile": "constant"})
+    for _ in range(5):
+        _, _, _, _, info = env.step(np.ones(3))
+        pd_env.step(np.zeros(3))
+        assert not info["action_applied"].any()
+    np.testing.assert_array_equal(env.observation(), pd_env.observation())
+
+
 def test_an_action_the_gate_dropped_is_stored_as_zero() -> None:
     """On a base law that gates itself (the default feedback law's), with the gate on the
     policy, the law acts at every step but the policy only while the gate is open: a
