@@ -18,10 +18,10 @@ The critic's parts: SAC always has two critics and takes the smaller target (wha
 ``twin_critics`` switches on in DDPG); its stochastic policy stands in for TD3's target
 smoothing (``target_noise``, ``target_noise_clip`` do not apply) and it updates the actor at
 every update (``actor_delay`` must be 1). ``n_step``, ``critic_layer_norm``,
-``critic_warmup_updates`` and ``privileged_critic`` are not supported: a preset that sets
-them is refused (:data:`UNSUPPORTED`). SAC's actor loss is its own, so ``prior_weight``,
-``action_penalty``, ``critic_burn_in``, ``imitation_updates``, the actor's learning rate and
-the OU noise after the warm-up do not apply (the log says so).
+``critic_warmup_updates``, ``privileged_critic`` and ``policy_average`` are not supported: a
+preset that sets them is refused (:data:`UNSUPPORTED`). SAC's actor loss is its own, so
+``prior_weight``, ``action_penalty``, ``critic_burn_in``, ``imitation_updates``, the actor's
+learning rate and the OU noise after the warm-up do not apply (the log says so).
 
 The trained actor is written as a pushctl policy (``policy.pt``: SAC's deterministic action
 tanh(μ(s)) is the same ReLU MLP with a tanh output as the DDPG actor, so its weights copy
@@ -65,8 +65,9 @@ UNSUPPORTED = {
     "critic_warmup_updates": 0,
     "privileged_critic": False,
     "actor_delay": 1,
+    "policy_average": 0.0,
 }
-"""The ``[ddpg]`` critic settings SAC here cannot honour, with the only value it accepts."""
+"""The ``[ddpg]`` settings SAC here cannot honour, with the only value it accepts."""
 
 NOT_APPLIED = ("prior_weight", "action_penalty", "critic_burn_in", "imitation_updates")
 """``[ddpg]`` settings of DDPG's actor that SAC's own actor loss has no place for."""
@@ -83,13 +84,13 @@ def sac_schedule(updates_per_step: float, n_envs: int) -> tuple[int, int]:
 
 
 def check_supported(ddpg: DDPGConfig) -> None:
-    """ConfigError naming the critic settings of ``ddpg`` SAC here cannot honour."""
+    """ConfigError naming the settings of ``ddpg`` SAC here cannot honour."""
     asked = [f"{k} = {getattr(ddpg, k)!r}" for k, v in UNSUPPORTED.items() if getattr(ddpg, k) != v]
     if asked:
         raise ConfigError(
             f"sb3-sac does not support [ddpg] {', '.join(asked)} (SAC has two critics and its "
             "own target; no n-step returns, critic layer norm, critic warm-up, privileged "
-            "critic or actor delay)"
+            "critic, actor delay or averaged actor)"
         )
 
 

@@ -89,3 +89,17 @@ def test_sac_gets_the_update_rate_and_warm_up_asked_for_and_labels_the_run(tmp_p
     assert model._n_updates == pytest.approx(0.3 * 2 * 20, abs=3)  # after the warm-up
     table = pd.read_csv(out / "validation.csv", comment="#")
     assert list(table["episode"]) == [0, 4]
+
+
+def test_sac_refuses_each_setting_it_cannot_honour_naming_it() -> None:
+    from pushctl.errors import ConfigError
+    from pushctl.rl.config import DDPGConfig
+    from pushctl.rl.sb3 import UNSUPPORTED, check_supported
+
+    check_supported(DDPGConfig())
+    asked = {"n_step": 3, "critic_layer_norm": True, "critic_warmup_updates": 10}
+    asked |= {"privileged_critic": True, "actor_delay": 2, "policy_average": 1e-3}
+    assert sorted(asked) == sorted(UNSUPPORTED)
+    for key, value in asked.items():
+        with pytest.raises(ConfigError, match=key):
+            check_supported(DDPGConfig(**{key: value}))
