@@ -11,7 +11,9 @@ learning rate 3e-5, 200 episodes, 60 tuning pushes every 20 episodes). Each vari
   by ones (the networks see SI units: forces of order 1 N, pose errors of order 1e-3 m);
 - the critic's parts: twin critics with target smoothing, 3-step returns, layer norm and the
   privileged critic, all on (the ``paper_v1`` preset's critic);
-- the reward: eq. 17's force terms (weights 1, 1, 25) added to the metrics term;
+- the reward: eq. 17's force terms (weights 1, 1, 25) added to the metrics term, or the
+  pose term (``experiments/ablation/pd-pose.toml``, and with the heading weighed four times
+  more, ``pd-pose-heading.toml``) in its place;
 - the contact hold: the policy's action dropped while a prong is off contact
   (``policy_holds_off_contact``).
 
@@ -61,6 +63,14 @@ VARIANTS: dict[str, tuple[str, Callable[[Preset], Preset]]] = {
         _env(w_normal=1.0, w_tangential=1.0, w_torque=25.0),
     ),
     "hold": ("the policy held while a prong is off contact", _env(policy_holds_off_contact=True)),
+    "pose": (
+        "the pose term (100 /m) in place of the metrics term",
+        _env(w_metrics=0.0, w_pose=100.0),
+    ),
+    "pose-heading": (
+        "the pose term with the heading weighed 4x (gate_length 0.2 m)",
+        _env(w_metrics=0.0, w_pose=100.0, gate_length=0.2),
+    ),
 }
 """Variant name → (what it changes, the change applied to the base preset)."""
 

@@ -32,12 +32,17 @@ def test_each_variant_changes_its_own_settings_only() -> None:
         ),
         "eq17-metrics": ("env", {"w_normal": 1.0, "w_tangential": 1.0, "w_torque": 25.0}),
         "hold": ("env", {"policy_holds_off_contact": True}),
+        "pose": ("env", {"w_metrics": 0.0, "w_pose": 100.0}),
+        "pose-heading": ("env", {"w_metrics": 0.0, "w_pose": 100.0, "gate_length": 0.2}),
     }
     for name in VARIANTS:
         preset = preset_of(name)
         part, changes = changed.get(name, ("ddpg", {}))
         expected = replace(base, **{part: replace(getattr(base, part), **changes)})
         assert preset == expected, name
+    for name, file in (("pose", "pd-pose.toml"), ("pose-heading", "pd-pose-heading.toml")):
+        same = load_preset(str(BASE.parent / file))
+        assert preset_of(name) == replace(same, name=base.name), name
 
 
 def test_the_unscaled_variant_trains_on_unit_scales() -> None:
