@@ -91,9 +91,9 @@ class EnvConfig:
         ``policy_holds_off_contact``: the policy's action is dropped (and stored as zero)
         on every step where a prong's measured normal force is below
         :data:`HOLD_FORCE`, as the law holds its output then (``hold_off_contact``): with a
-        prong off, the object does not move with the plate, and on the known-answer task
-        every learned actor that acted there turned a wedge that started on one prong away
-        from its plan (docs/known-answer.md).
+        prong off, the object does not move with the plate. On the known-answer task actors
+        that acted there turned a wedge that started on one prong away from its plan; actors
+        trained with the hold learned less (docs/known-answer.md). Off by default.
         ``observe_context``: the observation also carries the pose error's rate (through a
         0.1 s lag), the plan's speed now (which the law's caps scale with) and the base law's
         output (:mod:`pushctl.task.spaces`), what a residual needs to tell where the law is
