@@ -71,6 +71,10 @@ VARIANTS: dict[str, tuple[str, Callable[[Preset], Preset]]] = {
         "the pose term with the heading weighed 4x (gate_length 0.2 m)",
         _env(w_metrics=0.0, w_pose=100.0, gate_length=0.2),
     ),
+    "pose-prior-2": (
+        "the pose term in place of the metrics term, with prior weight 2 (two rows combined)",
+        lambda preset: _ddpg(prior_weight=2.0)(_env(w_metrics=0.0, w_pose=100.0)(preset)),
+    ),
 }
 """Variant name → (what it changes, the change applied to the base preset)."""
 

@@ -35,7 +35,10 @@ def test_each_variant_changes_its_own_settings_only() -> None:
         "pose": ("env", {"w_metrics": 0.0, "w_pose": 100.0}),
         "pose-heading": ("env", {"w_metrics": 0.0, "w_pose": 100.0, "gate_length": 0.2}),
     }
-    for name in VARIANTS:
+    combined = preset_of("pose-prior-2")
+    assert combined.env == preset_of("pose").env
+    assert combined.ddpg == preset_of("prior-2").ddpg and combined.train == base.train
+    for name in VARIANTS.keys() - {"pose-prior-2"}:
         preset = preset_of(name)
         part, changes = changed.get(name, ("ddpg", {}))
         expected = replace(base, **{part: replace(getattr(base, part), **changes)})
