@@ -6,7 +6,8 @@ every plant unknown: the metrics term alone, a decision every 50 ms, prior weigh
 learning rate 3e-5, 200 episodes, 60 tuning pushes every 20 episodes). Each variant of
 :data:`VARIANTS` changes one group of settings:
 
-- the prior weight: 0, 0.1 and 2 (the base's 0.4 is TD3+BC's);
+- the prior weight: 0 and 2 (the base's 0.4 is TD3+BC's; ``studies/prior_weight.py`` sweeps
+  0.1 too, on the law);
 - the observation's normalisation: the physical scales of ``pushctl.task.spaces`` replaced
   by ones (the networks see SI units: forces of order 1 N, pose errors of order 1e-3 m);
 - the critic's parts: twin critics with target smoothing, 3-step returns, layer norm and the
@@ -51,7 +52,6 @@ def _env(**changes: object) -> Callable[[Preset], Preset]:
 VARIANTS: dict[str, tuple[str, Callable[[Preset], Preset]]] = {
     "base": ("the base preset (prior 0.4, scaled inputs, plain critic, metrics term)", _ddpg()),
     "prior-0": ("prior weight 0", _ddpg(prior_weight=0.0)),
-    "prior-0.1": ("prior weight 0.1", _ddpg(prior_weight=0.1)),
     "prior-2": ("prior weight 2", _ddpg(prior_weight=2.0)),
     "unscaled": ("observations in SI units (no normalisation)", _ddpg()),
     "critic-parts": (

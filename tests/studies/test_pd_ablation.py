@@ -19,7 +19,6 @@ def test_each_variant_changes_its_own_settings_only() -> None:
     assert base.env.base_law == "none"
     changed = {
         "prior-0": ("ddpg", {"prior_weight": 0.0}),
-        "prior-0.1": ("ddpg", {"prior_weight": 0.1}),
         "prior-2": ("ddpg", {"prior_weight": 2.0}),
         "critic-parts": (
             "ddpg",
